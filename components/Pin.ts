@@ -1,0 +1,46 @@
+/**
+ * A pin is an entity that holds one cloth particle at a point: on a target entity's Transform
+ * (offset given in the target's local frame, so rotation and scale apply) or, with no target, at a
+ * fixed world position. Structure of arrays indexed by the pin's entity id.
+ */
+export interface PinStore {
+  /** Cloth entity the pinned particle belongs to. */
+  cloth: Uint32Array
+  /** Particle index in that cloth. */
+  particle: Uint32Array
+  /** Target entity, 0 = none (the offset is then a world position). */
+  target: Uint32Array
+  /** Local offset x in the target frame (world x with no target), m. */
+  ox: Float64Array
+  /** Local offset y, m. */
+  oy: Float64Array
+  /** Local offset z, m. */
+  oz: Float64Array
+  /** Offset the pin blends from after pinning at a new offset, xyz per pin (stride 3), m. */
+  blendFrom: Float64Array
+  /** Blend time left, s (0 = at the offset). */
+  blendLeft: Float64Array
+  /** Total blend time, s. */
+  blendTime: Float64Array
+  /** Target pose at the start of the current step: px py pz qx qy qz qw (stride 7). */
+  poseFrom: Float64Array
+  /** Target pose at the end of the current step (stride 7). */
+  poseTo: Float64Array
+}
+
+/** Allocates a Pin store for `capacity` entity ids. Called by `installClothPlugin`. */
+export function createPinStore(capacity: number): PinStore {
+  return {
+    cloth: new Uint32Array(capacity),
+    particle: new Uint32Array(capacity),
+    target: new Uint32Array(capacity),
+    ox: new Float64Array(capacity),
+    oy: new Float64Array(capacity),
+    oz: new Float64Array(capacity),
+    blendFrom: new Float64Array(3 * capacity),
+    blendLeft: new Float64Array(capacity),
+    blendTime: new Float64Array(capacity),
+    poseFrom: new Float64Array(7 * capacity),
+    poseTo: new Float64Array(7 * capacity),
+  }
+}

@@ -1,0 +1,379 @@
+import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
+import type { quat, vec3 } from 'gl-matrix'
+import {
+  ClothError,
+  checkFiniteArray,
+  checkInteger,
+  checkNonNegative,
+  checkOneOf,
+  checkPositive,
+  checkQuat,
+  checkVec3,
+  isArrayLike,
+} from './errors'
+import { measureStretch, writeRenderMesh } from './kernels/mesh'
+import { resolveMaterial, type ClothMaterialSpec } from './materials'
+import { rotateVec3 } from './math'
+import { getCloth } from './pins'
+import { getClothWorld, type ClothMesh, type ClothState, type ClothWorldState } from './state'
+import { EMPTY_TETHERS, buildTethers, type TetherMode } from './tethers'
+import {
+  buildGridTopology,
+  buildMeshTopology,
+  type BendSide,
+  type BendingModel,
+  type ClothTopology,
+  type ShearModel,
+} from './topology'
+
+/** Long-range attachment settings. */
+export interface TetherOptions {
+  /** Tie free particles to their nearest pinned particles. Default true. */
+  enabled?: boolean
+  /** Rest distance measured straight ('euclidean', default) or along the mesh ('geodesic'). */
+  mode?: TetherMode
+  /**
+   * Allowed extra length before a tether pulls, as a fraction (0.01 = 1 %). Default 0: the cloth
+   * cannot stretch away from its pins at all. Slack lets a cloth hung taut between pins sag, but
+   * also lets its taut edges buzz at high substep counts; keep it small.
+   */
+  slack?: number
+  /** Anchors per particle (the nearest ones). Default 2: a sheet between two pins needs both. */
+  perParticle?: number
+}
+
+/** Options shared by `createCloth` and `createClothFromMesh`. */
+export interface ClothOptions {
+  /** A preset name ('cotton', 'silk', ...), a preset (`ClothMaterial.SILK`) or a custom material. Default cotton. */
+  material?: ClothMaterialSpec | string
+  /** Solver iterations per substep. Default 1 (substeps buy more accuracy per ms than iterations). */
+  iterations?: number
+  /** Substeps per fixed step. Default 8. */
+  substeps?: number
+  /** 'xpbd' (default): material stiffness independent of iterations and time step. 'pbd': classic. */
+  solver?: 'xpbd' | 'pbd'
+  /** Bending model. Default 'distance' (skip-one springs on grids, cross-edge springs on meshes). */
+  bending?: BendingModel
+  /** Dihedral hinges resist folds both ways ('both', default) or one way only. */
+  bendSide?: BendSide
+  /** Shear diagonals: two-sided ('distance', default), compression-only or none. */
+  shear?: ShearModel
+  /** Long-range attachments (on by default once the cloth is pinned); false turns them off. */
+  tethers?: boolean | TetherOptions
+  /** Velocity damping, 1/s. Default: the material's. */
+  damping?: number
+  /** Internal stretch damping, 1/s. Default: the material's (60/s for the presets). */
+  stretchDamping?: number
+  /** Total mass, kg. Default: material density × area. */
+  mass?: number
+  /** Particles to sweep constraints outward from (where it will be pinned). Default: from the top. */
+  orderFrom?: ArrayLike<number>
+}
+
+/** Options of `createCloth` (a rectangular sheet). */
+export interface CreateClothOptions extends ClothOptions {
+  /** Width along local +x, m. */
+  width: number
+  /** Height along local −y, m. */
+  height: number
+  /** Particles per row, or [columns, rows]. With one number, rows = columns. */
+  resolution: number | readonly [number, number]
+  /** 'quad' (default): rows, columns, both diagonals as shear. 'triangle': derived like any mesh. */
+  topology?: 'quad' | 'triangle'
+  /** World position of the middle of the top edge. Default origin. */
+  position?: Readonly<vec3> | ArrayLike<number>
+  /** World rotation of the sheet (it hangs in its local x-y plane, front facing +z). */
+  rotation?: Readonly<quat> | ArrayLike<number>
+}
+
+/** Options of `createClothFromMesh`. */
+export interface CreateClothFromMeshOptions extends ClothOptions {
+  /** World positions, xyz per vertex. */
+  positions: ArrayLike<number>
+  /** Triangle indices, 3 per triangle (counter-clockwise from the front). */
+  indices: ArrayLike<number>
+  /** Per-vertex masses, kg (overrides density and `mass`). */
+  masses?: ArrayLike<number>
+}
+
+/**
+ * Creates a rectangular cloth. Particles are row-major from the top-left corner (index = row ·
+ * columns + column, row 0 at the top); the sheet hangs in its local x-y plane with the middle of the
+ * top edge at `position`. Returns the cloth entity.
+ */
+export function createCloth(world: object, options: CreateClothOptions): number {
+  const state = getClothWorld(world)
+  if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  const width = checkPositive('options.width', options.width)
+  const height = checkPositive('options.height', options.height)
+  let columns: number, rows: number
+  if (isArrayLike(options.resolution)) {
+    const r = options.resolution as ArrayLike<number>
+    if (r.length !== 2) throw new ClothError('options.resolution', r, 'must be a number or [columns, rows]')
+    columns = checkInteger('options.resolution[0]', r[0], 2, 4096)
+    rows = checkInteger('options.resolution[1]', r[1], 2, 4096)
+  } else {
+    columns = rows = checkInteger('options.resolution', options.resolution, 2, 4096)
+  }
+  const topo = options.topology === undefined ? 'quad' : checkOneOf('options.topology', options.topology, ['quad', 'triangle'] as const)
+  const position = options.position === undefined ? ORIGIN : checkVec3('options.position', options.position)
+  const rotation = options.rotation === undefined ? IDENTITY : normalized(checkQuat('options.rotation', options.rotation))
+  const common = checkCommon(options, columns * rows)
+  const topology = buildGridTopology(width, height, columns, rows, common.material, topo, common.topologyOptions)
+
+  const pos = new Float64Array(3 * topology.particleCount)
+  const p = new Float64Array(3)
+  for (let i = 0; i < topology.particleCount; i++) {
+    const r = topology.restPositions
+    rotateVec3(rotation[0], rotation[1], rotation[2], rotation[3], r[3 * i], r[3 * i + 1], r[3 * i + 2], p, 0)
+    pos[3 * i] = position[0] + p[0]
+    pos[3 * i + 1] = position[1] + p[1]
+    pos[3 * i + 2] = position[2] + p[2]
+  }
+  return spawnCloth(world, state, topology, pos, common, undefined)
+}
+
+/**
+ * Creates a cloth from any indexed triangle mesh. Edges, shear pairs (quad diagonals), bending
+ * pairs and hinges are derived from the triangles. Returns the cloth entity.
+ */
+export function createClothFromMesh(world: object, options: CreateClothFromMeshOptions): number {
+  const state = getClothWorld(world)
+  if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  const positions = checkFiniteArray('options.positions', options.positions, 3)
+  const n = positions.length / 3
+  if (n < 3) throw new ClothError('options.positions', positions, 'must hold at least 3 vertices')
+  const indices = options.indices
+  if (!isArrayLike(indices) || indices.length === 0 || indices.length % 3 !== 0) {
+    throw new ClothError('options.indices', indices, 'must be a non-empty array of triangle indices (length a multiple of 3)')
+  }
+  for (let k = 0; k < indices.length; k++) {
+    const v = (indices as ArrayLike<number>)[k]
+    if (typeof v !== 'number' || !Number.isInteger(v) || v < 0 || v >= n) {
+      throw new ClothError(`options.indices[${k}]`, v, `must be a vertex index in [0, ${n - 1}]`)
+    }
+  }
+  for (let t = 0; t < indices.length; t += 3) {
+    const a = (indices as ArrayLike<number>)[t], b = (indices as ArrayLike<number>)[t + 1], c = (indices as ArrayLike<number>)[t + 2]
+    if (a === b || b === c || a === c) {
+      throw new ClothError(`options.indices[${t}..${t + 2}]`, [a, b, c], 'must name three different vertices')
+    }
+  }
+  let masses: ArrayLike<number> | undefined
+  if (options.masses !== undefined) {
+    masses = checkFiniteArray('options.masses', options.masses)
+    if (masses.length !== n) throw new ClothError('options.masses', masses, `must have one entry per vertex (${n})`)
+    for (let i = 0; i < n; i++) if (!(masses[i] > 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
+  }
+  const common = checkCommon(options, n)
+  const topology = buildMeshTopology(positions, indices as ArrayLike<number>, common.material, common.topologyOptions)
+  return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses)
+}
+
+interface CommonOptions {
+  material: ClothMaterialSpec
+  iterations: number
+  substeps: number
+  solver: 'xpbd' | 'pbd'
+  damping: number
+  stretchDamping: number
+  mass: number | undefined
+  tethers: Required<TetherOptions>
+  topologyOptions: { bending: BendingModel; shear: ShearModel; bendSide: BendSide; orderFrom?: ArrayLike<number> }
+}
+
+function checkCommon(o: ClothOptions, n: number): CommonOptions {
+  const material = resolveMaterial(o.material)
+  const iterations = o.iterations === undefined ? 1 : checkInteger('options.iterations', o.iterations, 1, 256)
+  const substeps = o.substeps === undefined ? 8 : checkInteger('options.substeps', o.substeps, 1, 256)
+  const solver = o.solver === undefined ? 'xpbd' : checkOneOf('options.solver', o.solver, ['xpbd', 'pbd'] as const)
+  const damping = o.damping === undefined ? material.damping : checkNonNegative('options.damping', o.damping)
+  const stretchDamping = o.stretchDamping === undefined ? material.stretchDamping : checkNonNegative('options.stretchDamping', o.stretchDamping)
+  const mass = o.mass === undefined ? undefined : checkPositive('options.mass', o.mass)
+  const bending = o.bending === undefined ? 'distance' : checkOneOf('options.bending', o.bending, ['distance', 'dihedral', 'both', 'none'] as const)
+  const shear = o.shear === undefined ? 'distance' : checkOneOf('options.shear', o.shear, ['distance', 'compression', 'none'] as const)
+  const bendSide = o.bendSide === undefined ? 'both' : checkOneOf('options.bendSide', o.bendSide, ['both', 'front', 'back'] as const)
+  let orderFrom: ArrayLike<number> | undefined
+  if (o.orderFrom !== undefined) {
+    if (!isArrayLike(o.orderFrom)) throw new ClothError('options.orderFrom', o.orderFrom, 'must be an array of particle indices')
+    for (let k = 0; k < o.orderFrom.length; k++) {
+      const v = o.orderFrom[k]
+      if (!Number.isInteger(v) || v < 0 || v >= n) throw new ClothError(`options.orderFrom[${k}]`, v, `must be a particle index in [0, ${n - 1}]`)
+    }
+    orderFrom = o.orderFrom
+  }
+  return { material, iterations, substeps, solver, damping, stretchDamping, mass, tethers: checkTetherOptions(o.tethers, 'options.tethers'), topologyOptions: { bending, shear, bendSide, orderFrom } }
+}
+
+function checkTetherOptions(t: boolean | TetherOptions | undefined, arg: string): Required<TetherOptions> {
+  const out: Required<TetherOptions> = { enabled: true, mode: 'euclidean', slack: 0, perParticle: 2 }
+  if (t === undefined || t === true) return out
+  if (t === false) return { ...out, enabled: false }
+  if (typeof t !== 'object' || t === null) throw new ClothError(arg, t, 'must be a boolean or tether options')
+  if (t.enabled !== undefined) out.enabled = !!t.enabled
+  if (t.mode !== undefined) out.mode = checkOneOf(`${arg}.mode`, t.mode, ['euclidean', 'geodesic'] as const)
+  if (t.slack !== undefined) out.slack = checkNonNegative(`${arg}.slack`, t.slack)
+  if (t.perParticle !== undefined) out.perParticle = checkInteger(`${arg}.perParticle`, t.perParticle, 1, 16)
+  return out
+}
+
+function spawnCloth(
+  world: object,
+  state: ClothWorldState,
+  topology: ClothTopology,
+  pos: Float64Array,
+  o: CommonOptions,
+  masses: ArrayLike<number> | undefined,
+): number {
+  const n = topology.particleCount
+  const invMass = new Float64Array(n)
+  let scale = 1
+  if (o.mass !== undefined) {
+    let total = 0
+    for (let i = 0; i < n; i++) total += topology.masses[i]
+    scale = o.mass / total
+  }
+  for (let i = 0; i < n; i++) invMass[i] = 1 / (masses ? masses[i] : topology.masses[i] * scale)
+
+  const eid = addEntity(world as never)
+  const c: ClothState = {
+    eid,
+    seq: state.nextSeq++,
+    topology,
+    material: o.material,
+    count: n,
+    pos,
+    prev: Float64Array.from(pos),
+    vel: new Float64Array(3 * n),
+    invMass,
+    baseInvMass: Float64Array.from(invMass),
+    pinCount: new Uint16Array(n),
+    accel: null,
+    distLambda: new Float64Array(topology.distCount),
+    compLambda: new Float64Array(topology.compCount),
+    hingeLambda: new Float64Array(topology.hingeCount),
+    tethers: EMPTY_TETHERS,
+    useTethers: o.tethers.enabled,
+    tetherMode: o.tethers.mode,
+    tetherSlack: o.tethers.slack,
+    tethersPerParticle: o.tethers.perParticle,
+    tethersDirty: false,
+    pins: [],
+    substeps: o.substeps,
+    iterations: o.iterations,
+    solver: o.solver,
+    damping: o.damping,
+    stretchDamping: o.stretchDamping,
+    subIndex: -1,
+    h: state.fixedTimeStep / o.substeps,
+    skipTeleport: false,
+    version: 0,
+    renderedVersion: -1,
+    renderPos: new Float32Array(3 * n),
+    renderNormal: new Float32Array(3 * n),
+    renderIndex: Uint32Array.from(topology.triangles),
+    mesh: null,
+  }
+  state.components.Cloth.state[eid] = c
+  state.cloths.push(c)
+  addComponent(world as never, eid, state.components.Cloth)
+  return eid
+}
+
+/** Rebuilds a cloth's tethers from its current pins (called by the sync phase when pins changed). */
+export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
+  c.tethersDirty = false
+  if (!c.useTethers) {
+    c.tethers = EMPTY_TETHERS
+    return
+  }
+  const anchors: number[] = []
+  for (let i = 0; i < c.count; i++) if (c.pinCount[i] > 0) anchors.push(i)
+  const t = c.topology
+  c.tethers = buildTethers(t.restPositions, c.count, t.edges, t.edgeCount, anchors, c.tetherMode, c.tethersPerParticle, c.tetherSlack)
+  state.stats.tetherRebuilds++
+}
+
+/**
+ * The cloth's render mesh: float32 positions and unit normals per live particle and the triangle
+ * indices, as views sized to the live counts. The same arrays come back every call (refreshed when
+ * the cloth moved), so uploading them each frame allocates nothing.
+ */
+export function getClothMesh(world: object, cloth: number): ClothMesh {
+  const c = getCloth(getClothWorld(world), cloth)
+  const triCount = c.topology.triangleCount
+  let mesh = c.mesh
+  if (!mesh || mesh.vertexCount !== c.count || mesh.triangleCount !== triCount || mesh.positions.buffer !== c.renderPos.buffer) {
+    mesh = c.mesh = {
+      positions: c.renderPos.subarray(0, 3 * c.count),
+      normals: c.renderNormal.subarray(0, 3 * c.count),
+      indices: c.renderIndex.subarray(0, 3 * triCount),
+      vertexCount: c.count,
+      triangleCount: triCount,
+    }
+    c.renderedVersion = -1
+  }
+  if (c.renderedVersion !== c.version) {
+    writeRenderMesh(c.pos, c.count, c.renderIndex, triCount, c.renderPos, c.renderNormal)
+    c.renderedVersion = c.version
+  }
+  return mesh
+}
+
+/** The cloth's internal state (particle arrays, rest data, pins). Read freely; write with care. */
+export function getClothState(world: object, cloth: number): ClothState {
+  return getCloth(getClothWorld(world), cloth)
+}
+
+/** All cloth entities of a world, in creation order. */
+export function getCloths(world: object): number[] {
+  return getClothWorld(world).cloths.map((c) => c.eid)
+}
+
+/** Changes a cloth's substeps and/or iterations per substep. */
+export function setClothQuality(world: object, cloth: number, quality: { substeps?: number; iterations?: number }): void {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  if (quality.substeps !== undefined) {
+    c.substeps = checkInteger('quality.substeps', quality.substeps, 1, 256)
+    c.h = state.fixedTimeStep / c.substeps
+  }
+  if (quality.iterations !== undefined) c.iterations = checkInteger('quality.iterations', quality.iterations, 1, 256)
+}
+
+/** Changes a cloth's tether settings (`false` turns tethers off); they are rebuilt at the next step. */
+export function setClothTethers(world: object, cloth: number, tethers: boolean | TetherOptions): void {
+  const c = getCloth(getClothWorld(world), cloth)
+  const current: TetherOptions = { enabled: c.useTethers, mode: c.tetherMode, slack: c.tetherSlack, perParticle: c.tethersPerParticle }
+  const t = checkTetherOptions(typeof tethers === 'boolean' ? { ...current, enabled: tethers } : { ...current, ...tethers }, 'tethers')
+  c.useTethers = t.enabled
+  c.tetherMode = t.mode
+  c.tetherSlack = t.slack
+  c.tethersPerParticle = t.perParticle
+  c.tethersDirty = true
+}
+
+/**
+ * Edge stretch of a cloth now: mean and max over its structural edges of max(0, length/rest − 1)
+ * (0.01 = 1 % longer than rest).
+ */
+export function getClothStretch(world: object, cloth: number, out = { mean: 0, max: 0 }): { mean: number; max: number } {
+  const c = getCloth(getClothWorld(world), cloth)
+  const t = c.topology
+  return measureStretch(c.pos, t.stretchIds, t.stretchRest, t.stretchCount, out)
+}
+
+/** Removes a cloth with its pins. */
+export function removeCloth(world: object, cloth: number): void {
+  const state = getClothWorld(world)
+  getCloth(state, cloth)
+  if (entityExists(world as never, cloth) && hasComponent(world as never, cloth, state.components.Cloth)) removeEntity(world as never, cloth)
+}
+
+const ORIGIN = [0, 0, 0]
+const IDENTITY = [0, 0, 0, 1]
+
+function normalized(q: ArrayLike<number>): number[] {
+  const l = Math.hypot(q[0], q[1], q[2], q[3])
+  return [q[0] / l, q[1] / l, q[2] / l, q[3] / l]
+}

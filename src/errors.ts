@@ -1,0 +1,132 @@
+/**
+ * The one error the plugin throws for bad input. Every check runs at the API edge, before
+ * anything reaches the solver, and the message names the argument and the value it got.
+ */
+export class ClothError extends Error {
+  /** The argument (or option path) that was rejected, e.g. `options.resolution`. */
+  readonly argument: string
+  /** The rejected value, as given. */
+  readonly value: unknown
+
+  constructor(argument: string, value: unknown, expectation: string) {
+    super(`bitecs-cloth: ${argument} ${expectation} (got ${describe(value)})`)
+    this.name = 'ClothError'
+    this.argument = argument
+    this.value = value
+  }
+}
+
+function describe(value: unknown): string {
+  if (typeof value === 'number') return Number.isNaN(value) ? 'NaN' : String(value)
+  if (typeof value === 'string') return JSON.stringify(value)
+  if (value === null || value === undefined) return String(value)
+  if (Array.isArray(value) || ArrayBuffer.isView(value)) {
+    const arr = value as ArrayLike<unknown>
+    const head = Array.from({ length: Math.min(arr.length, 4) }, (_, i) => describe(arr[i]))
+    return `[${head.join(', ')}${arr.length > 4 ? ', …' : ''}] (length ${arr.length})`
+  }
+  if (typeof value === 'object') return Object.prototype.toString.call(value)
+  return String(value)
+}
+
+/** A finite number (not NaN, not ±Infinity). */
+export function checkFinite(argument: string, value: unknown): number {
+  if (typeof value !== 'number' || !Number.isFinite(value)) {
+    throw new ClothError(argument, value, 'must be a finite number')
+  }
+  return value
+}
+
+/** A finite number ≥ 0. */
+export function checkNonNegative(argument: string, value: unknown): number {
+  if (typeof value !== 'number' || !Number.isFinite(value) || value < 0) {
+    throw new ClothError(argument, value, 'must be a finite number ≥ 0')
+  }
+  return value
+}
+
+/** A finite number > 0. */
+export function checkPositive(argument: string, value: unknown): number {
+  if (typeof value !== 'number' || !Number.isFinite(value) || value <= 0) {
+    throw new ClothError(argument, value, 'must be a finite number > 0')
+  }
+  return value
+}
+
+/** An integer in [min, max]. */
+export function checkInteger(argument: string, value: unknown, min: number, max = Number.MAX_SAFE_INTEGER): number {
+  if (typeof value !== 'number' || !Number.isInteger(value) || value < min || value > max) {
+    const range = max === Number.MAX_SAFE_INTEGER ? `≥ ${min}` : `in [${min}, ${max}]`
+    throw new ClothError(argument, value, `must be an integer ${range}`)
+  }
+  return value
+}
+
+/** An index into a collection of `count` items. */
+export function checkIndex(argument: string, value: unknown, count: number): number {
+  if (typeof value !== 'number' || !Number.isInteger(value) || value < 0 || value >= count) {
+    throw new ClothError(argument, value, `must be an integer index in [0, ${count - 1}]`)
+  }
+  return value
+}
+
+/** A 3-vector of finite numbers (array, typed array or gl-matrix vec3). */
+export function checkVec3(argument: string, value: unknown): ArrayLike<number> {
+  if (!isArrayLike(value) || value.length !== 3) {
+    throw new ClothError(argument, value, 'must be a 3-vector [x, y, z]')
+  }
+  for (let i = 0; i < 3; i++) {
+    if (typeof value[i] !== 'number' || !Number.isFinite(value[i] as number)) {
+      throw new ClothError(argument, value, 'must contain finite numbers')
+    }
+  }
+  return value as ArrayLike<number>
+}
+
+/** A unit-length-able quaternion [x, y, z, w] of finite numbers, not all zero. */
+export function checkQuat(argument: string, value: unknown): ArrayLike<number> {
+  if (!isArrayLike(value) || value.length !== 4) {
+    throw new ClothError(argument, value, 'must be a quaternion [x, y, z, w]')
+  }
+  let len2 = 0
+  for (let i = 0; i < 4; i++) {
+    const v = value[i]
+    if (typeof v !== 'number' || !Number.isFinite(v)) {
+      throw new ClothError(argument, value, 'must contain finite numbers')
+    }
+    len2 += v * v
+  }
+  if (len2 < 1e-12) throw new ClothError(argument, value, 'must have non-zero length')
+  return value as ArrayLike<number>
+}
+
+/** A flat array of finite numbers whose length is a multiple of `stride`. */
+export function checkFiniteArray(argument: string, value: unknown, stride = 1): ArrayLike<number> {
+  if (!isArrayLike(value)) throw new ClothError(argument, value, 'must be an array of numbers')
+  if (value.length % stride !== 0) {
+    throw new ClothError(argument, value, `must have a length that is a multiple of ${stride}`)
+  }
+  for (let i = 0; i < value.length; i++) {
+    const v = value[i]
+    if (typeof v !== 'number' || !Number.isFinite(v)) {
+      throw new ClothError(`${argument}[${i}]`, v, 'must be a finite number')
+    }
+  }
+  return value as ArrayLike<number>
+}
+
+/** One of a fixed set of strings. */
+export function checkOneOf<T extends string>(argument: string, value: unknown, allowed: readonly T[]): T {
+  if (typeof value !== 'string' || !(allowed as readonly string[]).includes(value)) {
+    throw new ClothError(argument, value, `must be one of ${allowed.map((a) => `'${a}'`).join(', ')}`)
+  }
+  return value as T
+}
+
+export function isArrayLike(value: unknown): value is ArrayLike<unknown> {
+  return (
+    Array.isArray(value) ||
+    (ArrayBuffer.isView(value) && !(value instanceof DataView)) ||
+    (typeof value === 'object' && value !== null && typeof (value as { length?: unknown }).length === 'number')
+  )
+}

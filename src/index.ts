@@ -1,0 +1,54 @@
+/**
+ * bitecs-cloth: real-time cloth for bitECS worlds (XPBD, Müller et al.).
+ *
+ * Install the plugin on a world, create cloths, pin them to entities with a Transform, and call
+ * `stepCloth(world, dt)` each frame, or schedule the exported phase systems yourself.
+ */
+export { installClothPlugin, getClothComponents, getClothStats, resetClothStats } from './plugin'
+export { stepCloth } from './step'
+export {
+  createCloth,
+  createClothFromMesh,
+  getClothMesh,
+  getClothState,
+  getCloths,
+  getClothStretch,
+  removeCloth,
+  setClothQuality,
+  setClothTethers,
+  type ClothOptions,
+  type CreateClothOptions,
+  type CreateClothFromMeshOptions,
+  type TetherOptions,
+} from './cloth'
+export { pinParticle, pinRow, unpin, getPins, teleportCloth, type PinOptions } from './pins'
+export { setTransform, getTransform } from './transform'
+export { ClothMaterial, defineMaterial, resolveMaterial, type ClothMaterialSpec, type ClothMaterialName } from './materials'
+export { ClothError } from './errors'
+export { ClothSimulation, type ClothSimulationOptions } from './simulation'
+export type { ClothMesh, ClothPluginOptions, ClothState, ClothStats, ClothWorldState, TransformSource } from './state'
+export type { ClothTopology, BendingModel, BendSide, ShearModel } from './topology'
+export type { TetherMode } from './tethers'
+
+// Components and systems, for engines that query or schedule them directly.
+export type { TransformStore } from '../components/Transform'
+export type { PinStore } from '../components/Pin'
+export type { ClothStore } from '../components/Cloth'
+export { clothSync } from '../systems/clothSync'
+export { clothForces } from '../systems/clothForces'
+export { clothPredict } from '../systems/clothPredict'
+export { clothSolve } from '../systems/clothSolve'
+export { clothCollide } from '../systems/clothCollide'
+export { clothTear } from '../systems/clothTear'
+export { clothWriteback } from '../systems/clothWriteback'
+export { clothPhases, clothFixedStep, clothSubstepCount, setClothSubstep } from '../systems/pipeline'
+
+// Kernels: plain functions over typed arrays, usable without a world.
+export { predictPositions, updateVelocities } from './kernels/integrate'
+export { solveDistances, solveDistancesXpbd, solveCompression } from './kernels/distance'
+export { dampPairs } from './kernels/damping'
+export { solveDihedrals } from './kernels/dihedral'
+export { solveTethers } from './kernels/tether'
+export { writeRenderMesh, measureStretch } from './kernels/mesh'
+export { buildGridTopology, buildMeshTopology, dihedralAngle } from './topology'
+export { buildTethers } from './tethers'

@@ -1,0 +1,76 @@
+/**
+ * Predict step of position-based dynamics (symplectic Euler on velocities, Verlet-style on
+ * positions): v ← v·damp + (g + a)·h, prev ← x, x ← x + v·h, for every particle with inverse mass
+ * > 0. Kinematic particles (inverse mass 0, i.e. pinned) only record prev; the pin phase places them.
+ *
+ * @param accel optional per-particle extra acceleration (xyz, m/s²), e.g. aerodynamic forces / mass
+ * @param damp velocity factor for this substep, max(0, 1 − damping·h)
+ */
+export function predictPositions(
+  pos: Float64Array,
+  prev: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  accel: Float64Array | null,
+  gx: number,
+  gy: number,
+  gz: number,
+  h: number,
+  damp: number,
+  count: number,
+): void {
+  const ax = gx * h, ay = gy * h, az = gz * h
+  for (let i = 0; i < count; i++) {
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    prev[j] = x
+    prev[j + 1] = y
+    prev[j + 2] = z
+    if (invMass[i] === 0) continue
+    let vx = vel[j] * damp + ax
+    let vy = vel[j + 1] * damp + ay
+    let vz = vel[j + 2] * damp + az
+    if (accel !== null) {
+      vx += accel[j] * h
+      vy += accel[j + 1] * h
+      vz += accel[j + 2] * h
+    }
+    vel[j] = vx
+    vel[j + 1] = vy
+    vel[j + 2] = vz
+    pos[j] = x + vx * h
+    pos[j + 1] = y + vy * h
+    pos[j + 2] = z + vz * h
+  }
+}
+
+/**
+ * Reads velocities back from the motion of the substep: v = (x − prev)/h. A speed above `maxSpeed`
+ * (m/s) is scaled down to it, a last line of defence against runaway energy.
+ */
+export function updateVelocities(
+  pos: Float64Array,
+  prev: Float64Array,
+  vel: Float64Array,
+  invH: number,
+  maxSpeed: number,
+  count: number,
+): void {
+  const max2 = maxSpeed * maxSpeed
+  for (let i = 0; i < count; i++) {
+    const j = 3 * i
+    let vx = (pos[j] - prev[j]) * invH
+    let vy = (pos[j + 1] - prev[j + 1]) * invH
+    let vz = (pos[j + 2] - prev[j + 2]) * invH
+    const s2 = vx * vx + vy * vy + vz * vz
+    if (s2 > max2) {
+      const f = maxSpeed / Math.sqrt(s2)
+      vx *= f
+      vy *= f
+      vz *= f
+    }
+    vel[j] = vx
+    vel[j + 1] = vy
+    vel[j + 2] = vz
+  }
+}

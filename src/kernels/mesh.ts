@@ -1,0 +1,76 @@
+/**
+ * Render output: copies positions to float32 and computes area-weighted vertex normals
+ * (unnormalised triangle normals summed, then normalised). Degenerate normals fall back to +z
+ * rather than NaN.
+ */
+export function writeRenderMesh(
+  pos: Float64Array,
+  count: number,
+  tris: Uint32Array,
+  triCount: number,
+  outPos: Float32Array,
+  outNormal: Float32Array,
+): void {
+  for (let j = 0; j < 3 * count; j++) {
+    outPos[j] = pos[j]
+    outNormal[j] = 0
+  }
+  for (let t = 0; t < triCount; t++) {
+    const a = 3 * tris[3 * t], b = 3 * tris[3 * t + 1], c = 3 * tris[3 * t + 2]
+    const ux = pos[b] - pos[a], uy = pos[b + 1] - pos[a + 1], uz = pos[b + 2] - pos[a + 2]
+    const vx = pos[c] - pos[a], vy = pos[c + 1] - pos[a + 1], vz = pos[c + 2] - pos[a + 2]
+    const nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx
+    outNormal[a] += nx
+    outNormal[a + 1] += ny
+    outNormal[a + 2] += nz
+    outNormal[b] += nx
+    outNormal[b + 1] += ny
+    outNormal[b + 2] += nz
+    outNormal[c] += nx
+    outNormal[c + 1] += ny
+    outNormal[c + 2] += nz
+  }
+  for (let i = 0; i < count; i++) {
+    const j = 3 * i
+    const x = outNormal[j], y = outNormal[j + 1], z = outNormal[j + 2]
+    const l2 = x * x + y * y + z * z
+    if (l2 > 1e-30) {
+      const f = 1 / Math.sqrt(l2)
+      outNormal[j] = x * f
+      outNormal[j + 1] = y * f
+      outNormal[j + 2] = z * f
+    } else {
+      outNormal[j] = 0
+      outNormal[j + 1] = 0
+      outNormal[j + 2] = 1
+    }
+  }
+}
+
+/** Edge strain statistics: mean and max of max(0, |d|/rest − 1) over the given edges. */
+export function measureStretch(
+  pos: ArrayLike<number>,
+  edges: Int32Array,
+  edgeRest: Float64Array,
+  edgeCount: number,
+  out: { mean: number; max: number },
+): { mean: number; max: number } {
+  let sum = 0
+  let max = 0
+  let n = 0
+  for (let e = 0; e < edgeCount; e++) {
+    const r = edgeRest[e]
+    if (!(r > 0)) continue
+    const a = 3 * edges[2 * e], b = 3 * edges[2 * e + 1]
+    const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
+    const s = Math.sqrt(dx * dx + dy * dy + dz * dz) / r - 1
+    if (s > 0) {
+      sum += s
+      if (s > max) max = s
+    }
+    n++
+  }
+  out.mean = n > 0 ? sum / n : 0
+  out.max = max
+  return out
+}

@@ -1,0 +1,366 @@
+import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
+import type { quat, vec3 } from 'gl-matrix'
+import { ClothError, checkIndex, checkInteger, checkNonNegative, checkQuat, checkVec3 } from './errors'
+import { rotateVec3, slerpQuat } from './math'
+import { getClothWorld, type ClothState, type ClothWorldState } from './state'
+import { checkEntity, readPose, readScale } from './transform'
+import { growStores } from './plugin'
+
+/** Options of `pinParticle`. */
+export interface PinOptions {
+  /**
+   * When an explicit offset puts the pin away from where the particle is, the particle glides to
+   * it over this many seconds instead of jumping. Default 0.25 s; 0 snaps.
+   */
+  blendTime?: number
+}
+
+const tmp = new Float64Array(16)
+
+/**
+ * Pins one particle. With a `target` entity (which must have a Transform), the particle follows
+ * the target every substep at `offset` in the target's local frame (rotation and scale applied).
+ * Without a target it stays at `offset` in world space. When `offset` is omitted the particle is
+ * held where it is now, so pinning at runtime causes no jump; an explicit offset is blended in
+ * over `blendTime`. Returns the pin entity (remove it, or call `unpin`, to release the particle).
+ */
+export function pinParticle(
+  world: object,
+  cloth: number,
+  index: number,
+  target?: number | null,
+  offset?: Readonly<vec3> | ArrayLike<number>,
+  options: PinOptions = {},
+): number {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  checkIndex('index', index, c.count)
+  const tgt = target ?? 0
+  if (tgt !== 0) {
+    checkEntity(world, 'target', tgt)
+    if (!hasComponent(world as never, tgt, state.transforms.component)) {
+      throw new ClothError('target', tgt, 'must have a Transform (call setTransform first)')
+    }
+  }
+  if (offset !== undefined) checkVec3('offset', offset)
+  const blendTime = options.blendTime === undefined ? 0.25 : checkNonNegative('options.blendTime', options.blendTime)
+
+  const pin = addEntity(world as never)
+  growStores(state, pin)
+  const P = state.components.Pin
+  P.cloth[pin] = cloth
+  P.particle[pin] = index
+  P.target[pin] = tgt
+  // the target's pose now, as both ends of this step's interpolation
+  if (tgt !== 0) readPose(state, tgt, P.poseTo, 7 * pin)
+  else P.poseTo.set(IDENTITY_POSE, 7 * pin)
+  for (let j = 0; j < 7; j++) P.poseFrom[7 * pin + j] = P.poseTo[7 * pin + j]
+
+  // where the particle is now, in the target's frame
+  toLocal(state, tgt, P.poseTo, 7 * pin, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
+  P.blendFrom[3 * pin] = tmp[0]
+  P.blendFrom[3 * pin + 1] = tmp[1]
+  P.blendFrom[3 * pin + 2] = tmp[2]
+  if (offset === undefined) {
+    P.ox[pin] = tmp[0]
+    P.oy[pin] = tmp[1]
+    P.oz[pin] = tmp[2]
+    P.blendLeft[pin] = 0
+  } else {
+    P.ox[pin] = offset[0]
+    P.oy[pin] = offset[1]
+    P.oz[pin] = offset[2]
+    P.blendLeft[pin] = blendTime
+  }
+  P.blendTime[pin] = blendTime
+
+  addComponent(world as never, pin, P)
+  c.pins.push(pin)
+  if (c.pinCount[index]++ === 0) {
+    c.invMass[index] = 0
+    c.tethersDirty = true
+  }
+  return pin
+}
+
+/**
+ * Pins every particle of one grid row (row 0 is the top edge) to `target`, or in place when no
+ * target is given. Each particle keeps its current position relative to the target. Returns the
+ * pin entities, left to right.
+ */
+export function pinRow(world: object, cloth: number, row: number, target?: number | null): number[] {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  const { columns, rows } = c.topology
+  if (rows === 0) throw new ClothError('cloth', cloth, 'was not built as a grid (pinRow needs createCloth)')
+  checkInteger('row', row, 0, rows - 1)
+  const pins: number[] = []
+  for (let col = 0; col < columns; col++) pins.push(pinParticle(world, cloth, row * columns + col, target))
+  return pins
+}
+
+/** Releases a pin (removes its entity). The particle keeps its current velocity: no pop. */
+export function unpin(world: object, pin: number): void {
+  const state = getClothWorld(world)
+  if (typeof pin !== 'number' || !entityExists(world as never, pin) || !hasComponent(world as never, pin, state.components.Pin)) {
+    throw new ClothError('pin', pin, 'must be a pin entity of this world')
+  }
+  removeEntity(world as never, pin)
+}
+
+/** The pin entities holding a cloth, in creation order (a copy). */
+export function getPins(world: object, cloth: number): number[] {
+  return getCloth(getClothWorld(world), cloth).pins.slice()
+}
+
+/** Called when a Pin component goes away: frees the particle and forgets the pin. */
+export function releasePin(state: ClothWorldState, pin: number): void {
+  const P = state.components.Pin
+  const c = state.components.Cloth.state[P.cloth[pin]]
+  if (!c) return
+  const k = c.pins.indexOf(pin)
+  if (k < 0) return
+  c.pins.splice(k, 1)
+  const i = P.particle[pin]
+  if (--c.pinCount[i] === 0) {
+    c.invMass[i] = c.baseInvMass[i]
+    c.tethersDirty = true
+  }
+}
+
+/** Looks up a cloth's state, or throws ClothError. */
+export function getCloth(state: ClothWorldState, cloth: number): ClothState {
+  const c = typeof cloth === 'number' ? state.components.Cloth.state[cloth] : undefined
+  if (!c) throw new ClothError('cloth', cloth, 'must be a cloth entity of this world')
+  return c
+}
+
+const IDENTITY_POSE = [0, 0, 0, 0, 0, 0, 1]
+
+/** Writes the target-local coordinates of world point (x, y, z) into out[o..o+2]. */
+function toLocal(
+  state: ClothWorldState, target: number, pose: Float64Array, po: number,
+  x: number, y: number, z: number, out: Float64Array, o: number,
+): void {
+  if (target === 0) {
+    out[o] = x
+    out[o + 1] = y
+    out[o + 2] = z
+    return
+  }
+  // inverse rotation: conjugate quaternion
+  rotateVec3(-pose[po + 3], -pose[po + 4], -pose[po + 5], pose[po + 6], x - pose[po], y - pose[po + 1], z - pose[po + 2], out, o)
+  out[o] /= readScale(state, target, 0)
+  out[o + 1] /= readScale(state, target, 1)
+  out[o + 2] /= readScale(state, target, 2)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Per-step and per-substep pin work (called by the sync and predict systems)
+
+/**
+ * Start of a fixed step: each pin's target pose moves on (end of last step → start of this one;
+ * the target's Transform now → end of this one). A target that jumped farther than the teleport
+ * distance carries the whole cloth along rigidly. Only the jump is applied rigidly: the motion the
+ * target would have made anyway (its last step's, continued) is left to the usual interpolation,
+ * so a cape on a running character keeps flowing through a teleport instead of being yanked.
+ */
+export function samplePinTargets(state: ClothWorldState, c: ClothState): void {
+  const P = state.components.Pin
+  const limit2 = state.teleportDistance * state.teleportDistance
+  let jumped = -1
+  for (let k = 0; k < c.pins.length; k++) {
+    const pin = c.pins[k]
+    const o = 7 * pin
+    const tgt = P.target[pin]
+    if (tgt !== 0) readPose(state, tgt, tmp, 0)
+    else tmp.set(IDENTITY_POSE, 0)
+    if (tgt !== 0 && jumped < 0 && !c.skipTeleport) {
+      const dx = tmp[0] - P.poseTo[o], dy = tmp[1] - P.poseTo[o + 1], dz = tmp[2] - P.poseTo[o + 2]
+      if (dx * dx + dy * dy + dz * dz > limit2) {
+        jumped = pin
+        // before the shift below: teleport = new − old end − last step's motion
+        for (let j = 0; j < 3; j++) tmp[7 + j] = tmp[j] - 2 * P.poseTo[o + j] + P.poseFrom[o + j]
+      }
+    }
+    for (let j = 0; j < 7; j++) {
+      P.poseFrom[o + j] = P.poseTo[o + j]
+      P.poseTo[o + j] = tmp[j]
+    }
+  }
+  if (jumped >= 0) {
+    const o = 7 * jumped
+    // rotation jump R = q_new · q_old⁻¹ about the old target position, then the translation jump
+    const fx = -P.poseFrom[o + 3], fy = -P.poseFrom[o + 4], fz = -P.poseFrom[o + 5], fw = P.poseFrom[o + 6]
+    const tx = P.poseTo[o + 3], ty = P.poseTo[o + 4], tz = P.poseTo[o + 5], tw = P.poseTo[o + 6]
+    const rx = tw * fx + tx * fw + ty * fz - tz * fy
+    const ry = tw * fy - tx * fz + ty * fw + tz * fx
+    const rz = tw * fz + tx * fy - ty * fx + tz * fw
+    const rw = tw * fw - tx * fx - ty * fy - tz * fz
+    const cx = P.poseFrom[o], cy = P.poseFrom[o + 1], cz = P.poseFrom[o + 2]
+    const jx = tmp[7], jy = tmp[8], jz = tmp[9]
+    transformCloth(c, cx, cy, cz, rx, ry, rz, rw, cx + jx, cy + jy, cz + jz)
+    // every pin of the cloth starts this step from its old end pose moved by the same jump
+    for (const pin of c.pins) {
+      const q = 7 * pin
+      rotateVec3(rx, ry, rz, rw, P.poseFrom[q] - cx, P.poseFrom[q + 1] - cy, P.poseFrom[q + 2] - cz, tmp, 0)
+      P.poseFrom[q] = cx + jx + tmp[0]
+      P.poseFrom[q + 1] = cy + jy + tmp[1]
+      P.poseFrom[q + 2] = cz + jz + tmp[2]
+      const ax = P.poseFrom[q + 3], ay = P.poseFrom[q + 4], az = P.poseFrom[q + 5], aw = P.poseFrom[q + 6]
+      P.poseFrom[q + 3] = rw * ax + rx * aw + ry * az - rz * ay
+      P.poseFrom[q + 4] = rw * ay - rx * az + ry * aw + rz * ax
+      P.poseFrom[q + 5] = rw * az + rx * ay - ry * ax + rz * aw
+      P.poseFrom[q + 6] = rw * aw - rx * ax - ry * ay - rz * az
+    }
+    state.stats.teleports++
+  } else if (c.skipTeleport) {
+    for (const pin of c.pins) for (let j = 0; j < 7; j++) P.poseFrom[7 * pin + j] = P.poseTo[7 * pin + j]
+  }
+  c.skipTeleport = false
+}
+
+/**
+ * Places the pinned particles of a cloth for local substep k of n: the target pose is
+ * interpolated (position lerp, rotation slerp) to (k + 1)/n of the way through the step, so a fast
+ * character drags its cloth smoothly instead of in one jerk per frame.
+ */
+export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number, h: number): void {
+  const P = state.components.Pin
+  const f = (k + 1) / n
+  const pos = c.pos
+  for (let q = 0; q < c.pins.length; q++) {
+    const pin = c.pins[q]
+    const o = 7 * pin
+    let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
+    const left = P.blendLeft[pin]
+    if (left > 0) {
+      const total = P.blendTime[pin]
+      const nextLeft = Math.max(0, left - h)
+      P.blendLeft[pin] = nextLeft
+      const u = total > 0 ? 1 - nextLeft / total : 1
+      const s = u * u * (3 - 2 * u) // smoothstep: no velocity kick at either end
+      const b = 3 * pin
+      lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * s
+      ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * s
+      lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * s
+    }
+    const i = 3 * P.particle[pin]
+    const tgt = P.target[pin]
+    if (tgt === 0) {
+      pos[i] = lx
+      pos[i + 1] = ly
+      pos[i + 2] = lz
+      continue
+    }
+    lx *= readScale(state, tgt, 0)
+    ly *= readScale(state, tgt, 1)
+    lz *= readScale(state, tgt, 2)
+    if (f === 1) {
+      // end of the step: exactly the target's pose, not an interpolation that rounds near it
+      rotateVec3(P.poseTo[o + 3], P.poseTo[o + 4], P.poseTo[o + 5], P.poseTo[o + 6], lx, ly, lz, tmp, 4)
+      pos[i] = P.poseTo[o] + tmp[4]
+      pos[i + 1] = P.poseTo[o + 1] + tmp[5]
+      pos[i + 2] = P.poseTo[o + 2] + tmp[6]
+      continue
+    }
+    slerpQuat(P.poseFrom, o + 3, P.poseTo, o + 3, f, tmp, 0)
+    rotateVec3(tmp[0], tmp[1], tmp[2], tmp[3], lx, ly, lz, tmp, 4)
+    pos[i] = P.poseFrom[o] + (P.poseTo[o] - P.poseFrom[o]) * f + tmp[4]
+    pos[i + 1] = P.poseFrom[o + 1] + (P.poseTo[o + 1] - P.poseFrom[o + 1]) * f + tmp[5]
+    pos[i + 2] = P.poseFrom[o + 2] + (P.poseTo[o + 2] - P.poseFrom[o + 2]) * f + tmp[6]
+  }
+  state.stats.pinUpdates += c.pins.length
+}
+
+/**
+ * Moves a cloth rigidly: x' = to + R·(x − from) for positions and previous positions, v' = R·v,
+ * so the motion carries no velocity and the shape is kept exactly.
+ */
+export function transformCloth(
+  c: ClothState,
+  fromX: number, fromY: number, fromZ: number,
+  rx: number, ry: number, rz: number, rw: number,
+  toX: number, toY: number, toZ: number,
+): void {
+  const { pos, prev, vel } = c
+  for (let i = 0; i < c.count; i++) {
+    const j = 3 * i
+    rotateVec3(rx, ry, rz, rw, pos[j] - fromX, pos[j + 1] - fromY, pos[j + 2] - fromZ, tmp, 8)
+    pos[j] = toX + tmp[8]
+    pos[j + 1] = toY + tmp[9]
+    pos[j + 2] = toZ + tmp[10]
+    rotateVec3(rx, ry, rz, rw, prev[j] - fromX, prev[j + 1] - fromY, prev[j + 2] - fromZ, tmp, 8)
+    prev[j] = toX + tmp[8]
+    prev[j + 1] = toY + tmp[9]
+    prev[j + 2] = toZ + tmp[10]
+    rotateVec3(rx, ry, rz, rw, vel[j], vel[j + 1], vel[j + 2], tmp, 8)
+    vel[j] = tmp[8]
+    vel[j + 1] = tmp[9]
+    vel[j + 2] = tmp[10]
+  }
+  c.version++
+}
+
+/**
+ * Teleports a cloth: moves it rigidly by `translation`, rotated by `rotation` about `pivot`
+ * (default: the cloth's centroid), keeping its shape and velocities (rotated). World-space pins
+ * move with it. Pins on targets start the next step at their targets' new pose, without
+ * interpolation and without the automatic teleport detection (so moving the character and calling
+ * this does not move the cloth twice).
+ *
+ * Moving a character far in one frame without calling this also works: the plugin detects the
+ * jump (`teleportDistance`) and carries the cloth along by the target's motion.
+ */
+export function teleportCloth(
+  world: object,
+  cloth: number,
+  translation: Readonly<vec3> | ArrayLike<number>,
+  rotation?: Readonly<quat> | ArrayLike<number>,
+  pivot?: Readonly<vec3> | ArrayLike<number>,
+): void {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  checkVec3('translation', translation)
+  let rx = 0, ry = 0, rz = 0, rw = 1
+  if (rotation !== undefined) {
+    checkQuat('rotation', rotation)
+    const l = Math.hypot(rotation[0], rotation[1], rotation[2], rotation[3])
+    rx = rotation[0] / l
+    ry = rotation[1] / l
+    rz = rotation[2] / l
+    rw = rotation[3] / l
+  }
+  let px = 0, py = 0, pz = 0
+  if (pivot !== undefined) {
+    checkVec3('pivot', pivot)
+    px = pivot[0]
+    py = pivot[1]
+    pz = pivot[2]
+  } else if (c.count > 0) {
+    for (let i = 0; i < c.count; i++) {
+      px += c.pos[3 * i]
+      py += c.pos[3 * i + 1]
+      pz += c.pos[3 * i + 2]
+    }
+    px /= c.count
+    py /= c.count
+    pz /= c.count
+  }
+  transformCloth(c, px, py, pz, rx, ry, rz, rw, px + translation[0], py + translation[1], pz + translation[2])
+  const P = state.components.Pin
+  for (const pin of c.pins) {
+    if (P.target[pin] !== 0) continue
+    rotateVec3(rx, ry, rz, rw, P.ox[pin] - px, P.oy[pin] - py, P.oz[pin] - pz, tmp, 0)
+    P.ox[pin] = px + translation[0] + tmp[0]
+    P.oy[pin] = py + translation[1] + tmp[1]
+    P.oz[pin] = pz + translation[2] + tmp[2]
+    const b = 3 * pin
+    rotateVec3(rx, ry, rz, rw, P.blendFrom[b] - px, P.blendFrom[b + 1] - py, P.blendFrom[b + 2] - pz, tmp, 0)
+    P.blendFrom[b] = px + translation[0] + tmp[0]
+    P.blendFrom[b + 1] = py + translation[1] + tmp[1]
+    P.blendFrom[b + 2] = pz + translation[2] + tmp[2]
+  }
+  c.skipTeleport = true
+  state.stats.teleports++
+}

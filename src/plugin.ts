@@ -1,0 +1,122 @@
+import { observe, onAdd, onRemove, removeEntity, entityExists } from 'bitecs'
+import { createClothStore } from '../components/Cloth'
+import { createPinStore } from '../components/Pin'
+import { createTransformStore, resetTransform, type TransformStore } from '../components/Transform'
+import { ClothError, checkInteger, checkPositive, checkVec3 } from './errors'
+import { ensureStoreCapacity } from './store'
+import { $cloth, createStats, findClothWorld, getClothWorld, type ClothPluginOptions, type ClothWorldState, type TransformSource } from './state'
+import { releasePin } from './pins'
+
+/**
+ * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
+ * Pin) and the per-world state, and registers the lifecycle observers. Everything lives on this
+ * world, so two worlds never share a store. Installing twice is a no-op that returns the world.
+ *
+ * @example
+ * const world = installClothPlugin(createWorld(), { gravity: [0, -9.81, 0] })
+ * const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 16, material: 'cotton' })
+ * stepCloth(world, frameSeconds)
+ */
+export function installClothPlugin<W extends object>(world: W, options: ClothPluginOptions = {}): W {
+  if (typeof world !== 'object' || world === null) throw new ClothError('world', world, 'must be a bitECS world')
+  if (findClothWorld(world)) return world
+  const gravity = options.gravity === undefined ? [0, -9.81, 0] : checkVec3('options.gravity', options.gravity)
+  const fixedTimeStep = options.fixedTimeStep === undefined ? 1 / 60 : checkPositive('options.fixedTimeStep', options.fixedTimeStep)
+  const maxStepsPerFrame = options.maxStepsPerFrame === undefined ? 4 : checkInteger('options.maxStepsPerFrame', options.maxStepsPerFrame, 1, 1000)
+  const teleportDistance = options.teleportDistance === undefined ? 2 : checkPositive('options.teleportDistance', options.teleportDistance)
+  const maxSpeed = options.maxSpeed === undefined ? 250 : checkPositive('options.maxSpeed', options.maxSpeed)
+  const capacity = options.capacity === undefined ? 1024 : checkInteger('options.capacity', options.capacity, 1, 1 << 26)
+  if (options.transforms !== undefined) validateTransformSource(options.transforms)
+
+  const Transform = createTransformStore(capacity)
+  const Cloth = createClothStore()
+  const Pin = createPinStore(capacity)
+  const state: ClothWorldState = {
+    gravity: Float64Array.from(gravity),
+    fixedTimeStep,
+    maxStepsPerFrame,
+    teleportDistance,
+    maxSpeed,
+    accumulator: 0,
+    components: { Transform, Cloth, Pin },
+    transforms: options.transforms ?? transformSourceOf(Transform),
+    capacity,
+    cloths: [],
+    nextSeq: 0,
+    substep: 0,
+    substepCount: 0,
+    stats: createStats(),
+  }
+  Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
+
+  const w = world as never
+  observe(w, onAdd(Transform), (eid: number) => {
+    growStores(state, eid)
+    resetTransform(state.components.Transform, eid)
+  })
+  // A removed pin target releases its pins; a removed pin frees its particle; a removed cloth takes
+  // its pins and state with it.
+  observe(w, onRemove(state.transforms.component), (eid: number) => {
+    for (const cloth of state.cloths) {
+      for (let k = cloth.pins.length - 1; k >= 0; k--) {
+        const pin = cloth.pins[k]
+        if (Pin.target[pin] === eid && entityExists(w, pin)) removeEntity(w, pin)
+      }
+    }
+  })
+  observe(w, onRemove(Pin), (pin: number) => releasePin(state, pin))
+  observe(w, onRemove(Cloth), (eid: number) => {
+    const cloth = Cloth.state[eid]
+    if (!cloth) return
+    for (let k = cloth.pins.length - 1; k >= 0; k--) {
+      const pin = cloth.pins[k]
+      if (entityExists(w, pin)) removeEntity(w, pin)
+    }
+    Cloth.state[eid] = undefined
+    const i = state.cloths.indexOf(cloth)
+    if (i >= 0) state.cloths.splice(i, 1)
+  })
+  return world
+}
+
+/** Makes every entity-indexed store large enough for `eid`. */
+export function growStores(state: ClothWorldState, eid: number): void {
+  if (eid < state.capacity) return
+  const c = state.capacity
+  const { Transform, Pin } = state.components
+  ensureStoreCapacity(Transform, c, eid)
+  state.capacity = ensureStoreCapacity(Pin, c, eid)
+  // the default transform source aliases the Transform store's arrays: keep them in step
+  if (state.transforms.component === Transform) Object.assign(state.transforms, transformSourceOf(Transform))
+}
+
+function transformSourceOf(t: TransformStore): TransformSource {
+  return { component: t, px: t.px, py: t.py, pz: t.pz, qx: t.qx, qy: t.qy, qz: t.qz, qw: t.qw, sx: t.sx, sy: t.sy, sz: t.sz }
+}
+
+/** The stores this world's plugin uses (Transform, Cloth, Pin), for queries and direct reads. */
+export function getClothComponents(world: object): ClothWorldState['components'] {
+  return getClothWorld(world).components
+}
+
+/** Work counters since install or the last `resetClothStats`. */
+export function getClothStats(world: object): Readonly<ClothWorldState['stats']> {
+  return getClothWorld(world).stats
+}
+
+/** Zeroes the work counters. */
+export function resetClothStats(world: object): void {
+  const stats = getClothWorld(world).stats
+  for (const key of Object.keys(stats) as (keyof typeof stats)[]) stats[key] = 0
+}
+
+function validateTransformSource(t: TransformSource): void {
+  if (typeof t !== 'object' || t === null) throw new ClothError('options.transforms', t, 'must be an object of transform arrays')
+  if (typeof t.component !== 'object' || t.component === null) {
+    throw new ClothError('options.transforms.component', t.component, 'must be the component that marks entities with a transform')
+  }
+  for (const key of ['px', 'py', 'pz', 'qx', 'qy', 'qz', 'qw'] as const) {
+    const arr = t[key]
+    if (!arr || typeof arr.length !== 'number') throw new ClothError(`options.transforms.${key}`, arr, 'must be an entity-indexed array')
+  }
+}

@@ -1,0 +1,81 @@
+import { createWorld } from 'bitecs'
+import type { vec3 } from 'gl-matrix'
+import { createCloth, getClothMesh, getClothState, getClothStretch, type CreateClothOptions } from './cloth'
+import { ClothError } from './errors'
+import type { ClothMaterialSpec } from './materials'
+import { pinParticle, pinRow, unpin } from './pins'
+import { installClothPlugin } from './plugin'
+import type { ClothMesh, ClothPluginOptions } from './state'
+import { stepCloth } from './step'
+
+/** Options of the `ClothSimulation` facade: a sheet plus optional world settings. */
+export interface ClothSimulationOptions extends Omit<CreateClothOptions, 'material'> {
+  material?: ClothMaterialSpec | string
+  /** World settings (gravity, fixed time step, ...). */
+  world?: ClothPluginOptions
+}
+
+/**
+ * One cloth without an ECS: a thin wrapper that owns a private bitECS world with the plugin
+ * installed and one sheet in it. Every method forwards to the ECS API (`world` and `cloth` are
+ * exposed for anything the facade does not cover).
+ *
+ * @example
+ * const sim = new ClothSimulation({ width: 1, height: 1, resolution: 32, material: 'silk' })
+ * sim.pinRow(0)
+ * sim.step(1 / 60)
+ * const { positions, normals, indices } = sim.getMesh()
+ */
+export class ClothSimulation {
+  /** The private world. */
+  readonly world: object
+  /** The cloth entity. */
+  readonly cloth: number
+
+  constructor(options: ClothSimulationOptions) {
+    if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+    this.world = installClothPlugin(createWorld(), options.world)
+    this.cloth = createCloth(this.world, options)
+  }
+
+  /** Pins a grid row (0 = top) in place. Returns the pin entities. */
+  pinRow(row: number): number[] {
+    return pinRow(this.world, this.cloth, row)
+  }
+
+  /** Pins one particle where it is, or at a world position. Returns the pin entity. */
+  pinParticle(index: number, position?: Readonly<vec3> | ArrayLike<number>): number {
+    return pinParticle(this.world, this.cloth, index, null, position)
+  }
+
+  /** Releases a pin returned by `pinRow` or `pinParticle`. */
+  unpin(pin: number): void {
+    unpin(this.world, pin)
+  }
+
+  /** Advances the simulation by `dt` seconds (fixed steps inside). Returns the steps run. */
+  step(dt: number): number {
+    return stepCloth(this.world, dt)
+  }
+
+  /** Particle positions, xyz per particle (float64, live view of the solver state). */
+  get positions(): Float64Array {
+    const c = getClothState(this.world, this.cloth)
+    return c.pos.subarray(0, 3 * c.count)
+  }
+
+  /** Number of particles. */
+  get particleCount(): number {
+    return getClothState(this.world, this.cloth).count
+  }
+
+  /** GPU-ready positions, normals and triangle indices (see `getClothMesh`). */
+  getMesh(): ClothMesh {
+    return getClothMesh(this.world, this.cloth)
+  }
+
+  /** Mean and max edge stretch now. */
+  getStretch(): { mean: number; max: number } {
+    return getClothStretch(this.world, this.cloth)
+  }
+}

@@ -1,0 +1,223 @@
+import type { ClothStore } from '../components/Cloth'
+import type { PinStore } from '../components/Pin'
+import type { TransformStore } from '../components/Transform'
+import { ClothError } from './errors'
+import type { ClothMaterialSpec } from './materials'
+import type { TetherMode, TetherSet } from './tethers'
+import type { ClothTopology } from './topology'
+
+/**
+ * Where the plugin reads world transforms from. The plugin's own `Transform` store fits this
+ * shape; an engine with its own stores passes them here (any entity-indexed arrays), plus the
+ * component whose presence marks an entity as having a transform.
+ */
+export interface TransformSource {
+  /** The component that marks entities with a transform (checked with hasComponent). */
+  component: object
+  px: ArrayLike<number>
+  py: ArrayLike<number>
+  pz: ArrayLike<number>
+  qx: ArrayLike<number>
+  qy: ArrayLike<number>
+  qz: ArrayLike<number>
+  qw: ArrayLike<number>
+  /** Optional scale; 1 when absent. */
+  sx?: ArrayLike<number>
+  sy?: ArrayLike<number>
+  sz?: ArrayLike<number>
+}
+
+/** Options of `installClothPlugin`. */
+export interface ClothPluginOptions {
+  /** Gravity, m/s². Default [0, −9.81, 0]. */
+  gravity?: ArrayLike<number>
+  /** Fixed simulation step, s. Default 1/60. Each step runs each cloth's own substeps. */
+  fixedTimeStep?: number
+  /**
+   * Most fixed steps one `stepCloth` call may run (the accumulator keeps the rest, and time beyond
+   * this many steps is dropped, so a 10 s hitch never becomes one giant step). Default 4.
+   */
+  maxStepsPerFrame?: number
+  /** Read transforms from the host engine's stores instead of the plugin's `Transform`. */
+  transforms?: TransformSource
+  /** A pin target moving farther than this in one fixed step counts as a teleport, m. Default 2. */
+  teleportDistance?: number
+  /** Particle speed limit, m/s (a runaway guard, not a physical limit). Default 250. */
+  maxSpeed?: number
+  /** Initial entity capacity of the plugin's stores; they grow on demand. Default 1024. */
+  capacity?: number
+}
+
+/** Counters of the work each phase did, accumulated since install (or the last reset). */
+export interface ClothStats {
+  /** Fixed steps run. */
+  steps: number
+  /** Global substeps run (the largest substep count of the cloths in each step). */
+  substeps: number
+  /** Particle predictions (free particles integrated). */
+  particlesIntegrated: number
+  /** Distance constraint projections (stretch, shear, bend springs, compression-only). */
+  distanceProjections: number
+  /** Dihedral hinge projections. */
+  dihedralProjections: number
+  /** Tether projections (including inactive ones, which cost a distance test). */
+  tetherProjections: number
+  /** Pinned-particle placements. */
+  pinUpdates: number
+  /** Tether rebuilds after pin changes. */
+  tetherRebuilds: number
+  /** Cloths moved by a teleport (automatic or explicit). */
+  teleports: number
+  /** Triangles processed by the aerodynamics kernel. */
+  windTriangles: number
+  /** Edge strain checks by the tearing phase. */
+  strainChecks: number
+  /** Particle–collider tests. */
+  colliderTests: number
+  /** Particle pairs examined by self-collision. */
+  selfCollisionTests: number
+}
+
+/** Everything one cloth instance owns: particle state in flat typed arrays plus shared rest data. */
+export interface ClothState {
+  /** The cloth's entity. */
+  eid: number
+  /** Creation sequence number; the solver visits cloths in this order, never in query order. */
+  seq: number
+  /** Rest data (shared, read-only). */
+  topology: ClothTopology
+  material: ClothMaterialSpec
+  /** Live particles. */
+  count: number
+  /** Positions, xyz interleaved, m. */
+  pos: Float64Array
+  /** Positions at the start of the current substep, m. */
+  prev: Float64Array
+  /** Velocities, m/s. */
+  vel: Float64Array
+  /** Inverse masses, 1/kg; 0 while pinned. */
+  invMass: Float64Array
+  /** Inverse masses without pins, 1/kg. */
+  baseInvMass: Float64Array
+  /** Number of pins holding each particle. */
+  pinCount: Uint16Array
+  /** Extra per-particle acceleration for this substep (wind), or null when nothing writes it. */
+  accel: Float64Array | null
+  /** XPBD multipliers, one per constraint. */
+  distLambda: Float64Array
+  compLambda: Float64Array
+  hingeLambda: Float64Array
+  /** Long-range attachments, rebuilt when pins change. */
+  tethers: TetherSet
+  useTethers: boolean
+  tetherMode: TetherMode
+  tetherSlack: number
+  tethersPerParticle: number
+  tethersDirty: boolean
+  /** Pin entities holding this cloth, in creation order. */
+  pins: number[]
+  /** Substeps per fixed step. */
+  substeps: number
+  /** Solver iterations per substep. */
+  iterations: number
+  /** 'xpbd' accumulates multipliers (stiffness independent of iterations); 'pbd' does not. */
+  solver: 'xpbd' | 'pbd'
+  /** Velocity damping, 1/s. */
+  damping: number
+  /** Stretch damping, 1/s (see ClothMaterialSpec.stretchDamping). */
+  stretchDamping: number
+  /** Local substep index this global substep, or −1 when the cloth sits this one out. */
+  subIndex: number
+  /** Substep length for this cloth, s. */
+  h: number
+  /** Skip teleport detection at the next sync (set by `teleportCloth`). */
+  skipTeleport: boolean
+  /** Bumped at the end of every step; the render mesh is refreshed when it lags. */
+  version: number
+  renderedVersion: number
+  /** Render buffers (float32), sized for the particle/triangle capacity. */
+  renderPos: Float32Array
+  renderNormal: Float32Array
+  renderIndex: Uint32Array
+  /** Cached views handed out by getClothMesh (sized to the live counts). */
+  mesh: ClothMesh | null
+}
+
+/** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
+export interface ClothMesh {
+  /** xyz per particle, m. */
+  positions: Float32Array
+  /** Unit normal per particle (area-weighted). */
+  normals: Float32Array
+  /** 3 particle indices per triangle. */
+  indices: Uint32Array
+  vertexCount: number
+  triangleCount: number
+}
+
+/** Per-world plugin state, kept on the world object under a symbol. */
+export interface ClothWorldState {
+  gravity: Float64Array
+  fixedTimeStep: number
+  maxStepsPerFrame: number
+  teleportDistance: number
+  maxSpeed: number
+  /** Time not yet simulated, s. */
+  accumulator: number
+  components: { Transform: TransformStore; Cloth: ClothStore; Pin: PinStore }
+  /** Where transforms are read from (the plugin's Transform unless the host gave its own). */
+  transforms: TransformSource
+  /** Capacity of the entity-indexed stores. */
+  capacity: number
+  /** Cloths in creation order. */
+  cloths: ClothState[]
+  nextSeq: number
+  /** Global substep index within the current fixed step, and how many there are. */
+  substep: number
+  substepCount: number
+  stats: ClothStats
+}
+
+/** Symbol under which the plugin keeps its state on a world. */
+export const $cloth = Symbol.for('bitecs-cloth')
+
+/** Returns the plugin state of a world; throws ClothError if the plugin is not installed. */
+export function getClothWorld(world: object): ClothWorldState {
+  const state = (world as { [$cloth]?: ClothWorldState })[$cloth]
+  if (!state) throw new ClothError('world', world, 'has no cloth plugin installed (call installClothPlugin first)')
+  return state
+}
+
+/** Returns the plugin state of a world, or undefined. */
+export function findClothWorld(world: object): ClothWorldState | undefined {
+  return (world as { [$cloth]?: ClothWorldState })[$cloth]
+}
+
+export function createStats(): ClothStats {
+  return {
+    steps: 0,
+    substeps: 0,
+    particlesIntegrated: 0,
+    distanceProjections: 0,
+    dihedralProjections: 0,
+    tetherProjections: 0,
+    pinUpdates: 0,
+    tetherRebuilds: 0,
+    teleports: 0,
+    windTriangles: 0,
+    strainChecks: 0,
+    colliderTests: 0,
+    selfCollisionTests: 0,
+  }
+}
+
+/**
+ * The local substep a cloth runs during global substep `s` of `total`, or −1. A cloth with n ≤
+ * total substeps runs on n of them, spread evenly, so cloths with different substep counts stay
+ * aligned in time (which matters once cloths collide with each other).
+ */
+export function localSubstep(n: number, s: number, total: number): number {
+  const a = Math.floor((s * n) / total)
+  const b = Math.floor(((s + 1) * n) / total)
+  return b > a ? a : -1
+}

@@ -1,0 +1,114 @@
+import { addComponent, entityExists, hasComponent } from 'bitecs'
+import type { quat, vec3 } from 'gl-matrix'
+import { ClothError, checkQuat, checkVec3 } from './errors'
+import { normalizeQuat } from './math'
+import { getClothWorld, type ClothWorldState } from './state'
+import { growStores } from './plugin'
+
+type Writable = { [i: number]: number }
+
+/**
+ * Writes an entity's world transform (adding the Transform component if it has none), for hosts
+ * that do not write the stores themselves. The rotation is normalised; position and rotation must
+ * be finite. With host transform stores (`installClothPlugin({ transforms })`), writes into those.
+ */
+export function setTransform(
+  world: object,
+  eid: number,
+  position: Readonly<vec3> | ArrayLike<number>,
+  rotation?: Readonly<quat> | ArrayLike<number>,
+  scale?: Readonly<vec3> | ArrayLike<number>,
+): void {
+  const state = getClothWorld(world)
+  checkEntity(world, 'eid', eid)
+  checkVec3('position', position)
+  if (rotation !== undefined) checkQuat('rotation', rotation)
+  if (scale !== undefined) {
+    checkVec3('scale', scale)
+    for (let i = 0; i < 3; i++) if (!(scale[i] > 0)) throw new ClothError('scale', scale, 'must be positive')
+  }
+  const src = state.transforms
+  if (!hasComponent(world as never, eid, src.component)) {
+    if (src.component !== state.components.Transform) {
+      throw new ClothError('eid', eid, 'has no transform component of the host engine')
+    }
+    growStores(state, eid)
+    addComponent(world as never, eid, state.components.Transform)
+  }
+  const t = state.transforms
+  ;(t.px as Writable)[eid] = position[0]
+  ;(t.py as Writable)[eid] = position[1]
+  ;(t.pz as Writable)[eid] = position[2]
+  if (rotation !== undefined) {
+    const q = scratch
+    normalizeQuat(rotation[0], rotation[1], rotation[2], rotation[3], q, 0)
+    ;(t.qx as Writable)[eid] = q[0]
+    ;(t.qy as Writable)[eid] = q[1]
+    ;(t.qz as Writable)[eid] = q[2]
+    ;(t.qw as Writable)[eid] = q[3]
+  }
+  if (scale !== undefined && t.sx && t.sy && t.sz) {
+    ;(t.sx as Writable)[eid] = scale[0]
+    ;(t.sy as Writable)[eid] = scale[1]
+    ;(t.sz as Writable)[eid] = scale[2]
+  }
+}
+
+const scratch = new Float64Array(4)
+
+/**
+ * Reads an entity's world position into `outPosition` and rotation into `outRotation` (either may
+ * be omitted). Returns false when the entity has no transform.
+ */
+export function getTransform(world: object, eid: number, outPosition?: vec3 | Writable, outRotation?: quat | Writable): boolean {
+  const state = getClothWorld(world)
+  if (!entityExists(world as never, eid) || !hasComponent(world as never, eid, state.transforms.component)) return false
+  const t = state.transforms
+  if (outPosition) {
+    outPosition[0] = t.px[eid]
+    outPosition[1] = t.py[eid]
+    outPosition[2] = t.pz[eid]
+  }
+  if (outRotation) {
+    outRotation[0] = t.qx[eid]
+    outRotation[1] = t.qy[eid]
+    outRotation[2] = t.qz[eid]
+    outRotation[3] = t.qw[eid]
+  }
+  return true
+}
+
+/**
+ * Reads a pose (px py pz qx qy qz qw) into out[o..o+6], with the rotation normalised. A non-finite
+ * host value would poison the cloth, so it is rejected here (the one place transforms enter the
+ * solver) with a ClothError naming the entity.
+ */
+export function readPose(state: ClothWorldState, eid: number, out: Float64Array, o: number): void {
+  const t = state.transforms
+  const px = t.px[eid], py = t.py[eid], pz = t.pz[eid]
+  const qx = t.qx[eid], qy = t.qy[eid], qz = t.qz[eid], qw = t.qw[eid]
+  if (!Number.isFinite(px + py + pz + qx + qy + qz + qw)) {
+    throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], 'must be finite')
+  }
+  out[o] = px
+  out[o + 1] = py
+  out[o + 2] = pz
+  normalizeQuat(qx, qy, qz, qw, out, o + 3)
+}
+
+/** Scale of an entity's transform (1 where the source has none). */
+export function readScale(state: ClothWorldState, eid: number, axis: 0 | 1 | 2): number {
+  const t = state.transforms
+  const arr = axis === 0 ? t.sx : axis === 1 ? t.sy : t.sz
+  if (!arr) return 1
+  const s = arr[eid]
+  return Number.isFinite(s) && s !== 0 ? s : 1
+}
+
+/** Throws ClothError unless `eid` is a live entity of `world`. */
+export function checkEntity(world: object, argument: string, eid: unknown): number {
+  if (typeof eid !== 'number' || !Number.isInteger(eid) || eid < 0 || !entityExists(world as never, eid)) {
+    throw new ClothError(argument, eid, 'must be an existing entity of this world')
+  }
+  return eid
+}

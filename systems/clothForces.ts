@@ -1,0 +1,15 @@
+import { getClothWorld, localSubstep } from '../src/state'
+
+/**
+ * Forces phase, every substep: fills each cloth's extra per-particle acceleration (aerodynamics
+ * from wind zones). Gravity needs no array: the predict kernel adds it directly. A cloth nothing
+ * pushes keeps `accel` null and the predict kernel skips the term, so a scene without wind pays
+ * nothing here.
+ */
+export function clothForces<W extends object>(world: W): W {
+  const state = getClothWorld(world)
+  for (const c of state.cloths) {
+    c.subIndex = localSubstep(c.substeps, state.substep, state.substepCount)
+  }
+  return world
+}

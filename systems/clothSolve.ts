@@ -1,0 +1,48 @@
+import { solveDihedrals } from '../src/kernels/dihedral'
+import { solveCompression, solveDistances, solveDistancesXpbd } from '../src/kernels/distance'
+import { solveTethers } from '../src/kernels/tether'
+import { getClothWorld } from '../src/state'
+
+/**
+ * Solve phase, every substep: Gauss-Seidel sweeps over each cloth's constraints, `iterations`
+ * times. Within a sweep: dihedral bending first (the softest, so the stiff constraints after it
+ * have the last word), then distance constraints (stretch, shear, bend springs) and
+ * compression-only diagonals. Tethers run once, after the last sweep: they are one-sided limits
+ * whose job is that no particle ends the substep beyond its long-range distance, and running them
+ * every sweep cost 25 % more time at 8 iterations for no measurable accuracy.
+ */
+export function clothSolve<W extends object>(world: W): W {
+  const state = getClothWorld(world)
+  const stats = state.stats
+  for (const c of state.cloths) {
+    if (c.subIndex < 0) continue
+    const t = c.topology
+    const invH2 = 1 / (c.h * c.h)
+    const tethers = c.tethers
+    // XPBD with several iterations accumulates multipliers from zero each substep; with one
+    // iteration (or classic PBD) they are always zero and the cheaper loops skip them
+    const accumulate = c.solver === 'xpbd' && c.iterations > 1
+    if (accumulate) {
+      c.distLambda.fill(0)
+      c.compLambda.fill(0)
+      c.hingeLambda.fill(0)
+    }
+    const hingeLambda = accumulate ? c.hingeLambda : null
+    const compLambda = accumulate ? c.compLambda : null
+    for (let it = 0; it < c.iterations; it++) {
+      if (t.hingeCount > 0) {
+        solveDihedrals(c.pos, c.invMass, t.hingeIds, t.hingeRest, t.hingeCompliance, hingeLambda, t.hingeSide, invH2, 0, t.hingeCount)
+      }
+      if (accumulate) solveDistancesXpbd(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, c.distLambda, invH2, 0, t.distCount)
+      else solveDistances(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, invH2, 0, t.distCount)
+      if (t.compCount > 0) {
+        solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, invH2, 0, t.compCount)
+      }
+    }
+    if (tethers.count > 0) solveTethers(c.pos, c.invMass, tethers.particle, tethers.anchor, tethers.rest, tethers.count)
+    stats.dihedralProjections += t.hingeCount * c.iterations
+    stats.distanceProjections += (t.distCount + t.compCount) * c.iterations
+    stats.tetherProjections += tethers.count
+  }
+  return world
+}

@@ -1,0 +1,53 @@
+import { getClothWorld } from '../src/state'
+import { clothCollide } from './clothCollide'
+import { clothForces } from './clothForces'
+import { clothPredict } from './clothPredict'
+import { clothSolve } from './clothSolve'
+import { clothSync } from './clothSync'
+import { clothTear } from './clothTear'
+import { clothWriteback } from './clothWriteback'
+
+/**
+ * The phase order, written once. Per fixed step:
+ *
+ *   sync                      read pin targets once, so every substep sees one consistent motion
+ *   for each substep:
+ *     forces                  external accelerations first: predict integrates them
+ *     predict                 x* = x + v·h + a·h², pinned particles placed on their (interpolated) targets
+ *     solve                   constraints project x*; pins are fixed points (inverse mass 0)
+ *     collide                 after the solve, so no constraint pushes a particle back into a collider
+ *     tear                    after collide, on the last substep, so strain is measured on the final pose
+ *     writeback               last: velocities from the motion, including collision and tear changes
+ *
+ * `clothPhases` lists the per-substep phases in that order for engines that schedule systems
+ * themselves; such an engine runs `clothSync`, then each phase once per `clothSubstepCount(world)`
+ * with `setClothSubstep(world, s)` before each round, or simply calls `clothFixedStep`.
+ */
+export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide, clothTear, clothWriteback] as const
+
+/** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
+export function clothFixedStep<W extends object>(world: W): W {
+  const state = getClothWorld(world)
+  clothSync(world)
+  for (let s = 0; s < state.substepCount; s++) {
+    state.substep = s
+    clothForces(world)
+    clothPredict(world)
+    clothSolve(world)
+    clothCollide(world)
+    clothTear(world)
+    clothWriteback(world)
+  }
+  state.stats.substeps += state.substepCount
+  return world
+}
+
+/** Number of global substeps in the current fixed step (set by `clothSync`). */
+export function clothSubstepCount(world: object): number {
+  return getClothWorld(world).substepCount
+}
+
+/** Selects the global substep the per-substep phases work on next. */
+export function setClothSubstep(world: object, s: number): void {
+  getClothWorld(world).substep = s
+}

@@ -1,0 +1,59 @@
+import { createWorld } from 'bitecs'
+import { getClothState, installClothPlugin, type ClothPluginOptions } from '../src/index'
+
+/** A fresh world with the plugin installed. */
+export function makeWorld(options?: ClothPluginOptions) {
+  return installClothPlugin(createWorld(), options)
+}
+
+/** True when every position of the cloth is finite. */
+export function allFinite(world: object, cloth: number): boolean {
+  const c = getClothState(world, cloth)
+  for (let i = 0; i < 3 * c.count; i++) if (!Number.isFinite(c.pos[i])) return false
+  return true
+}
+
+/** Total linear momentum Σ m·v of a cloth's free particles. */
+export function momentum(world: object, cloth: number): [number, number, number] {
+  const c = getClothState(world, cloth)
+  const p: [number, number, number] = [0, 0, 0]
+  for (let i = 0; i < c.count; i++) {
+    if (c.invMass[i] === 0) continue
+    const m = 1 / c.invMass[i]
+    p[0] += m * c.vel[3 * i]
+    p[1] += m * c.vel[3 * i + 1]
+    p[2] += m * c.vel[3 * i + 2]
+  }
+  return p
+}
+
+/** Lowest y of a cloth's particles. */
+export function lowestY(world: object, cloth: number): number {
+  const c = getClothState(world, cloth)
+  let y = Infinity
+  for (let i = 0; i < c.count; i++) y = Math.min(y, c.pos[3 * i + 1])
+  return y
+}
+
+/** Deterministic pseudo-random numbers in [0, 1) (mulberry32). */
+export function rng(seed: number): () => number {
+  let a = seed >>> 0
+  return () => {
+    a = (a + 0x6d2b79f5) >>> 0
+    let t = a
+    t = Math.imul(t ^ (t >>> 15), t | 1)
+    t ^= t + Math.imul(t ^ (t >>> 7), t | 61)
+    return ((t ^ (t >>> 14)) >>> 0) / 4294967296
+  }
+}
+
+/** FNV-1a hash of a typed array's bytes, as 8 hex digits. */
+export function hashBytes(arr: ArrayBufferView): string {
+  const bytes = new Uint8Array(arr.buffer, arr.byteOffset, arr.byteLength)
+  let h = 0x811c9dc5
+  for (let i = 0; i < bytes.length; i++) {
+    h ^= bytes[i]
+    h = Math.imul(h, 0x01000193) >>> 0
+  }
+  return h.toString(16).padStart(8, '0')
+}

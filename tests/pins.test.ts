@@ -1,0 +1,206 @@
+import { addEntity, entityExists, removeEntity } from 'bitecs'
+import { glMatrix, quat, vec3 } from 'gl-matrix'
+import { describe, expect, it } from 'vitest'
+import {
+  clothForces,
+  clothPredict,
+  clothSync,
+  createCloth,
+  getClothState,
+  getClothStretch,
+  getPins,
+  pinParticle,
+  pinRow,
+  setTransform,
+  stepCloth,
+  teleportCloth,
+  unpin,
+} from '../src/index'
+import { allFinite, makeWorld } from './helpers'
+
+glMatrix.setMatrixArrayType(Array) // float64 arithmetic for the expected values
+
+/** Where a pin with local `offset` on a target at (p, q) must put its particle. */
+function expected(p: vec3, q: quat, offset: vec3): vec3 {
+  const out = vec3.transformQuat(vec3.create(), offset, q)
+  return vec3.add(out, out, p)
+}
+
+describe('pins', () => {
+  it('a world pin holds its particle exactly, step after step', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 8 })
+    const c = getClothState(world, cloth)
+    pinParticle(world, cloth, 0, null, [0.25, 2, -1], { blendTime: 0 })
+    for (let f = 0; f < 60; f++) {
+      stepCloth(world, 1 / 60)
+      expect([c.pos[0], c.pos[1], c.pos[2]]).toEqual([0.25, 2, -1])
+    }
+  })
+
+  it('a pinned particle equals its moving, rotating target’s transform of the offset after every step', () => {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.5, 0])
+    const cloth = createCloth(world, { width: 0.6, height: 0.8, resolution: 8, position: [0, 1.5, 0] })
+    const offset = vec3.fromValues(0.3, 0.05, -0.1)
+    pinParticle(world, cloth, 7, hero, offset, { blendTime: 0 })
+    const c = getClothState(world, cloth)
+    const p = vec3.create(), q = quat.create()
+    for (let f = 0; f < 120; f++) {
+      const t = f / 60
+      vec3.set(p, Math.sin(t) * 2, 1.5 + 0.2 * Math.sin(5 * t), t)
+      quat.setAxisAngle(q, vec3.normalize(vec3.create(), [0.2, 1, 0.1]), 3 * t)
+      setTransform(world, hero, p, q)
+      stepCloth(world, 1 / 60)
+      const e = expected(p, q, offset)
+      for (let k = 0; k < 3; k++) expect(Math.abs(c.pos[3 * 7 + k] - e[k])).toBeLessThan(1e-12)
+    }
+  })
+
+  it('interpolates the target across substeps, so a fast character does not yank the cloth in one go', () => {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 0, 0])
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 4, substeps: 4 })
+    pinParticle(world, cloth, 0, hero)
+    stepCloth(world, 1 / 60)
+    const c = getClothState(world, cloth)
+    const x0 = c.pos[0]
+    setTransform(world, hero, [1, 0, 0]) // 60 m/s
+    clothSync(world)
+    clothForces(world)
+    clothPredict(world) // first of four substeps
+    expect(c.pos[0] - x0).toBeCloseTo(0.25, 12)
+  })
+
+  it('pinning a moving particle at runtime and releasing it later cause no pop', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 12, damping: 0 })
+    const c = getClothState(world, cloth)
+    const i = 12 * 11 + 6 // bottom middle of a falling sheet
+    for (let f = 0; f < 10; f++) stepCloth(world, 1 / 60)
+    const before = [c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2]]
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 0, 0])
+    const pin = pinParticle(world, cloth, i, hero)
+    stepCloth(world, 1 / 60)
+    // held where it was when pinned (no jump toward any offset)
+    expect(Math.hypot(c.pos[3 * i] - before[0], c.pos[3 * i + 1] - before[1], c.pos[3 * i + 2] - before[2])).toBeLessThan(1e-12)
+    // carry the whole sheet sideways at 3 m/s, then release: it leaves at the carrier's speed
+    for (let f = 1; f <= 30; f++) {
+      setTransform(world, hero, [f * 0.05, 0, 0])
+      stepCloth(world, 1 / 60)
+    }
+    expect(c.vel[3 * i]).toBeCloseTo(3, 6)
+    unpin(world, pin)
+    const x = c.pos[3 * i]
+    stepCloth(world, 1 / 60)
+    const moved = c.pos[3 * i] - x
+    expect(moved).toBeGreaterThan(0.8 * 3 / 60)
+    expect(moved).toBeLessThan(1.2 * 3 / 60)
+    expect(allFinite(world, cloth)).toBe(true)
+  })
+
+  it('an explicit offset is blended in over blendTime instead of snapping', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 6, substeps: 4 })
+    const c = getClothState(world, cloth)
+    const start = [c.pos[0], c.pos[1], c.pos[2]]
+    pinParticle(world, cloth, 0, null, [start[0], start[1] + 1, start[2]], { blendTime: 0.5 })
+    stepCloth(world, 1 / 60)
+    const dy1 = c.pos[1] - start[1]
+    expect(dy1).toBeGreaterThan(0)
+    expect(dy1).toBeLessThan(0.05)
+    for (let f = 0; f < 40; f++) stepCloth(world, 1 / 60)
+    expect(c.pos[1]).toBeCloseTo(start[1] + 1, 12)
+  })
+
+  it('removing the target entity releases its pins cleanly', () => {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 2, 0])
+    const cloth = createCloth(world, { width: 0.5, height: 0.5, resolution: 6, position: [0, 2, 0] })
+    const pins = pinRow(world, cloth, 0, hero)
+    stepCloth(world, 1 / 60)
+    const c = getClothState(world, cloth)
+    expect(c.invMass[0]).toBe(0)
+    removeEntity(world, hero)
+    for (const pin of pins) expect(entityExists(world, pin)).toBe(false)
+    expect(getPins(world, cloth)).toEqual([])
+    for (let i = 0; i < 6; i++) expect(c.invMass[i]).toBe(c.baseInvMass[i])
+    const y = c.pos[1]
+    for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+    expect(c.pos[1]).toBeLessThan(y - 0.1) // it falls
+    expect(c.tethers.count).toBe(0)
+    expect(allFinite(world, cloth)).toBe(true)
+  })
+})
+
+describe('capes', () => {
+  function capeScene() {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cloth = createCloth(world, { width: 0.6, height: 1, resolution: 16, position: [0, 1.5, -0.15], material: 'cotton' })
+    pinRow(world, cloth, 0, hero)
+    return { world, hero, cloth }
+  }
+
+  it('follows a character running in a circle and through a 10 m teleport, staying unstretched and finite', () => {
+    const { world, hero, cloth } = capeScene()
+    const c = getClothState(world, cloth)
+    const q = quat.create()
+    let worst = 0
+    let angle = 0
+    for (let f = 0; f < 600; f++) {
+      const t = f / 60
+      const speed = Math.min(1, t / 0.5) // up to 4.5 m/s in half a second, with a 5 cm running bob
+      angle += (1.5 * speed) / 60
+      const teleport = f >= 300 ? 10 : 0
+      const hx = 3 * Math.cos(angle) + teleport, hz = 3 * Math.sin(angle)
+      quat.setAxisAngle(q, [0, 1, 0], -angle)
+      setTransform(world, hero, [hx, 1.6 + 0.05 * speed * Math.sin(t * 12), hz], q)
+      stepCloth(world, 1 / 60)
+      expect(allFinite(world, cloth)).toBe(true)
+      worst = Math.max(worst, getClothStretch(world, cloth).max)
+      // every particle stays within the cape's length of the character
+      for (let i = 0; i < c.count; i++) {
+        expect(Math.hypot(c.pos[3 * i] - hx, c.pos[3 * i + 1] - 1.6, c.pos[3 * i + 2] - hz)).toBeLessThan(1.5)
+      }
+    }
+    expect(worst).toBeLessThan(0.1)
+  })
+
+  it('a teleport carries the cloth along keeping its shape, with no velocity injected', () => {
+    const { world, hero, cloth } = capeScene()
+    for (let f = 0; f < 60; f++) stepCloth(world, 1 / 60)
+    const c = getClothState(world, cloth)
+    const before = Float64Array.from(c.pos)
+    const q = quat.setAxisAngle(quat.create(), [0, 1, 0], Math.PI / 2)
+    setTransform(world, hero, [10, 1.6, 0], q)
+    stepCloth(world, 1 / 60)
+    // pairwise distances kept (a rigid move), within one step of settling
+    for (let k = 0; k < 40; k++) {
+      const a = (k * 37) % c.count, b = (k * 91 + 5) % c.count
+      const d0 = Math.hypot(before[3 * a] - before[3 * b], before[3 * a + 1] - before[3 * b + 1], before[3 * a + 2] - before[3 * b + 2])
+      const d1 = Math.hypot(c.pos[3 * a] - c.pos[3 * b], c.pos[3 * a + 1] - c.pos[3 * b + 1], c.pos[3 * a + 2] - c.pos[3 * b + 2])
+      expect(Math.abs(d1 - d0)).toBeLessThan(0.02)
+    }
+    let maxSpeed = 0
+    for (let i = 0; i < c.count; i++) maxSpeed = Math.max(maxSpeed, Math.hypot(c.vel[3 * i], c.vel[3 * i + 1], c.vel[3 * i + 2]))
+    expect(maxSpeed).toBeLessThan(2)
+  })
+
+  it('teleportCloth moves a cloth rigidly and the next step does not move it twice', () => {
+    const { world, hero, cloth } = capeScene()
+    for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+    const c = getClothState(world, cloth)
+    const before = Float64Array.from(c.pos)
+    teleportCloth(world, cloth, [20, 0, 0])
+    for (let i = 0; i < 3 * c.count; i += 3) expect(c.pos[i]).toBeCloseTo(before[i] + 20, 12)
+    setTransform(world, hero, [20, 1.6, 0])
+    stepCloth(world, 1 / 60)
+    for (let i = 0; i < c.count; i++) expect(Math.abs(c.pos[3 * i] - before[3 * i] - 20)).toBeLessThan(0.05)
+  })
+})

@@ -1,0 +1,132 @@
+import { addEntity, createWorld, removeEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  ClothError,
+  createCloth,
+  getClothComponents,
+  getClothMesh,
+  getClothState,
+  getClothStats,
+  installClothPlugin,
+  pinParticle,
+  pinRow,
+  setTransform,
+  stepCloth,
+} from '../src/index'
+import { hashBytes, makeWorld, rng } from './helpers'
+
+/** A small scene driven by a seeded random walk: a cape on a character plus a free sheet. */
+function runScene(world: object, seed: number, steps: number) {
+  const r = rng(seed)
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 1.6, 0])
+  const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: 10, position: [0, 1.5, -0.1], material: 'silk' })
+  pinRow(world, cape, 0, hero)
+  const sheet = createCloth(world, { width: 1, height: 1, resolution: 12, position: [2, 2, 0], bending: 'both' })
+  pinParticle(world, sheet, 0)
+  const p = [0, 1.6, 0]
+  for (let s = 0; s < steps; s++) {
+    p[0] += (r() - 0.5) * 0.1
+    p[2] += (r() - 0.5) * 0.1
+    setTransform(world, hero, p, [0, Math.sin(s * 0.01), 0, Math.cos(s * 0.01)])
+    stepCloth(world, 1 / 60 + (r() - 0.5) * 0.004)
+  }
+  return [getClothState(world, cape).pos, getClothState(world, sheet).pos]
+}
+
+describe('plugin', () => {
+  it('two worlds built and stepped the same way give byte-identical positions', () => {
+    const a = runScene(makeWorld(), 42, 300)
+    const b = runScene(makeWorld(), 42, 300)
+    expect(hashBytes(a[0])).toBe(hashBytes(b[0]))
+    expect(hashBytes(a[1])).toBe(hashBytes(b[1]))
+    expect(Buffer.from(a[0].buffer).equals(Buffer.from(b[0].buffer))).toBe(true)
+  })
+
+  it('results do not depend on the world’s entity history (ids differ, bytes do not)', () => {
+    const w1 = makeWorld()
+    const w2 = makeWorld()
+    // churn entities in the second world so every id differs and queries are reordered
+    const junk = Array.from({ length: 17 }, () => addEntity(w2))
+    for (const e of junk.filter((_, i) => i % 3 !== 0)) removeEntity(w2, e)
+    const extra = createCloth(w2, { width: 1, height: 1, resolution: 3 })
+    removeEntity(w2, extra)
+    const a = runScene(w1, 7, 200)
+    const b = runScene(w2, 7, 200)
+    expect(hashBytes(a[0])).toBe(hashBytes(b[0]))
+    expect(hashBytes(a[1])).toBe(hashBytes(b[1]))
+  })
+
+  it('keeps all state per world: stepping one world leaves another untouched', () => {
+    const w1 = makeWorld(), w2 = makeWorld()
+    const c1 = createCloth(w1, { width: 1, height: 1, resolution: 4 })
+    const c2 = createCloth(w2, { width: 1, height: 1, resolution: 4 })
+    expect(c1).toBe(c2) // same entity id in both worlds...
+    const before = Float64Array.from(getClothState(w2, c2).pos)
+    stepCloth(w1, 1 / 60)
+    expect(Array.from(getClothState(w2, c2).pos)).toEqual(Array.from(before)) // ...separate stores
+    expect(getClothComponents(w1).Transform).not.toBe(getClothComponents(w2).Transform)
+  })
+
+  it('installing twice is a no-op; stepping without the plugin is a clear error', () => {
+    const world = makeWorld()
+    const comps = getClothComponents(world)
+    installClothPlugin(world)
+    expect(getClothComponents(world)).toBe(comps)
+    expect(() => stepCloth(createWorld(), 1 / 60)).toThrow(ClothError)
+  })
+
+  it('runs whole fixed steps from the accumulator and clamps a huge frame', () => {
+    const world = makeWorld({ fixedTimeStep: 1 / 60, maxStepsPerFrame: 4 })
+    createCloth(world, { width: 1, height: 1, resolution: 3 })
+    expect(stepCloth(world, 0)).toBe(0)
+    expect(stepCloth(world, 1 / 120)).toBe(0)
+    expect(stepCloth(world, 1 / 120)).toBe(1)
+    let total = 0
+    for (let f = 0; f < 600; f++) total += stepCloth(world, 1 / 60)
+    expect(total).toBe(600) // no drift into skipped or doubled steps
+    expect(stepCloth(world, 10)).toBe(4) // a 10 s hitch runs 4 steps, not 600 or one giant one
+    expect(stepCloth(world, 1 / 60)).toBe(1)
+    expect(getClothStats(world).steps).toBe(606)
+  })
+
+  it('grows its stores when entity ids exceed the initial capacity', () => {
+    const world = installClothPlugin(createWorld(), { capacity: 4 })
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 4 })
+    const targets = Array.from({ length: 40 }, (_, i) => {
+      const e = addEntity(world)
+      setTransform(world, e, [i * 0.01, 0, 0])
+      return e
+    })
+    const pins = targets.slice(0, 16).map((t, i) => pinParticle(world, cloth, i, t))
+    expect(Math.max(...pins)).toBeGreaterThan(40)
+    stepCloth(world, 1 / 60)
+    const c = getClothState(world, cloth)
+    const x15 = c.pos[3 * 15]
+    setTransform(world, targets[15], [15 * 0.01 + 1, 0, 0]) // the highest target moves 1 m
+    stepCloth(world, 1 / 60)
+    expect(c.pos[3 * 15] - x15).toBeCloseTo(1, 12)
+  })
+})
+
+describe('getClothMesh', () => {
+  it('returns GPU-ready arrays sized to the live cloth, the same arrays every call', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 5 })
+    const a = getClothMesh(world, cloth)
+    expect(a.positions).toBeInstanceOf(Float32Array)
+    expect(a.normals).toBeInstanceOf(Float32Array)
+    expect(a.indices).toBeInstanceOf(Uint32Array)
+    expect(a.positions.length).toBe(3 * 25)
+    expect(a.normals.length).toBe(3 * 25)
+    expect(a.indices.length).toBe(3 * 2 * 16)
+    stepCloth(world, 1 / 60)
+    const b = getClothMesh(world, cloth)
+    expect(b.positions).toBe(a.positions)
+    expect(b.normals).toBe(a.normals)
+    const c = getClothState(world, cloth)
+    for (let i = 0; i < 3 * c.count; i++) expect(b.positions[i]).toBe(Math.fround(c.pos[i]))
+    // a flat sheet facing +z has +z normals
+    for (let i = 0; i < 25; i++) expect(b.normals[3 * i + 2]).toBeCloseTo(1, 5)
+  })
+})
