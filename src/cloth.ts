@@ -12,6 +12,7 @@ import {
   isArrayLike,
 } from './errors'
 import { measureStretch, writeRenderMesh } from './kernels/mesh'
+import { createKernelParams } from './kernels/params'
 import { resolveMaterial, type ClothMaterialSpec } from './materials'
 import { rotateVec3 } from './math'
 import { getCloth } from './pins'
@@ -266,6 +267,7 @@ function spawnCloth(
     stretchDamping: o.stretchDamping,
     subIndex: -1,
     h: state.fixedTimeStep / o.substeps,
+    params: createKernelParams(),
     skipTeleport: false,
     version: 0,
     renderedVersion: -1,

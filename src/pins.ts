@@ -1,7 +1,8 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, checkIndex, checkInteger, checkNonNegative, checkQuat, checkVec3 } from './errors'
-import { rotateVec3, slerpQuat } from './math'
+import { P_H } from './kernels/params'
+import { rotateVec3 } from './math'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import { checkEntity, readPose, readScale } from './transform'
 import { growStores } from './plugin'
@@ -223,12 +224,17 @@ export function samplePinTargets(state: ClothWorldState, c: ClothState): void {
 /**
  * Places the pinned particles of a cloth for local substep k of n: the target pose is
  * interpolated (position lerp, rotation slerp) to (k + 1)/n of the way through the step, so a fast
- * character drags its cloth smoothly instead of in one jerk per frame.
+ * character drags its cloth smoothly instead of in one jerk per frame. The math is written out
+ * inline: calling helpers with double arguments would box them (allocate) on every call.
  */
-export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number, h: number): void {
+export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number): void {
   const P = state.components.Pin
+  const T = state.transforms
+  const sxs = T.sx, sys = T.sy, szs = T.sz
+  const h = c.params[P_H]
   const f = (k + 1) / n
   const pos = c.pos
+  const from = P.poseFrom, to = P.poseTo
   for (let q = 0; q < c.pins.length; q++) {
     const pin = c.pins[q]
     const o = 7 * pin
@@ -236,7 +242,7 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
     const left = P.blendLeft[pin]
     if (left > 0) {
       const total = P.blendTime[pin]
-      const nextLeft = Math.max(0, left - h)
+      const nextLeft = left > h ? left - h : 0
       P.blendLeft[pin] = nextLeft
       const u = total > 0 ? 1 - nextLeft / total : 1
       const s = u * u * (3 - 2 * u) // smoothstep: no velocity kick at either end
@@ -253,22 +259,45 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
       pos[i + 2] = lz
       continue
     }
-    lx *= readScale(state, tgt, 0)
-    ly *= readScale(state, tgt, 1)
-    lz *= readScale(state, tgt, 2)
-    if (f === 1) {
-      // end of the step: exactly the target's pose, not an interpolation that rounds near it
-      rotateVec3(P.poseTo[o + 3], P.poseTo[o + 4], P.poseTo[o + 5], P.poseTo[o + 6], lx, ly, lz, tmp, 4)
-      pos[i] = P.poseTo[o] + tmp[4]
-      pos[i + 1] = P.poseTo[o + 1] + tmp[5]
-      pos[i + 2] = P.poseTo[o + 2] + tmp[6]
-      continue
+    if (sxs && sys && szs) {
+      const sx = sxs[tgt], sy = sys[tgt], sz = szs[tgt]
+      if (sx > 0) lx *= sx
+      if (sy > 0) ly *= sy
+      if (sz > 0) lz *= sz
     }
-    slerpQuat(P.poseFrom, o + 3, P.poseTo, o + 3, f, tmp, 0)
-    rotateVec3(tmp[0], tmp[1], tmp[2], tmp[3], lx, ly, lz, tmp, 4)
-    pos[i] = P.poseFrom[o] + (P.poseTo[o] - P.poseFrom[o]) * f + tmp[4]
-    pos[i + 1] = P.poseFrom[o + 1] + (P.poseTo[o + 1] - P.poseFrom[o + 1]) * f + tmp[5]
-    pos[i + 2] = P.poseFrom[o + 2] + (P.poseTo[o + 2] - P.poseFrom[o + 2]) * f + tmp[6]
+    // target pose at fraction f: position lerp, rotation slerp (shortest arc, nlerp when close);
+    // at the end of the step exactly the target's pose
+    let px: number, py: number, pz: number, qx: number, qy: number, qz: number, qw: number
+    if (f === 1) {
+      px = to[o]; py = to[o + 1]; pz = to[o + 2]
+      qx = to[o + 3]; qy = to[o + 4]; qz = to[o + 5]; qw = to[o + 6]
+    } else {
+      px = from[o] + (to[o] - from[o]) * f
+      py = from[o + 1] + (to[o + 1] - from[o + 1]) * f
+      pz = from[o + 2] + (to[o + 2] - from[o + 2]) * f
+      const ax = from[o + 3], ay = from[o + 4], az = from[o + 5], aw = from[o + 6]
+      let bx = to[o + 3], by = to[o + 4], bz = to[o + 5], bw = to[o + 6]
+      let cos = ax * bx + ay * by + az * bz + aw * bw
+      if (cos < 0) {
+        cos = -cos
+        bx = -bx; by = -by; bz = -bz; bw = -bw
+      }
+      let s0 = 1 - f, s1 = f
+      if (cos < 0.9995) {
+        const omega = Math.acos(cos)
+        const sin = Math.sin(omega)
+        s0 = Math.sin((1 - f) * omega) / sin
+        s1 = Math.sin(f * omega) / sin
+      }
+      qx = s0 * ax + s1 * bx; qy = s0 * ay + s1 * by; qz = s0 * az + s1 * bz; qw = s0 * aw + s1 * bw
+      const inv = 1 / Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+      qx *= inv; qy *= inv; qz *= inv; qw *= inv
+    }
+    // v' = v + w·t + q × t, t = 2·q × v
+    const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)
+    pos[i] = px + lx + qw * tx + (qy * tz - qz * ty)
+    pos[i + 1] = py + ly + qw * ty + (qz * tx - qx * tz)
+    pos[i + 2] = pz + lz + qw * tz + (qx * ty - qy * tx)
   }
   state.stats.pinUpdates += c.pins.length
 }
@@ -283,21 +312,25 @@ export function transformCloth(
   rx: number, ry: number, rz: number, rw: number,
   toX: number, toY: number, toZ: number,
 ): void {
+  // rotation matrix of the unit quaternion, once
+  const xx = rx * rx, yy = ry * ry, zz = rz * rz, xy = rx * ry, xz = rx * rz, yz = ry * rz, wx = rw * rx, wy = rw * ry, wz = rw * rz
+  const m00 = 1 - 2 * (yy + zz), m01 = 2 * (xy - wz), m02 = 2 * (xz + wy)
+  const m10 = 2 * (xy + wz), m11 = 1 - 2 * (xx + zz), m12 = 2 * (yz - wx)
+  const m20 = 2 * (xz - wy), m21 = 2 * (yz + wx), m22 = 1 - 2 * (xx + yy)
   const { pos, prev, vel } = c
-  for (let i = 0; i < c.count; i++) {
-    const j = 3 * i
-    rotateVec3(rx, ry, rz, rw, pos[j] - fromX, pos[j + 1] - fromY, pos[j + 2] - fromZ, tmp, 8)
-    pos[j] = toX + tmp[8]
-    pos[j + 1] = toY + tmp[9]
-    pos[j + 2] = toZ + tmp[10]
-    rotateVec3(rx, ry, rz, rw, prev[j] - fromX, prev[j + 1] - fromY, prev[j + 2] - fromZ, tmp, 8)
-    prev[j] = toX + tmp[8]
-    prev[j + 1] = toY + tmp[9]
-    prev[j + 2] = toZ + tmp[10]
-    rotateVec3(rx, ry, rz, rw, vel[j], vel[j + 1], vel[j + 2], tmp, 8)
-    vel[j] = tmp[8]
-    vel[j + 1] = tmp[9]
-    vel[j + 2] = tmp[10]
+  for (let i = 0; i < 3 * c.count; i += 3) {
+    let x = pos[i] - fromX, y = pos[i + 1] - fromY, z = pos[i + 2] - fromZ
+    pos[i] = toX + m00 * x + m01 * y + m02 * z
+    pos[i + 1] = toY + m10 * x + m11 * y + m12 * z
+    pos[i + 2] = toZ + m20 * x + m21 * y + m22 * z
+    x = prev[i] - fromX; y = prev[i + 1] - fromY; z = prev[i + 2] - fromZ
+    prev[i] = toX + m00 * x + m01 * y + m02 * z
+    prev[i + 1] = toY + m10 * x + m11 * y + m12 * z
+    prev[i + 2] = toZ + m20 * x + m21 * y + m22 * z
+    x = vel[i]; y = vel[i + 1]; z = vel[i + 2]
+    vel[i] = m00 * x + m01 * y + m02 * z
+    vel[i + 1] = m10 * x + m11 * y + m12 * z
+    vel[i + 2] = m20 * x + m21 * y + m22 * z
   }
   c.version++
 }

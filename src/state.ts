@@ -130,6 +130,8 @@ export interface ClothState {
   subIndex: number
   /** Substep length for this cloth, s. */
   h: number
+  /** Kernel parameters for the current substep (see `kernels/params.ts`). */
+  params: Float64Array
   /** Skip teleport detection at the next sync (set by `teleportCloth`). */
   skipTeleport: boolean
   /** Bumped at the end of every step; the render mesh is refreshed when it lags. */

@@ -8,7 +8,9 @@ import { getClothWorld, localSubstep } from '../src/state'
  */
 export function clothForces<W extends object>(world: W): W {
   const state = getClothWorld(world)
-  for (const c of state.cloths) {
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
     c.subIndex = localSubstep(c.substeps, state.substep, state.substepCount)
   }
   return world

@@ -14,10 +14,12 @@ import { getClothWorld } from '../src/state'
 export function clothSolve<W extends object>(world: W): W {
   const state = getClothWorld(world)
   const stats = state.stats
-  for (const c of state.cloths) {
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
     if (c.subIndex < 0) continue
     const t = c.topology
-    const invH2 = 1 / (c.h * c.h)
+    const p = c.params
     const tethers = c.tethers
     // XPBD with several iterations accumulates multipliers from zero each substep; with one
     // iteration (or classic PBD) they are always zero and the cheaper loops skip them
@@ -31,12 +33,12 @@ export function clothSolve<W extends object>(world: W): W {
     const compLambda = accumulate ? c.compLambda : null
     for (let it = 0; it < c.iterations; it++) {
       if (t.hingeCount > 0) {
-        solveDihedrals(c.pos, c.invMass, t.hingeIds, t.hingeRest, t.hingeCompliance, hingeLambda, t.hingeSide, invH2, 0, t.hingeCount)
+        solveDihedrals(c.pos, c.invMass, t.hingeIds, t.hingeRest, t.hingeCompliance, hingeLambda, t.hingeSide, p, 0, t.hingeCount)
       }
-      if (accumulate) solveDistancesXpbd(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, c.distLambda, invH2, 0, t.distCount)
-      else solveDistances(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, invH2, 0, t.distCount)
+      if (accumulate) solveDistancesXpbd(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, c.distLambda, p, 0, t.distCount)
+      else solveDistances(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, p, 0, t.distCount)
       if (t.compCount > 0) {
-        solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, invH2, 0, t.compCount)
+        solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, p, 0, t.compCount)
       }
     }
     if (tethers.count > 0) solveTethers(c.pos, c.invMass, tethers.particle, tethers.anchor, tethers.rest, tethers.count)

@@ -1,5 +1,6 @@
 import { updateVelocities } from '../src/kernels/integrate'
 import { dampPairs } from '../src/kernels/damping'
+import { P_STRETCH_DAMP } from '../src/kernels/params'
 import { getClothWorld } from '../src/state'
 
 /**
@@ -10,17 +11,19 @@ import { getClothWorld } from '../src/state'
  */
 export function clothWriteback<W extends object>(world: W): W {
   const state = getClothWorld(world)
-  for (const c of state.cloths) {
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
     const k = c.subIndex
     if (k < 0) continue
-    updateVelocities(c.pos, c.prev, c.vel, 1 / c.h, state.maxSpeed, c.count)
+    updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
     if (k !== c.substeps - 1) continue
     // once per step: at 60/s this rests every stiff sheet we tested, at a fraction of the cost of
     // a pass per substep (which needed only 30/s)
     if (c.stretchDamping > 0) {
       const t = c.topology
-      const factor = 1 - Math.exp(-c.stretchDamping * state.fixedTimeStep)
-      dampPairs(c.pos, c.vel, c.invMass, t.stretchIds, t.stretchInvRest2, t.stretchCount, factor)
+      c.params[P_STRETCH_DAMP] = 1 - Math.exp(-c.stretchDamping * state.fixedTimeStep)
+      dampPairs(c.pos, c.vel, c.invMass, t.stretchIds, t.stretchInvRest2, t.stretchCount, c.params)
     }
     c.version++
   }

@@ -1,6 +1,8 @@
+import { P_STRETCH_DAMP } from './params'
+
 /**
  * Stretch damping, a velocity pass after the velocity update: for each pair, removes the fraction
- * `factor` of the particles' relative velocity along the pair, split by inverse mass (momentum is
+ * `params[P_STRETCH_DAMP]` of the particles' relative velocity along the pair, split by inverse mass (momentum is
  * unchanged). Only stretching motion is damped; rigid motion, swinging and bending (which do not
  * change the pair's length to first order) are not. The pair direction is normalised by the rest
  * length (`invRest2` = 1/rest²) rather than the current one, which differs only at large strain
@@ -13,8 +15,9 @@ export function dampPairs(
   ids: Int32Array,
   invRest2: Float64Array,
   count: number,
-  factor: number,
+  params: Float64Array,
 ): void {
+  const factor = params[P_STRETCH_DAMP]
   for (let k = 0; k < count; k++) {
     const i0 = ids[2 * k], i1 = ids[2 * k + 1]
     const wa = invMass[i0], wb = invMass[i1]

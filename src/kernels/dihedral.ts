@@ -1,3 +1,5 @@
+import { P_INV_H2 } from './params'
+
 /**
  * XPBD dihedral bending over hinges [start, end). Layout per hinge (see `ClothTopology`): e0, e1 on
  * the shared edge, w0 the wing of triangle A = (e0, e1, w0), w1 the wing of triangle B = (e1, e0, w1).
@@ -27,10 +29,11 @@ export function solveDihedrals(
   compliance: Float64Array,
   lambda: Float64Array | null,
   side: number,
-  invH2: number,
+  params: Float64Array,
   start: number,
   end: number,
 ): void {
+  const invH2 = params[P_INV_H2]
   for (let h = start; h < end; h++) {
     const i0 = ids[4 * h], i1 = ids[4 * h + 1], i2 = ids[4 * h + 2], i3 = ids[4 * h + 3]
     const w0 = invMass[i0], w1 = invMass[i1], w2 = invMass[i2], w3 = invMass[i3]

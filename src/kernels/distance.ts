@@ -1,3 +1,5 @@
+import { P_INV_H2 } from './params'
+
 /**
  * XPBD distance constraints, Gauss-Seidel over the index range [start, end).
  *
@@ -9,7 +11,7 @@
  * and bounded when the pair collapses (no division by zero). (Bullet's link solver uses
  * (|d|² − r²)/(|d|² + r²), which over-corrects a 1.5× stretch to 0.92×.) Per constraint:
  *
- *   s  = (2(r² − |d|²) − 4r·α̃·λ) / (w_sum·(3|d|² + r²) + 4r²·α̃),   α̃ = compliance / h²
+ *   s  = (2(r² − |d|²) − 4r·α̃·λ) / (w_sum·(3|d|² + r²) + 4r²·α̃),   α̃ = compliance / h² (params)
  *   λ += s·r,   x_a −= w_a·s·d,   x_b += w_b·s·d,   d = x_b − x_a
  *
  * Corrections are weighted by inverse mass and opposite, so linear momentum is unchanged. The
@@ -26,10 +28,11 @@ export function solveDistances(
   ids: Int32Array,
   rest: Float64Array,
   compliance: Float64Array,
-  invH2: number,
+  params: Float64Array,
   start: number,
   end: number,
 ): void {
+  const invH2 = params[P_INV_H2]
   for (let k = start; k < end; k++) {
     const i0 = ids[2 * k], i1 = ids[2 * k + 1]
     const wa = invMass[i0], wb = invMass[i1]
@@ -63,10 +66,11 @@ export function solveDistancesXpbd(
   rest: Float64Array,
   compliance: Float64Array,
   lambda: Float64Array,
-  invH2: number,
+  params: Float64Array,
   start: number,
   end: number,
 ): void {
+  const invH2 = params[P_INV_H2]
   for (let k = start; k < end; k++) {
     const i0 = ids[2 * k], i1 = ids[2 * k + 1]
     const wa = invMass[i0], wb = invMass[i1]
@@ -108,10 +112,11 @@ export function solveCompression(
   rest: Float64Array,
   compliance: Float64Array,
   lambda: Float64Array | null,
-  invH2: number,
+  params: Float64Array,
   start: number,
   end: number,
 ): void {
+  const invH2 = params[P_INV_H2]
   for (let k = start; k < end; k++) {
     const i0 = ids[2 * k], i1 = ids[2 * k + 1]
     const wa = invMass[i0], wb = invMass[i1]

@@ -1,10 +1,12 @@
+import { P_DAMP, P_GX, P_GY, P_GZ, P_H, P_INV_H, P_MAX_SPEED } from './params'
+
 /**
  * Predict step of position-based dynamics (symplectic Euler on velocities, Verlet-style on
  * positions): v ← v·damp + (g + a)·h, prev ← x, x ← x + v·h, for every particle with inverse mass
  * > 0. Kinematic particles (inverse mass 0, i.e. pinned) only record prev; the pin phase places them.
  *
  * @param accel optional per-particle extra acceleration (xyz, m/s²), e.g. aerodynamic forces / mass
- * @param damp velocity factor for this substep, max(0, 1 − damping·h)
+ * @param params kernel parameters (see `params.ts`): h, gravity and the damping factor
  */
 export function predictPositions(
   pos: Float64Array,
@@ -12,14 +14,11 @@ export function predictPositions(
   vel: Float64Array,
   invMass: Float64Array,
   accel: Float64Array | null,
-  gx: number,
-  gy: number,
-  gz: number,
-  h: number,
-  damp: number,
+  params: Float64Array,
   count: number,
 ): void {
-  const ax = gx * h, ay = gy * h, az = gz * h
+  const h = params[P_H], damp = params[P_DAMP]
+  const ax = params[P_GX] * h, ay = params[P_GY] * h, az = params[P_GZ] * h
   for (let i = 0; i < count; i++) {
     const j = 3 * i
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
@@ -45,17 +44,19 @@ export function predictPositions(
 }
 
 /**
- * Reads velocities back from the motion of the substep: v = (x − prev)/h. A speed above `maxSpeed`
- * (m/s) is scaled down to it, a last line of defence against runaway energy.
+ * Reads velocities back from the motion of the substep: v = (x − prev)/h. A speed above the
+ * limit (`params[P_MAX_SPEED]`, m/s) is scaled down to it, a last line of defence against runaway
+ * energy.
  */
 export function updateVelocities(
   pos: Float64Array,
   prev: Float64Array,
   vel: Float64Array,
-  invH: number,
-  maxSpeed: number,
+  params: Float64Array,
   count: number,
 ): void {
+  const invH = params[P_INV_H]
+  const maxSpeed = params[P_MAX_SPEED]
   const max2 = maxSpeed * maxSpeed
   for (let i = 0; i < count; i++) {
     const j = 3 * i

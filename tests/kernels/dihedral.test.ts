@@ -1,6 +1,14 @@
 import { describe, expect, it } from 'vitest'
 import { solveDihedrals } from '../../src/kernels/dihedral'
 import { dihedralAngle } from '../../src/topology'
+import { P_INV_H2, createKernelParams } from '../../src/kernels/params'
+
+/** Kernel parameters with 1/h² set (the only scalar these kernels read). */
+const params = (invH2: number) => {
+  const p = createKernelParams()
+  p[P_INV_H2] = invH2
+  return p
+}
 
 // Hinge e0 = (0,0,0), e1 = (1,0,0); triangle A = (e0, e1, w0) faces +z when flat.
 function hinge(w1Angle: number): Float64Array {
@@ -13,7 +21,7 @@ function relax(pos: Float64Array, rest: number, w: Float64Array, side = 0, itera
   const restArr = Float64Array.from([rest])
   const comp = new Float64Array(1)
   const lambda = null
-  for (let i = 0; i < iterations; i++) solveDihedrals(pos, w, ids, restArr, comp, lambda, side, 3600, 0, 1)
+  for (let i = 0; i < iterations; i++) solveDihedrals(pos, w, ids, restArr, comp, lambda, side, params(3600), 0, 1)
 }
 
 describe('dihedral angle', () => {
@@ -38,7 +46,7 @@ describe('dihedral angle', () => {
     const moved = Float64Array.from(pos)
     const theta = dihedralAngle(pos, 0, 1, 2, 3)
     const restArr = Float64Array.from([theta + 1e-4]) // C = −1e-4: a tiny, linear step
-    solveDihedrals(moved, Float64Array.from([1, 1, 1, 1]), ids, restArr, new Float64Array(1), null, 0, 1, 0, 1)
+    solveDihedrals(moved, Float64Array.from([1, 1, 1, 1]), ids, restArr, new Float64Array(1), null, 0, params(1), 0, 1)
     let g2 = 0
     for (let j = 0; j < 12; j++) g2 += grad[j] * grad[j]
     for (let j = 0; j < 12; j++) expect((moved[j] - pos[j]) / 1e-4).toBeCloseTo(grad[j] / g2, 4)
@@ -89,8 +97,8 @@ describe('solveDihedrals', () => {
   it('with compliance, a soft hinge moves less per step than a rigid one', () => {
     const rigid = hinge(0.5), soft = hinge(0.5)
     const restArr = Float64Array.from([0])
-    solveDihedrals(rigid, locked, ids, restArr, Float64Array.from([0]), null, 0, 3600, 0, 1)
-    solveDihedrals(soft, locked, ids, restArr, Float64Array.from([1]), null, 0, 3600, 0, 1)
+    solveDihedrals(rigid, locked, ids, restArr, Float64Array.from([0]), null, 0, params(3600), 0, 1)
+    solveDihedrals(soft, locked, ids, restArr, Float64Array.from([1]), null, 0, params(3600), 0, 1)
     const a0 = -0.5
     expect(Math.abs(dihedralAngle(rigid, 0, 1, 2, 3))).toBeLessThan(Math.abs(dihedralAngle(soft, 0, 1, 2, 3)))
     expect(Math.abs(dihedralAngle(soft, 0, 1, 2, 3))).toBeLessThan(Math.abs(a0))

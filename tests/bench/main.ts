@@ -1,0 +1,15 @@
+import { allocation, sheets, throughput } from './core'
+
+/** Benchmark suites by name; `npm run bench -- core` runs one. */
+const suites: Record<string, () => void | Promise<void>> = {
+  core: async () => {
+    throughput()
+    sheets()
+    await allocation()
+  },
+}
+
+const wanted = process.argv.slice(2)
+for (const [name, run] of Object.entries(suites)) {
+  if (wanted.length === 0 || wanted.includes(name)) await run()
+}

@@ -1,0 +1,28 @@
+#!/usr/bin/env node
+// `npm run bench [suite ...]`: bundles the TypeScript benchmark suites with esbuild and runs them
+// in a fresh Node process with --expose-gc (for the allocation check). Results print as tables and
+// are written as JSON to bench-results/.
+import { build } from 'esbuild'
+import { spawnSync } from 'node:child_process'
+import { mkdirSync } from 'node:fs'
+import { dirname, join } from 'node:path'
+import { fileURLToPath } from 'node:url'
+
+const here = dirname(fileURLToPath(import.meta.url))
+const root = join(here, '..', '..')
+const outDir = join(root, 'bench-results')
+mkdirSync(outDir, { recursive: true })
+const outfile = join(outDir, 'bench.mjs')
+await build({
+  entryPoints: [join(here, 'main.ts')],
+  bundle: true,
+  platform: 'node',
+  format: 'esm',
+  target: 'node20',
+  outfile,
+  logLevel: 'warning',
+})
+const git = spawnSync('git', ['log', '-n', '1', '--format=%h %s'], { cwd: root, encoding: 'utf8' })
+console.log(`bitecs-cloth benchmarks · ${git.stdout.trim() || 'no git'} · node ${process.version}`)
+const r = spawnSync(process.execPath, ['--expose-gc', outfile, ...process.argv.slice(2)], { stdio: 'inherit', cwd: root })
+process.exit(r.status ?? 1)
