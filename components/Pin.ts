@@ -10,6 +10,8 @@ export interface PinStore {
   particle: Uint32Array
   /** Target entity, 0 = none (the offset is then a world position). */
   target: Uint32Array
+  /** The target's kinematic slot (see `src/kinematics.ts`), −1 with no target. */
+  slot: Int32Array
   /** Local offset x in the target frame (world x with no target), m. */
   ox: Float64Array
   /** Local offset y, m. */
@@ -22,10 +24,6 @@ export interface PinStore {
   blendLeft: Float64Array
   /** Total blend time, s. */
   blendTime: Float64Array
-  /** Target pose at the start of the current step: px py pz qx qy qz qw (stride 7). */
-  poseFrom: Float64Array
-  /** Target pose at the end of the current step (stride 7). */
-  poseTo: Float64Array
 }
 
 /** Allocates a Pin store for `capacity` entity ids. Called by `installClothPlugin`. */
@@ -34,13 +32,12 @@ export function createPinStore(capacity: number): PinStore {
     cloth: new Uint32Array(capacity),
     particle: new Uint32Array(capacity),
     target: new Uint32Array(capacity),
+    slot: new Int32Array(capacity),
     ox: new Float64Array(capacity),
     oy: new Float64Array(capacity),
     oz: new Float64Array(capacity),
     blendFrom: new Float64Array(3 * capacity),
     blendLeft: new Float64Array(capacity),
     blendTime: new Float64Array(capacity),
-    poseFrom: new Float64Array(7 * capacity),
-    poseTo: new Float64Array(7 * capacity),
   }
 }

@@ -4,7 +4,8 @@ import { ClothError, checkIndex, checkInteger, checkNonNegative, checkQuat, chec
 import { P_H } from './kernels/params'
 import { rotateVec3 } from './math'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
-import { checkEntity, readPose, readScale } from './transform'
+import { checkEntity, readScale } from './transform'
+import { trackEntity, untrackEntity } from './kinematics'
 import { growStores } from './plugin'
 
 /** Options of `pinParticle`. */
@@ -52,13 +53,14 @@ export function pinParticle(
   P.cloth[pin] = cloth
   P.particle[pin] = index
   P.target[pin] = tgt
-  // the target's pose now, as both ends of this step's interpolation
-  if (tgt !== 0) readPose(state, tgt, P.poseTo, 7 * pin)
-  else P.poseTo.set(IDENTITY_POSE, 7 * pin)
-  for (let j = 0; j < 7; j++) P.poseFrom[7 * pin + j] = P.poseTo[7 * pin + j]
+  // the pin continues from the target's pose at the end of the last step (the simulation's now)
+  const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
+  P.slot[pin] = slot
+  const k = state.kinematics
+  if (slot >= 0) for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j]
 
   // where the particle is now, in the target's frame
-  toLocal(state, tgt, P.poseTo, 7 * pin, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
+  toLocal(state, tgt, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
   P.blendFrom[3 * pin] = tmp[0]
   P.blendFrom[3 * pin + 1] = tmp[1]
   P.blendFrom[3 * pin + 2] = tmp[2]
@@ -122,6 +124,8 @@ export function releasePin(state: ClothWorldState, pin: number): void {
   const k = c.pins.indexOf(pin)
   if (k < 0) return
   c.pins.splice(k, 1)
+  if (P.slot[pin] >= 0) untrackEntity(state, P.target[pin])
+  P.slot[pin] = -1
   const i = P.particle[pin]
   if (--c.pinCount[i] === 0) {
     c.invMass[i] = c.baseInvMass[i]
@@ -135,8 +139,6 @@ export function getCloth(state: ClothWorldState, cloth: number): ClothState {
   if (!c) throw new ClothError('cloth', cloth, 'must be a cloth entity of this world')
   return c
 }
-
-const IDENTITY_POSE = [0, 0, 0, 0, 0, 0, 1]
 
 /** Writes the target-local coordinates of world point (x, y, z) into out[o..o+2]. */
 function toLocal(
@@ -160,71 +162,31 @@ function toLocal(
 // Per-step and per-substep pin work (called by the sync and predict systems)
 
 /**
- * Start of a fixed step: each pin's target pose moves on (end of last step → start of this one;
- * the target's Transform now → end of this one). A target that jumped farther than the teleport
- * distance carries the whole cloth along rigidly. Only the jump is applied rigidly: the motion the
- * target would have made anyway (its last step's, continued) is left to the usual interpolation,
- * so a cape on a running character keeps flowing through a teleport instead of being yanked.
+ * At a frame sample: if one of the cloth's pin targets jumped (teleported), carry the whole cloth
+ * along by the same rigid transform, keeping its shape and (rotated) velocity. The kinematics
+ * module has already moved the target's earlier poses, so the pins continue from the new place.
  */
-export function samplePinTargets(state: ClothWorldState, c: ClothState): void {
+export function followTargetJumps(state: ClothWorldState, c: ClothState): void {
+  const k = state.kinematics
   const P = state.components.Pin
-  const limit2 = state.teleportDistance * state.teleportDistance
-  let jumped = -1
-  for (let k = 0; k < c.pins.length; k++) {
-    const pin = c.pins[k]
-    const o = 7 * pin
-    const tgt = P.target[pin]
-    if (tgt !== 0) readPose(state, tgt, tmp, 0)
-    else tmp.set(IDENTITY_POSE, 0)
-    if (tgt !== 0 && jumped < 0 && !c.skipTeleport) {
-      const dx = tmp[0] - P.poseTo[o], dy = tmp[1] - P.poseTo[o + 1], dz = tmp[2] - P.poseTo[o + 2]
-      if (dx * dx + dy * dy + dz * dz > limit2) {
-        jumped = pin
-        // before the shift below: teleport = new − old end − last step's motion
-        for (let j = 0; j < 3; j++) tmp[7 + j] = tmp[j] - 2 * P.poseTo[o + j] + P.poseFrom[o + j]
-      }
+  if (!c.skipTeleport) {
+    for (let q = 0; q < c.pins.length; q++) {
+      const slot = P.slot[c.pins[q]]
+      if (slot < 0 || k.jumped[slot] === 0) continue
+      const j = 10 * slot
+      const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
+      transformCloth(c, cx, cy, cz, k.jump[j + 3], k.jump[j + 4], k.jump[j + 5], k.jump[j + 6], cx + k.jump[j + 7], cy + k.jump[j + 8], cz + k.jump[j + 9])
+      state.stats.teleports++
+      break
     }
-    for (let j = 0; j < 7; j++) {
-      P.poseFrom[o + j] = P.poseTo[o + j]
-      P.poseTo[o + j] = tmp[j]
-    }
-  }
-  if (jumped >= 0) {
-    const o = 7 * jumped
-    // rotation jump R = q_new · q_old⁻¹ about the old target position, then the translation jump
-    const fx = -P.poseFrom[o + 3], fy = -P.poseFrom[o + 4], fz = -P.poseFrom[o + 5], fw = P.poseFrom[o + 6]
-    const tx = P.poseTo[o + 3], ty = P.poseTo[o + 4], tz = P.poseTo[o + 5], tw = P.poseTo[o + 6]
-    const rx = tw * fx + tx * fw + ty * fz - tz * fy
-    const ry = tw * fy - tx * fz + ty * fw + tz * fx
-    const rz = tw * fz + tx * fy - ty * fx + tz * fw
-    const rw = tw * fw - tx * fx - ty * fy - tz * fz
-    const cx = P.poseFrom[o], cy = P.poseFrom[o + 1], cz = P.poseFrom[o + 2]
-    const jx = tmp[7], jy = tmp[8], jz = tmp[9]
-    transformCloth(c, cx, cy, cz, rx, ry, rz, rw, cx + jx, cy + jy, cz + jz)
-    // every pin of the cloth starts this step from its old end pose moved by the same jump
-    for (const pin of c.pins) {
-      const q = 7 * pin
-      rotateVec3(rx, ry, rz, rw, P.poseFrom[q] - cx, P.poseFrom[q + 1] - cy, P.poseFrom[q + 2] - cz, tmp, 0)
-      P.poseFrom[q] = cx + jx + tmp[0]
-      P.poseFrom[q + 1] = cy + jy + tmp[1]
-      P.poseFrom[q + 2] = cz + jz + tmp[2]
-      const ax = P.poseFrom[q + 3], ay = P.poseFrom[q + 4], az = P.poseFrom[q + 5], aw = P.poseFrom[q + 6]
-      P.poseFrom[q + 3] = rw * ax + rx * aw + ry * az - rz * ay
-      P.poseFrom[q + 4] = rw * ay - rx * az + ry * aw + rz * ax
-      P.poseFrom[q + 5] = rw * az + rx * ay - ry * ax + rz * aw
-      P.poseFrom[q + 6] = rw * aw - rx * ax - ry * ay - rz * az
-    }
-    state.stats.teleports++
-  } else if (c.skipTeleport) {
-    for (const pin of c.pins) for (let j = 0; j < 7; j++) P.poseFrom[7 * pin + j] = P.poseTo[7 * pin + j]
   }
   c.skipTeleport = false
 }
 
 /**
- * Places the pinned particles of a cloth for local substep k of n: the target pose is
+ * Places the pinned particles of a cloth for local substep k of n: the target's pose is
  * interpolated (position lerp, rotation slerp) to (k + 1)/n of the way through the step, so a fast
- * character drags its cloth smoothly instead of in one jerk per frame. The math is written out
+ * character drags its cloth smoothly instead of in one jerk per step. The math is written out
  * inline: calling helpers with double arguments would box them (allocate) on every call.
  */
 export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number): void {
@@ -234,10 +196,9 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
   const h = c.params[P_H]
   const f = (k + 1) / n
   const pos = c.pos
-  const from = P.poseFrom, to = P.poseTo
+  const from = state.kinematics.stepFrom, to = state.kinematics.stepTo
   for (let q = 0; q < c.pins.length; q++) {
     const pin = c.pins[q]
-    const o = 7 * pin
     let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
     const left = P.blendLeft[pin]
     if (left > 0) {
@@ -265,8 +226,9 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
       if (sy > 0) ly *= sy
       if (sz > 0) lz *= sz
     }
-    // target pose at fraction f: position lerp, rotation slerp (shortest arc, nlerp when close);
-    // at the end of the step exactly the target's pose
+    // target pose at fraction f of the step: position lerp, rotation slerp (shortest arc, nlerp
+    // when close); at the end of the step exactly the step's end pose
+    const o = 7 * P.slot[pin]
     let px: number, py: number, pz: number, qx: number, qy: number, qz: number, qw: number
     if (f === 1) {
       px = to[o]; py = to[o + 1]; pz = to[o + 2]
@@ -394,6 +356,9 @@ export function teleportCloth(
     P.blendFrom[b + 1] = py + translation[1] + tmp[1]
     P.blendFrom[b + 2] = pz + translation[2] + tmp[2]
   }
+  // the targets' next sample is a jump (whatever its size): the pins start from the new place
+  const k = state.kinematics
+  for (const pin of c.pins) if (P.slot[pin] >= 0) k.forceJump[P.slot[pin]] = 1
   c.skipTeleport = true
   state.stats.teleports++
 }

@@ -6,6 +6,7 @@ import { ClothError, checkInteger, checkPositive, checkVec3 } from './errors'
 import { ensureStoreCapacity } from './store'
 import { $cloth, createStats, findClothWorld, getClothWorld, type ClothPluginOptions, type ClothWorldState, type TransformSource } from './state'
 import { releasePin } from './pins'
+import { createKinematics } from './kinematics'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -43,6 +44,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     capacity,
     cloths: [],
     nextSeq: 0,
+    kinematics: createKinematics(),
     substep: 0,
     substepCount: 0,
     stats: createStats(),

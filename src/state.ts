@@ -2,6 +2,7 @@ import type { ClothStore } from '../components/Cloth'
 import type { PinStore } from '../components/Pin'
 import type { TransformStore } from '../components/Transform'
 import { ClothError } from './errors'
+import type { Kinematics } from './kinematics'
 import type { ClothMaterialSpec } from './materials'
 import type { TetherMode, TetherSet } from './tethers'
 import type { ClothTopology } from './topology'
@@ -132,7 +133,7 @@ export interface ClothState {
   h: number
   /** Kernel parameters for the current substep (see `kernels/params.ts`). */
   params: Float64Array
-  /** Skip teleport detection at the next sync (set by `teleportCloth`). */
+  /** Do not follow a pin target's jump at the next frame sample (set by `teleportCloth`). */
   skipTeleport: boolean
   /** Bumped at the end of every step; the render mesh is refreshed when it lags. */
   version: number
@@ -174,6 +175,8 @@ export interface ClothWorldState {
   /** Cloths in creation order. */
   cloths: ClothState[]
   nextSeq: number
+  /** Tracked transforms (pin targets, colliders), interpolated across steps and substeps. */
+  kinematics: Kinematics
   /** Global substep index within the current fixed step, and how many there are. */
   substep: number
   substepCount: number

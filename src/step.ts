@@ -7,22 +7,35 @@ import { getClothWorld } from './state'
  * whole fixed steps are run, the remainder waits for the next frame. At most `maxStepsPerFrame`
  * steps run per call; time beyond that is dropped, so a long hitch (or a 10 s frame) is never
  * simulated as one giant step. Returns the number of fixed steps run.
+ *
+ * Pin targets are sampled once per call and interpolated in time across the steps it runs: each
+ * step sees exactly the motion of its own time slice, however the frame and step lengths line up.
  */
 export function stepCloth(world: object, dt: number): number {
   const state = getClothWorld(world)
   if (typeof dt !== 'number' || !Number.isFinite(dt) || dt < 0) {
     throw new ClothError('dt', dt, 'must be a finite number of seconds ≥ 0')
   }
+  const k = state.kinematics
   const fixed = state.fixedTimeStep
-  state.accumulator += Math.min(dt, state.maxStepsPerFrame * fixed)
-  let steps = 0
+  const d = Math.min(dt, state.maxStepsPerFrame * fixed)
+  state.accumulator += d
+  k.sinceSample += d
   // the tolerance keeps 1/60-s frames from drifting into an alternating 0/2-step pattern
-  while (state.accumulator >= fixed * (1 - 1e-9) && steps < state.maxStepsPerFrame) {
-    clothFixedStep(world)
+  let steps = Math.floor(state.accumulator / fixed + 1e-9)
+  const overflow = steps > state.maxStepsPerFrame
+  if (overflow) steps = state.maxStepsPerFrame
+  if (steps === 0) return 0
+  k.framed = true
+  for (let s = 1; s <= steps; s++) {
     state.accumulator -= fixed
-    steps++
+    // where this step ends within the time since the last sample (all of it when time is dropped)
+    k.stepFraction = overflow ? s / steps : Math.min(1, (k.sinceSample - Math.max(0, state.accumulator)) / k.sinceSample)
+    clothFixedStep(world)
   }
-  if (state.accumulator >= fixed) state.accumulator = 0
-  if (state.accumulator < 0) state.accumulator = 0
+  k.framed = false
+  k.newFrame = true
+  if (overflow || state.accumulator < 0) state.accumulator = 0
+  k.sinceSample = 0
   return steps
 }

@@ -78,24 +78,6 @@ export function getTransform(world: object, eid: number, outPosition?: vec3 | Wr
   return true
 }
 
-/**
- * Reads a pose (px py pz qx qy qz qw) into out[o..o+6], with the rotation normalised. A non-finite
- * host value would poison the cloth, so it is rejected here (the one place transforms enter the
- * solver) with a ClothError naming the entity.
- */
-export function readPose(state: ClothWorldState, eid: number, out: Float64Array, o: number): void {
-  const t = state.transforms
-  const px = t.px[eid], py = t.py[eid], pz = t.pz[eid]
-  const qx = t.qx[eid], qy = t.qy[eid], qz = t.qz[eid], qw = t.qw[eid]
-  if (!Number.isFinite(px + py + pz + qx + qy + qz + qw)) {
-    throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], 'must be finite')
-  }
-  out[o] = px
-  out[o + 1] = py
-  out[o + 2] = pz
-  normalizeQuat(qx, qy, qz, qw, out, o + 3)
-}
-
 /** Scale of an entity's transform (1 where the source has none). */
 export function readScale(state: ClothWorldState, eid: number, axis: 0 | 1 | 2): number {
   const t = state.transforms

@@ -1,19 +1,31 @@
 import { rebuildTethers } from '../src/cloth'
-import { samplePinTargets } from '../src/pins'
+import { beginKinematicStep, sampleFrame } from '../src/kinematics'
+import { followTargetJumps } from '../src/pins'
 import { getClothWorld } from '../src/state'
 
 /**
- * Sync phase, once per fixed step before the substeps: picks the step's substep count, rebuilds
- * tethers of cloths whose pins changed, and samples every pin target's Transform (detecting
- * teleports). This is the only phase that reads transforms for pins.
+ * Sync phase, once per fixed step before the substeps: picks the step's substep count, advances
+ * the tracked transforms (pin targets) to this step's time slice, taking a new frame sample on a
+ * frame's first step and carrying cloths along when their targets jumped, and rebuilds tethers of
+ * cloths whose pins changed. This is the only phase that reads transforms.
  */
 export function clothSync<W extends object>(world: W): W {
   const state = getClothWorld(world)
+  const k = state.kinematics
+  const frameStart = !k.framed || k.newFrame
+  if (frameStart) {
+    // inside stepCloth: the frame's span; called directly by an engine: one fixed step
+    sampleFrame(state, k.framed ? k.sinceSample : state.fixedTimeStep, state.fixedTimeStep)
+    k.newFrame = false
+  }
+  beginKinematicStep(k, k.framed ? k.stepFraction : 1)
   let total = 0
-  for (const c of state.cloths) {
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
     if (c.substeps > total) total = c.substeps
+    if (frameStart) followTargetJumps(state, c)
     if (c.tethersDirty) rebuildTethers(state, c)
-    samplePinTargets(state, c)
   }
   state.substepCount = total
   state.substep = 0

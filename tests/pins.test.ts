@@ -74,6 +74,57 @@ describe('pins', () => {
     expect(c.pos[0] - x0).toBeCloseTo(0.25, 12)
   })
 
+  it('interpolates targets in time across the fixed steps of uneven frames', () => {
+    // frames of 1.5 fixed steps: a target moving at constant velocity must be met exactly at
+    // the end time of every step, not lumped into one step per frame
+    const world = makeWorld({ fixedTimeStep: 1 / 60 })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 0, 0])
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 3, substeps: 2 })
+    pinParticle(world, cloth, 0, hero, [0, 0, 0], { blendTime: 0 })
+    const c = getClothState(world, cloth)
+    const v = 3 // m/s
+    let t = 0, simulated = 0
+    const positions: number[] = []
+    for (let f = 0; f < 40; f++) {
+      t += 1.5 / 60
+      setTransform(world, hero, [v * t, 0, 0])
+      const steps = stepCloth(world, 1.5 / 60)
+      simulated += steps / 60
+      if (steps > 0) positions.push(c.pos[0] - v * simulated)
+    }
+    for (const err of positions) expect(Math.abs(err)).toBeLessThan(1e-9)
+  })
+
+  it('a cape under jittery frame times stays as calm as under fixed frames', () => {
+    const run = (frame: (f: number) => number) => {
+      const world = makeWorld()
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 1.6, 0])
+      const cloth = createCloth(world, { width: 0.6, height: 1, resolution: [12, 20], position: [0, 1.5, -0.15] })
+      pinRow(world, cloth, 0, hero)
+      const c = getClothState(world, cloth)
+      let t = 0, worst = 0, highest = -Infinity, angle = 0
+      const q = quat.create()
+      for (let f = 0; f < 400; f++) {
+        const dt = frame(f)
+        t += dt
+        angle += 1.2 * Math.min(1, t / 0.5) * dt // up to 3.6 m/s on a 3 m circle, facing along it
+        quat.setAxisAngle(q, [0, 1, 0], -angle)
+        setTransform(world, hero, [3 * Math.cos(angle), 1.6, 3 * Math.sin(angle)], q)
+        stepCloth(world, dt)
+        worst = Math.max(worst, getClothStretch(world, cloth).max)
+        for (let i = 12; i < c.count; i++) highest = Math.max(highest, c.pos[3 * i + 1])
+      }
+      return { worst, highest }
+    }
+    const steady = run(() => 1 / 60)
+    const jittery = run((f) => (f % 7 === 0 ? 0.05 : f % 3 === 0 ? 0.006 : 0.0227))
+    expect(jittery.worst).toBeLessThan(0.1)
+    expect(jittery.worst).toBeLessThan(2 * steady.worst + 0.02)
+    expect(jittery.highest).toBeLessThan(1.6) // never flung above the shoulders
+  })
+
   it('pinning a moving particle at runtime and releasing it later cause no pop', () => {
     const world = makeWorld()
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 12, damping: 0 })

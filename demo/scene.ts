@@ -1,0 +1,85 @@
+import type { Renderer } from './renderer'
+
+/** Settings shared by every scene, driven by the panel. */
+export interface DemoSettings {
+  material: string
+  substeps: number
+  iterations: number
+  tethers: boolean
+}
+
+/** What a scene gets when it is built: a fresh world with the plugin installed. */
+export interface SceneContext {
+  world: object
+  settings: DemoSettings
+  /** Container for the scene's own controls (buttons, sliders). */
+  ui: HTMLElement
+}
+
+/** A live scene. */
+export interface SceneInstance {
+  /** Cloth entities to draw (with stretch tint) and count in the stats. */
+  cloths: number[]
+  /** Base colour per cloth (defaults to a neutral cloth colour). */
+  colors?: Map<number, [number, number, number]>
+  /** Called every frame before stepping: move characters, colliders, wind. */
+  update?(time: number, dt: number): void
+  /** Draws everything that is not cloth. */
+  draw?(renderer: Renderer): void
+  /** Applies a change of the panel's substeps/iterations/tethers (default: to every cloth). */
+  applySettings?(settings: DemoSettings): void
+  /** Extra stats lines. */
+  stats?(): string[]
+  /** A point the camera keeps looking at (e.g. a moving character). */
+  follow?(): ArrayLike<number>
+}
+
+/** A scene in the menu. Scenes use only the public API of bitecs-cloth. */
+export interface DemoScene {
+  id: string
+  title: string
+  /** Settings this scene starts with (the panel shows them). */
+  defaults?: Partial<DemoSettings>
+  camera?: { target: [number, number, number]; distance: number; yaw?: number; pitch?: number }
+  create(ctx: SceneContext): SceneInstance
+}
+
+/** Adds a button to a scene's control area. */
+export function addButton(ui: HTMLElement, label: string, onClick: () => void, id?: string): HTMLButtonElement {
+  const b = document.createElement('button')
+  b.textContent = label
+  if (id) b.id = id
+  b.addEventListener('click', onClick)
+  ui.appendChild(b)
+  return b
+}
+
+/** Adds a labelled slider to a scene's control area; returns the input. */
+export function addSlider(
+  ui: HTMLElement,
+  label: string,
+  min: number,
+  max: number,
+  step: number,
+  value: number,
+  onInput: (v: number) => void,
+  id?: string,
+): HTMLInputElement {
+  const row = document.createElement('label')
+  const input = document.createElement('input')
+  input.type = 'range'
+  input.min = String(min)
+  input.max = String(max)
+  input.step = String(step)
+  input.value = String(value)
+  if (id) input.id = id
+  const out = document.createElement('span')
+  out.textContent = String(value)
+  input.addEventListener('input', () => {
+    out.textContent = input.value
+    onInput(Number(input.value))
+  })
+  row.append(label, input, out)
+  ui.appendChild(row)
+  return input
+}

@@ -1,0 +1,6 @@
+import type { DemoScene } from '../scene'
+import { capeScene } from './cape'
+import { sheetScene } from './sheet'
+
+/** Every scene in the menu, in order. */
+export const scenes: DemoScene[] = [capeScene, sheetScene]

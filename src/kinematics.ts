@@ -1,0 +1,272 @@
+import { ClothError } from './errors'
+import type { ClothWorldState } from './state'
+
+/**
+ * Kinematic tracking of entities whose Transform drives the simulation (pin targets now,
+ * colliders later). Each tracked entity gets a slot; its pose is sampled once per frame and
+ * interpolated in time across the fixed steps of that frame and across the substeps of each step.
+ *
+ * Why: a frame of variable length runs 0, 1 or several fixed steps. Handing a step the whole frame's
+ * motion of a character (and the next step none) makes the pins jerk at frame rate; a cape on a
+ * character at ~44 fps climbed above the shoulders at 27 % stretch that way. Interpolating by time
+ * gives every step exactly the motion of its own time slice.
+ *
+ * Poses are px py pz qx qy qz qw (stride 7). Per slot:
+ * - `sampleFrom`, `sampleTo`: the target's pose at the previous and at the current frame sample;
+ * - `stepFrom`, `stepTo`: its pose at the start and end of the current fixed step.
+ */
+export interface Kinematics {
+  /** Slot of each entity id, −1 when untracked (grown on demand). */
+  slotOf: Int32Array
+  /** Entity of each slot, −1 when free. */
+  eid: Int32Array
+  /** Pins/colliders using each slot. */
+  refs: Int32Array
+  /** Highest slot in use + 1. */
+  count: number
+  /** Free slots (reused last-in first-out, which keeps slot order deterministic). */
+  free: number[]
+  sampleFrom: Float64Array
+  sampleTo: Float64Array
+  stepFrom: Float64Array
+  stepTo: Float64Array
+  /** 1 when the entity jumped (teleported) at the current frame sample. */
+  jumped: Uint8Array
+  /** 1 to treat the next sample as a jump whatever its distance (set by teleportCloth). */
+  forceJump: Uint8Array
+  /** The jump as a rigid transform: pivot xyz, rotation xyzw, translation xyz (stride 10). */
+  jump: Float64Array
+  /** Seconds since the last frame sample. */
+  sinceSample: number
+  /** Fraction of the frame (since the last sample) at which the current fixed step ends. */
+  stepFraction: number
+  /** True when the next sync must take a new frame sample. */
+  newFrame: boolean
+  /** True while `stepCloth` runs a frame's steps; outside it, every fixed step samples anew. */
+  framed: boolean
+}
+
+export function createKinematics(): Kinematics {
+  return {
+    slotOf: new Int32Array(64).fill(-1),
+    eid: new Int32Array(0),
+    refs: new Int32Array(0),
+    count: 0,
+    free: [],
+    sampleFrom: new Float64Array(0),
+    sampleTo: new Float64Array(0),
+    stepFrom: new Float64Array(0),
+    stepTo: new Float64Array(0),
+    jumped: new Uint8Array(0),
+    forceJump: new Uint8Array(0),
+    jump: new Float64Array(0),
+    sinceSample: 0,
+    stepFraction: 1,
+    newFrame: true,
+    framed: false,
+  }
+}
+
+const pose = new Float64Array(7)
+
+/**
+ * Starts tracking `eid` (or adds a reference) and returns its slot. A new slot starts at rest at
+ * the entity's current pose.
+ */
+export function trackEntity(state: ClothWorldState, eid: number): number {
+  const k = state.kinematics
+  if (eid >= k.slotOf.length) {
+    let n = k.slotOf.length
+    while (n <= eid) n *= 2
+    const grown = new Int32Array(n).fill(-1)
+    grown.set(k.slotOf)
+    k.slotOf = grown
+  }
+  let slot = k.slotOf[eid]
+  if (slot >= 0) {
+    k.refs[slot]++
+    return slot
+  }
+  slot = k.free.length > 0 ? k.free.pop()! : k.count++
+  if (slot >= k.eid.length) growSlots(k, Math.max(8, 2 * k.eid.length))
+  k.slotOf[eid] = slot
+  k.eid[slot] = eid
+  k.refs[slot] = 1
+  k.jumped[slot] = 0
+  k.forceJump[slot] = 0
+  readPoseInto(state, eid, pose)
+  const o = 7 * slot
+  for (let j = 0; j < 7; j++) {
+    k.sampleFrom[o + j] = pose[j]
+    k.sampleTo[o + j] = pose[j]
+    k.stepFrom[o + j] = pose[j]
+    k.stepTo[o + j] = pose[j]
+  }
+  return slot
+}
+
+/** Drops a reference to `eid`'s slot; the slot is freed when nothing uses it. */
+export function untrackEntity(state: ClothWorldState, eid: number): void {
+  const k = state.kinematics
+  const slot = eid < k.slotOf.length ? k.slotOf[eid] : -1
+  if (slot < 0) return
+  if (--k.refs[slot] > 0) return
+  k.slotOf[eid] = -1
+  k.eid[slot] = -1
+  k.free.push(slot)
+}
+
+function growSlots(k: Kinematics, n: number): void {
+  const grow = <T extends Float64Array | Int32Array | Uint8Array>(a: T, stride: number, fill = 0): T => {
+    const b = new (a.constructor as new (n: number) => T)(n * stride)
+    if (fill !== 0) b.fill(fill)
+    b.set(a)
+    return b
+  }
+  k.eid = grow(k.eid, 1, -1)
+  k.refs = grow(k.refs, 1)
+  k.sampleFrom = grow(k.sampleFrom, 7)
+  k.sampleTo = grow(k.sampleTo, 7)
+  k.stepFrom = grow(k.stepFrom, 7)
+  k.stepTo = grow(k.stepTo, 7)
+  k.jumped = grow(k.jumped, 1)
+  k.forceJump = grow(k.forceJump, 1)
+  k.jump = grow(k.jump, 10)
+}
+
+/**
+ * Reads an entity's pose from the transform source, normalising the rotation. A non-finite value
+ * would poison every cloth it touches, so it is rejected here, where transforms enter the solver.
+ */
+export function readPoseInto(state: ClothWorldState, eid: number, out: Float64Array): void {
+  const t = state.transforms
+  const px = t.px[eid], py = t.py[eid], pz = t.pz[eid]
+  let qx = t.qx[eid], qy = t.qy[eid], qz = t.qz[eid], qw = t.qw[eid]
+  if (!Number.isFinite(px + py + pz + qx + qy + qz + qw)) {
+    throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], 'must be finite')
+  }
+  const l = Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+  if (l > 1e-12) {
+    qx /= l; qy /= l; qz /= l; qw /= l
+  } else {
+    qx = 0; qy = 0; qz = 0; qw = 1
+  }
+  out[0] = px; out[1] = py; out[2] = pz
+  out[3] = qx; out[4] = qy; out[5] = qz; out[6] = qw
+}
+
+/**
+ * New frame sample for every tracked entity: the previous sample moves back, the current
+ * Transform is read. A sample farther than the teleport distance from where the entity's last
+ * step velocity would have taken it (or any sample after `forceJump`) is a jump: its rigid
+ * transform is recorded (for the cloths to follow) and the entity's earlier poses are moved by it,
+ * so the interpolation continues from the new place instead of sweeping across the gap.
+ *
+ * @param span seconds since the previous sample
+ * @param stepLength the fixed step, s
+ */
+export function sampleFrame(state: ClothWorldState, span: number, stepLength: number): void {
+  const k = state.kinematics
+  const limit2 = state.teleportDistance * state.teleportDistance
+  const ratio = span / stepLength
+  for (let slot = 0; slot < k.count; slot++) {
+    const eid = k.eid[slot]
+    k.jumped[slot] = 0
+    if (eid < 0) continue
+    readPoseInto(state, eid, pose)
+    const o = 7 * slot
+    // where the last step's velocity would have carried the entity by now
+    const ex = k.sampleTo[o] + (k.stepTo[o] - k.stepFrom[o]) * ratio
+    const ey = k.sampleTo[o + 1] + (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
+    const ez = k.sampleTo[o + 2] + (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
+    const jx = pose[0] - ex, jy = pose[1] - ey, jz = pose[2] - ez
+    if (k.forceJump[slot] === 1 || jx * jx + jy * jy + jz * jz > limit2) {
+      k.forceJump[slot] = 0
+      k.jumped[slot] = 1
+      // rotation jump R = q_new · q_old⁻¹ about the old position, then the translation jump
+      const fx = -k.sampleTo[o + 3], fy = -k.sampleTo[o + 4], fz = -k.sampleTo[o + 5], fw = k.sampleTo[o + 6]
+      const tx = pose[3], ty = pose[4], tz = pose[5], tw = pose[6]
+      const j = 10 * slot
+      k.jump[j] = k.sampleTo[o]
+      k.jump[j + 1] = k.sampleTo[o + 1]
+      k.jump[j + 2] = k.sampleTo[o + 2]
+      k.jump[j + 3] = tw * fx + tx * fw + ty * fz - tz * fy
+      k.jump[j + 4] = tw * fy - tx * fz + ty * fw + tz * fx
+      k.jump[j + 5] = tw * fz + tx * fy - ty * fx + tz * fw
+      k.jump[j + 6] = tw * fw - tx * fx - ty * fy - tz * fz
+      k.jump[j + 7] = jx
+      k.jump[j + 8] = jy
+      k.jump[j + 9] = jz
+      applyJump(k.jump, j, k.sampleTo, o)
+      applyJump(k.jump, j, k.stepTo, o)
+      applyJump(k.jump, j, k.stepFrom, o)
+    }
+    for (let c = 0; c < 7; c++) {
+      k.sampleFrom[o + c] = k.sampleTo[o + c]
+      k.sampleTo[o + c] = pose[c]
+    }
+  }
+}
+
+/** Moves a pose (at `po` in `poses`) by the jump transform at `j`: p' = pivot + t + R(p − pivot), q' = R·q. */
+function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: number): void {
+  const cx = jump[j], cy = jump[j + 1], cz = jump[j + 2]
+  const rx = jump[j + 3], ry = jump[j + 4], rz = jump[j + 5], rw = jump[j + 6]
+  const vx = poses[po] - cx, vy = poses[po + 1] - cy, vz = poses[po + 2] - cz
+  const tx = 2 * (ry * vz - rz * vy), ty = 2 * (rz * vx - rx * vz), tz = 2 * (rx * vy - ry * vx)
+  poses[po] = cx + jump[j + 7] + vx + rw * tx + (ry * tz - rz * ty)
+  poses[po + 1] = cy + jump[j + 8] + vy + rw * ty + (rz * tx - rx * tz)
+  poses[po + 2] = cz + jump[j + 9] + vz + rw * tz + (rx * ty - ry * tx)
+  const ax = poses[po + 3], ay = poses[po + 4], az = poses[po + 5], aw = poses[po + 6]
+  poses[po + 3] = rw * ax + rx * aw + ry * az - rz * ay
+  poses[po + 4] = rw * ay - rx * az + ry * aw + rz * ax
+  poses[po + 5] = rw * az + rx * ay - ry * ax + rz * aw
+  poses[po + 6] = rw * aw - rx * ax - ry * ay - rz * az
+}
+
+/**
+ * Start of a fixed step: every tracked entity's step pose moves on to its pose at `fraction` of
+ * the way from the previous frame sample to the current one (position lerp, rotation slerp).
+ */
+export function beginKinematicStep(k: Kinematics, fraction: number): void {
+  for (let slot = 0; slot < k.count; slot++) {
+    if (k.eid[slot] < 0) continue
+    const o = 7 * slot
+    for (let c = 0; c < 7; c++) k.stepFrom[o + c] = k.stepTo[o + c]
+    interpolatePose(k.sampleFrom, k.sampleTo, o, fraction, k.stepTo, o)
+  }
+}
+
+/**
+ * Pose at fraction f between poses `a` and `b` (both at offset `o`) into out[oo..oo+6]: position
+ * lerp, rotation slerp along the shortest arc (nlerp when nearly equal); f = 1 gives b exactly.
+ */
+export function interpolatePose(a: Float64Array, b: Float64Array, o: number, f: number, out: Float64Array, oo: number): void {
+  if (f >= 1) {
+    for (let c = 0; c < 7; c++) out[oo + c] = b[o + c]
+    return
+  }
+  out[oo] = a[o] + (b[o] - a[o]) * f
+  out[oo + 1] = a[o + 1] + (b[o + 1] - a[o + 1]) * f
+  out[oo + 2] = a[o + 2] + (b[o + 2] - a[o + 2]) * f
+  const ax = a[o + 3], ay = a[o + 4], az = a[o + 5], aw = a[o + 6]
+  let bx = b[o + 3], by = b[o + 4], bz = b[o + 5], bw = b[o + 6]
+  let cos = ax * bx + ay * by + az * bz + aw * bw
+  if (cos < 0) {
+    cos = -cos
+    bx = -bx; by = -by; bz = -bz; bw = -bw
+  }
+  let s0 = 1 - f, s1 = f
+  if (cos < 0.9995) {
+    const omega = Math.acos(cos)
+    const sin = Math.sin(omega)
+    s0 = Math.sin((1 - f) * omega) / sin
+    s1 = Math.sin(f * omega) / sin
+  }
+  const qx = s0 * ax + s1 * bx, qy = s0 * ay + s1 * by, qz = s0 * az + s1 * bz, qw = s0 * aw + s1 * bw
+  const inv = 1 / Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+  out[oo + 3] = qx * inv
+  out[oo + 4] = qy * inv
+  out[oo + 5] = qz * inv
+  out[oo + 6] = qw * inv
+}
