@@ -36,15 +36,21 @@ export interface Kinematics {
   forceJump: Uint8Array
   /** The jump as a rigid transform: pivot xyz, rotation xyzw, translation xyz (stride 10). */
   jump: Float64Array
-  /** Seconds since the last frame sample. */
-  sinceSample: number
-  /** Fraction of the frame (since the last sample) at which the current fixed step ends. */
-  stepFraction: number
+  /**
+   * Timing scalars, in a typed array so passing them around never allocates:
+   * [K_SINCE_SAMPLE] seconds since the last frame sample; [K_STEP_FRACTION] the fraction of that
+   * span at which the current fixed step ends.
+   */
+  time: Float64Array
   /** True when the next sync must take a new frame sample. */
   newFrame: boolean
   /** True while `stepCloth` runs a frame's steps; outside it, every fixed step samples anew. */
   framed: boolean
 }
+
+/** Slots of `Kinematics.time`. */
+export const K_SINCE_SAMPLE = 0
+export const K_STEP_FRACTION = 1
 
 export function createKinematics(): Kinematics {
   return {
@@ -60,8 +66,7 @@ export function createKinematics(): Kinematics {
     jumped: new Uint8Array(0),
     forceJump: new Uint8Array(0),
     jump: new Float64Array(0),
-    sinceSample: 0,
-    stepFraction: 1,
+    time: Float64Array.from([0, 1]),
     newFrame: true,
     framed: false,
   }
@@ -162,13 +167,14 @@ export function readPoseInto(state: ClothWorldState, eid: number, out: Float64Ar
  * transform is recorded (for the cloths to follow) and the entity's earlier poses are moved by it,
  * so the interpolation continues from the new place instead of sweeping across the gap.
  *
- * @param span seconds since the previous sample
- * @param stepLength the fixed step, s
+ * The span since the previous sample is `time[K_SINCE_SAMPLE]` inside `stepCloth` and one fixed step
+ * when an engine runs `clothFixedStep` itself.
  */
-export function sampleFrame(state: ClothWorldState, span: number, stepLength: number): void {
+export function sampleFrame(state: ClothWorldState): void {
   const k = state.kinematics
   const limit2 = state.teleportDistance * state.teleportDistance
-  const ratio = span / stepLength
+  const span = k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep
+  const ratio = span / state.fixedTimeStep
   for (let slot = 0; slot < k.count; slot++) {
     const eid = k.eid[slot]
     k.jumped[slot] = 0
@@ -225,23 +231,27 @@ function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: numbe
 }
 
 /**
- * Start of a fixed step: every tracked entity's step pose moves on to its pose at `fraction` of
- * the way from the previous frame sample to the current one (position lerp, rotation slerp).
+ * Start of a fixed step: every tracked entity's step pose moves on to its pose at the step's end
+ * (`time[K_STEP_FRACTION]` of the way from the previous frame sample to the current one; the
+ * current sample itself when an engine runs steps directly).
  */
-export function beginKinematicStep(k: Kinematics, fraction: number): void {
+export function beginKinematicStep(k: Kinematics): void {
+  if (!k.framed) k.time[K_STEP_FRACTION] = 1
   for (let slot = 0; slot < k.count; slot++) {
     if (k.eid[slot] < 0) continue
     const o = 7 * slot
     for (let c = 0; c < 7; c++) k.stepFrom[o + c] = k.stepTo[o + c]
-    interpolatePose(k.sampleFrom, k.sampleTo, o, fraction, k.stepTo, o)
+    interpolatePose(k.sampleFrom, k.sampleTo, o, k.time, K_STEP_FRACTION, k.stepTo, o)
   }
 }
 
 /**
- * Pose at fraction f between poses `a` and `b` (both at offset `o`) into out[oo..oo+6]: position
- * lerp, rotation slerp along the shortest arc (nlerp when nearly equal); f = 1 gives b exactly.
+ * Pose at fraction f = t[ti] between poses `a` and `b` (both at offset `o`) into out[oo..oo+6]:
+ * position lerp, rotation slerp along the shortest arc (nlerp when nearly equal); f ≥ 1 gives b
+ * exactly. (The fraction is read from an array: a double argument would be boxed per call.)
  */
-export function interpolatePose(a: Float64Array, b: Float64Array, o: number, f: number, out: Float64Array, oo: number): void {
+export function interpolatePose(a: Float64Array, b: Float64Array, o: number, t: Float64Array, ti: number, out: Float64Array, oo: number): void {
+  const f = t[ti]
   if (f >= 1) {
     for (let c = 0; c < 7; c++) out[oo + c] = b[o + c]
     return

@@ -1,11 +1,11 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, checkIndex, checkInteger, checkNonNegative, checkQuat, checkVec3 } from './errors'
-import { P_H } from './kernels/params'
+import { P_H, P_STEP_FRACTION } from './kernels/params'
 import { rotateVec3 } from './math'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import { checkEntity, readScale } from './transform'
-import { trackEntity, untrackEntity } from './kinematics'
+import { interpolatePose, trackEntity, untrackEntity } from './kinematics'
 import { growStores } from './plugin'
 
 /** Options of `pinParticle`. */
@@ -18,6 +18,7 @@ export interface PinOptions {
 }
 
 const tmp = new Float64Array(16)
+const pose = new Float64Array(7)
 
 /**
  * Pins one particle. With a `target` entity (which must have a Transform), the particle follows
@@ -186,15 +187,15 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): void {
 /**
  * Places the pinned particles of a cloth for local substep k of n: the target's pose is
  * interpolated (position lerp, rotation slerp) to (k + 1)/n of the way through the step, so a fast
- * character drags its cloth smoothly instead of in one jerk per step. The math is written out
- * inline: calling helpers with double arguments would box them (allocate) on every call.
+ * character drags its cloth smoothly instead of in one jerk per step. Scalars travel in typed
+ * arrays: calling helpers with double arguments would box them (allocate) on every call.
  */
 export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number): void {
   const P = state.components.Pin
   const T = state.transforms
   const sxs = T.sx, sys = T.sy, szs = T.sz
   const h = c.params[P_H]
-  const f = (k + 1) / n
+  c.params[P_STEP_FRACTION] = (k + 1) / n
   const pos = c.pos
   const from = state.kinematics.stepFrom, to = state.kinematics.stepTo
   for (let q = 0; q < c.pins.length; q++) {
@@ -226,35 +227,9 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
       if (sy > 0) ly *= sy
       if (sz > 0) lz *= sz
     }
-    // target pose at fraction f of the step: position lerp, rotation slerp (shortest arc, nlerp
-    // when close); at the end of the step exactly the step's end pose
-    const o = 7 * P.slot[pin]
-    let px: number, py: number, pz: number, qx: number, qy: number, qz: number, qw: number
-    if (f === 1) {
-      px = to[o]; py = to[o + 1]; pz = to[o + 2]
-      qx = to[o + 3]; qy = to[o + 4]; qz = to[o + 5]; qw = to[o + 6]
-    } else {
-      px = from[o] + (to[o] - from[o]) * f
-      py = from[o + 1] + (to[o + 1] - from[o + 1]) * f
-      pz = from[o + 2] + (to[o + 2] - from[o + 2]) * f
-      const ax = from[o + 3], ay = from[o + 4], az = from[o + 5], aw = from[o + 6]
-      let bx = to[o + 3], by = to[o + 4], bz = to[o + 5], bw = to[o + 6]
-      let cos = ax * bx + ay * by + az * bz + aw * bw
-      if (cos < 0) {
-        cos = -cos
-        bx = -bx; by = -by; bz = -bz; bw = -bw
-      }
-      let s0 = 1 - f, s1 = f
-      if (cos < 0.9995) {
-        const omega = Math.acos(cos)
-        const sin = Math.sin(omega)
-        s0 = Math.sin((1 - f) * omega) / sin
-        s1 = Math.sin(f * omega) / sin
-      }
-      qx = s0 * ax + s1 * bx; qy = s0 * ay + s1 * by; qz = s0 * az + s1 * bz; qw = s0 * aw + s1 * bw
-      const inv = 1 / Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
-      qx *= inv; qy *= inv; qz *= inv; qw *= inv
-    }
+    // the target's pose (k + 1)/n of the way through the step
+    interpolatePose(from, to, 7 * P.slot[pin], c.params, P_STEP_FRACTION, pose, 0)
+    const px = pose[0], py = pose[1], pz = pose[2], qx = pose[3], qy = pose[4], qz = pose[5], qw = pose[6]
     // v' = v + w·t + q × t, t = 2·q × v
     const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)
     pos[i] = px + lx + qw * tx + (qy * tz - qz * ty)

@@ -1,5 +1,6 @@
 import { clothFixedStep } from '../systems/pipeline'
 import { ClothError } from './errors'
+import { K_SINCE_SAMPLE, K_STEP_FRACTION } from './kinematics'
 import { getClothWorld } from './state'
 
 /**
@@ -17,10 +18,11 @@ export function stepCloth(world: object, dt: number): number {
     throw new ClothError('dt', dt, 'must be a finite number of seconds ≥ 0')
   }
   const k = state.kinematics
+  const time = k.time
   const fixed = state.fixedTimeStep
   const d = Math.min(dt, state.maxStepsPerFrame * fixed)
   state.accumulator += d
-  k.sinceSample += d
+  time[K_SINCE_SAMPLE] += d
   // the tolerance keeps 1/60-s frames from drifting into an alternating 0/2-step pattern
   let steps = Math.floor(state.accumulator / fixed + 1e-9)
   const overflow = steps > state.maxStepsPerFrame
@@ -30,12 +32,13 @@ export function stepCloth(world: object, dt: number): number {
   for (let s = 1; s <= steps; s++) {
     state.accumulator -= fixed
     // where this step ends within the time since the last sample (all of it when time is dropped)
-    k.stepFraction = overflow ? s / steps : Math.min(1, (k.sinceSample - Math.max(0, state.accumulator)) / k.sinceSample)
+    const since = time[K_SINCE_SAMPLE]
+    time[K_STEP_FRACTION] = overflow ? s / steps : Math.min(1, (since - Math.max(0, state.accumulator)) / since)
     clothFixedStep(world)
   }
   k.framed = false
   k.newFrame = true
   if (overflow || state.accumulator < 0) state.accumulator = 0
-  k.sinceSample = 0
+  time[K_SINCE_SAMPLE] = 0
   return steps
 }

@@ -14,11 +14,10 @@ export function clothSync<W extends object>(world: W): W {
   const k = state.kinematics
   const frameStart = !k.framed || k.newFrame
   if (frameStart) {
-    // inside stepCloth: the frame's span; called directly by an engine: one fixed step
-    sampleFrame(state, k.framed ? k.sinceSample : state.fixedTimeStep, state.fixedTimeStep)
+    sampleFrame(state)
     k.newFrame = false
   }
-  beginKinematicStep(k, k.framed ? k.stepFraction : 1)
+  beginKinematicStep(k)
   let total = 0
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {

@@ -20,7 +20,9 @@ export const P_GZ = 6
 export const P_MAX_SPEED = 7
 /** Fraction of relative stretch velocity removed by the damping pass, 1 − exp(−rate·Δt). */
 export const P_STRETCH_DAMP = 8
-export const PARAM_COUNT = 9
+/** Fraction of the fixed step reached at the end of the current substep, (k + 1)/n (pins). */
+export const P_STEP_FRACTION = 9
+export const PARAM_COUNT = 10
 
 /** A zeroed parameter block. */
 export function createKernelParams(): Float64Array {
