@@ -1,15 +1,23 @@
+import { accuracy } from './accuracy'
 import { allocation, sheets, throughput } from './core'
 
-/** Benchmark suites by name; `npm run bench -- core` runs one. */
-const suites: Record<string, () => void | Promise<void>> = {
-  core: async () => {
-    throughput()
-    sheets()
-    await allocation()
+/**
+ * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
+ * one; `npm run bench:accuracy` runs the (slow) accuracy-versus-time sweep.
+ */
+const suites: Record<string, { run: () => void | Promise<void>; byDefault: boolean }> = {
+  core: {
+    byDefault: true,
+    run: async () => {
+      throughput()
+      sheets()
+      await allocation()
+    },
   },
+  accuracy: { byDefault: false, run: () => accuracy() },
 }
 
 const wanted = process.argv.slice(2)
-for (const [name, run] of Object.entries(suites)) {
-  if (wanted.length === 0 || wanted.includes(name)) await run()
+for (const [name, suite] of Object.entries(suites)) {
+  if (wanted.length === 0 ? suite.byDefault : wanted.includes(name)) await suite.run()
 }
