@@ -277,8 +277,34 @@ function render(): void {
   ].join('\n')
 }
 
+/** Renders a frame now and reads the canvas back: how much of it differs from the clear colour. */
+function snapshot(): { coverage: number; colors: number } {
+  render()
+  const gl = renderer.gl
+  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight
+  const px = new Uint8Array(4 * w * h)
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px)
+  let drawn = 0
+  const seen = new Set<number>()
+  for (let i = 0; i < px.length; i += 4 * 7) {
+    const r = px[i], g = px[i + 1], b = px[i + 2]
+    if (Math.abs(r - 27) + Math.abs(g - 29) + Math.abs(b - 34) > 6) drawn++
+    seen.add((r >> 3) | ((g >> 3) << 5) | ((b >> 3) << 10))
+  }
+  return { coverage: drawn / (px.length / (4 * 7)), colors: seen.size }
+}
+
+/** A cloth's particle positions now (a copy), for tests that compare frames. */
+function positions(index = 0): number[] {
+  const cloth = instance.cloths[index]
+  const c = getClothState(world, cloth)
+  return Array.from(c.pos.subarray(0, 3 * c.count))
+}
+
 /** Hook for browser tests. */
 ;(window as unknown as { __demo: unknown }).__demo = {
+  snapshot,
+  positions,
   get ready() {
     return frame > 2
   },

@@ -48,8 +48,6 @@ export interface ClothTopology {
   /** The structural (STRETCH) pairs again, for measuring stretch: 2 indices each. */
   readonly stretchIds: Int32Array
   readonly stretchRest: Float64Array
-  /** 1/rest² of each structural pair (for the stretch-damping pass). */
-  readonly stretchInvRest2: Float64Array
   readonly stretchCount: number
 
   /** Two-sided distance constraints: 2 particle indices each, in solver order. */
@@ -391,12 +389,10 @@ function assemble(
   for (let k = 0; k < m; k++) if (distKind[k] === STRETCH) sc++
   const stretchIds = new Int32Array(2 * sc)
   const stretchRest = new Float64Array(sc)
-  const stretchInvRest2 = new Float64Array(sc)
   for (let k = 0, j = 0; k < m; k++) {
     if (distKind[k] !== STRETCH) continue
     stretchIds[2 * j] = distIds[2 * k]
     stretchIds[2 * j + 1] = distIds[2 * k + 1]
-    stretchInvRest2[j] = distRest[k] > 0 ? 1 / (distRest[k] * distRest[k]) : 0
     stretchRest[j++] = distRest[k]
   }
 
@@ -414,7 +410,6 @@ function assemble(
     edgeCount: mesh.edgeCount,
     stretchIds,
     stretchRest,
-    stretchInvRest2,
     stretchCount: sc,
     distIds,
     distRest,

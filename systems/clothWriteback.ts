@@ -23,7 +23,7 @@ export function clothWriteback<W extends object>(world: W): W {
     if (c.stretchDamping > 0) {
       const t = c.topology
       c.params[P_STRETCH_DAMP] = 1 - Math.exp(-c.stretchDamping * state.fixedTimeStep)
-      dampPairs(c.pos, c.vel, c.invMass, t.stretchIds, t.stretchInvRest2, t.stretchCount, c.params)
+      dampPairs(c.pos, c.vel, c.invMass, t.stretchIds, t.stretchCount, c.params)
     }
     c.version++
   }

@@ -117,6 +117,19 @@ describe('accuracy levers', () => {
   })
 })
 
+describe('without tethers', () => {
+  it('a dense sheet on two corner pins at one substep and one iteration stretches but stays finite', () => {
+    // the case plain PBD is known to blow up on; it must degrade (stretch), never diverge
+    const { world, cloth } = hangingSheet({ substeps: 1, iterations: 1, tethers: false, corners: true, resolution: 32 })
+    for (let f = 0; f < 300; f++) stepCloth(world, 1 / 60)
+    expect(allFinite(world, cloth)).toBe(true)
+    const c = getClothState(world, cloth)
+    let lowest = Infinity
+    for (let i = 0; i < c.count; i++) lowest = Math.min(lowest, c.pos[3 * i + 1])
+    expect(lowest).toBeGreaterThan(-60) // hanging, not falling away
+  })
+})
+
 describe('tethers', () => {
   it('cut the max stretch of a sheet hanging from two corners', () => {
     const run = (tethers: boolean) => {

@@ -4,16 +4,16 @@ import { P_STRETCH_DAMP } from './params'
  * Stretch damping, a velocity pass after the velocity update: for each pair, removes the fraction
  * `params[P_STRETCH_DAMP]` of the particles' relative velocity along the pair, split by inverse mass (momentum is
  * unchanged). Only stretching motion is damped; rigid motion, swinging and bending (which do not
- * change the pair's length to first order) are not. The pair direction is normalised by the rest
- * length (`invRest2` = 1/rest²) rather than the current one, which differs only at large strain
- * and saves a division per pair.
+ * change the pair's length to first order) are not. The relative velocity is projected on the
+ * current pair direction: normalising by the rest length instead (saving a division) scales the
+ * correction by (length/rest)², which turned this damper into an amplifier on over-stretched edges
+ * and blew a sheet up.
  */
 export function dampPairs(
   pos: Float64Array,
   vel: Float64Array,
   invMass: Float64Array,
   ids: Int32Array,
-  invRest2: Float64Array,
   count: number,
   params: Float64Array,
 ): void {
@@ -25,7 +25,9 @@ export function dampPairs(
     if (ws === 0) continue
     const a = 3 * i0, b = 3 * i1
     const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
-    const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) * invRest2[k]
+    const d2 = dx * dx + dy * dy + dz * dz
+    if (d2 < 1e-24) continue
+    const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) / d2
     const s = (factor * vr) / ws
     const sa = wa * s, sb = wb * s
     vel[a] += sa * dx

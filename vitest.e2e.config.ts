@@ -1,0 +1,11 @@
+import { defineConfig } from 'vitest/config'
+
+/** Browser tests of the demo (`npm run test:e2e`): real Chromium through playwright-core. */
+export default defineConfig({
+  test: {
+    include: ['tests/e2e/**/*.e2e.ts'],
+    testTimeout: 120_000,
+    hookTimeout: 120_000,
+    fileParallelism: false,
+  },
+})
