@@ -53,7 +53,11 @@ export interface ClothOptions {
   substeps?: number
   /** 'xpbd' (default): material stiffness independent of iterations and time step. 'pbd': classic. */
   solver?: 'xpbd' | 'pbd'
-  /** Bending model. Default 'distance' (skip-one springs on grids, cross-edge springs on meshes). */
+  /**
+   * Bending model. Default 'line': three-particle constraints along rows and columns (along nearly
+   * straight edge pairs on meshes). 'distance': skip-one (grids) or cross-edge (meshes) springs.
+   * 'dihedral': hinge angles. 'both': distance + dihedral. See `BendingModel`.
+   */
   bending?: BendingModel
   /** Dihedral hinges resist folds both ways ('both', default) or one way only. */
   bendSide?: BendSide
@@ -191,7 +195,7 @@ function checkCommon(o: ClothOptions, n: number): CommonOptions {
   const damping = o.damping === undefined ? material.damping : checkNonNegative('options.damping', o.damping)
   const stretchDamping = o.stretchDamping === undefined ? material.stretchDamping : checkNonNegative('options.stretchDamping', o.stretchDamping)
   const mass = o.mass === undefined ? undefined : checkPositive('options.mass', o.mass)
-  const bending = o.bending === undefined ? 'distance' : checkOneOf('options.bending', o.bending, ['distance', 'dihedral', 'both', 'none'] as const)
+  const bending = o.bending === undefined ? 'line' : checkOneOf('options.bending', o.bending, ['line', 'distance', 'dihedral', 'both', 'none'] as const)
   const shear = o.shear === undefined ? 'distance' : checkOneOf('options.shear', o.shear, ['distance', 'compression', 'none'] as const)
   const bendSide = o.bendSide === undefined ? 'both' : checkOneOf('options.bendSide', o.bendSide, ['both', 'front', 'back'] as const)
   let orderFrom: ArrayLike<number> | undefined
@@ -252,6 +256,7 @@ function spawnCloth(
     accel: null,
     distLambda: new Float64Array(topology.distCount),
     compLambda: new Float64Array(topology.compCount),
+    lineLambda: new Float64Array(topology.lineCount),
     hingeLambda: new Float64Array(topology.hingeCount),
     tethers: EMPTY_TETHERS,
     useTethers: o.tethers.enabled,

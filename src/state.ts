@@ -61,6 +61,8 @@ export interface ClothStats {
   distanceProjections: number
   /** Dihedral hinge projections. */
   dihedralProjections: number
+  /** Line-bending (three-particle) projections. */
+  lineProjections: number
   /** Tether projections (including inactive ones, which cost a distance test). */
   tetherProjections: number
   /** Pinned-particle placements. */
@@ -107,6 +109,7 @@ export interface ClothState {
   /** XPBD multipliers, one per constraint. */
   distLambda: Float64Array
   compLambda: Float64Array
+  lineLambda: Float64Array
   hingeLambda: Float64Array
   /** Long-range attachments, rebuilt when pins change. */
   tethers: TetherSet
@@ -205,6 +208,7 @@ export function createStats(): ClothStats {
     particlesIntegrated: 0,
     distanceProjections: 0,
     dihedralProjections: 0,
+    lineProjections: 0,
     tetherProjections: 0,
     pinUpdates: 0,
     tetherRebuilds: 0,

@@ -5,8 +5,14 @@ export const STRETCH = 0
 export const SHEAR = 1
 export const BEND = 2
 
-/** How bending is modelled: distance springs across hinges, dihedral angles, both, or none. */
-export type BendingModel = 'distance' | 'dihedral' | 'both' | 'none'
+/**
+ * How bending is modelled. 'line' (default): three-particle constraints along rows and columns
+ * (any two nearly opposite edges at a vertex on a mesh), first-order in a kink, so grid-scale
+ * wrinkles are resisted. 'distance': skip-one springs (grids) or cross-edge springs (meshes), the
+ * cheapest, blind to small zigzags. 'dihedral': hinge angles, the most accurate and the most
+ * expensive, needed for one-sided bending and curved rest shapes. 'both': distance + dihedral.
+ */
+export type BendingModel = 'line' | 'distance' | 'dihedral' | 'both' | 'none'
 /** How shear diagonals act: two-sided distance, compression-only (unilateral), or not at all. */
 export type ShearModel = 'distance' | 'compression' | 'none'
 /**
@@ -65,6 +71,14 @@ export interface ClothTopology {
   readonly compRest: Float64Array
   readonly compCompliance: Float64Array
   readonly compCount: number
+
+  /** Line-bending triples: x0, x1 (middle), x2 per triple, in solver order. */
+  readonly lineIds: Int32Array
+  /** Rest distance of the middle particle from its neighbours' midpoint, m (0 on flat cloth). */
+  readonly lineRest: Float64Array
+  /** Compliance, m/N. */
+  readonly lineCompliance: Float64Array
+  readonly lineCount: number
 
   /** Dihedral hinges: e0, e1, w0, w1 per hinge (diagram above). */
   readonly hingeIds: Int32Array
@@ -140,11 +154,12 @@ export function buildGridTopology(
     return buildMeshTopology(rest, tris, material, { ...options, grid: [columns, rows] })
   }
 
-  // Quad topology: structural rows/columns, both diagonals as shear, skip-one bending.
+  // Quad topology: structural rows/columns, both diagonals as shear, bending along rows/columns.
   const pairs = new PairList()
   const shearModel = options.shear ?? 'distance'
-  const bending = options.bending ?? 'distance'
+  const bending = options.bending ?? 'line'
   const comp = new PairList()
+  const lines: number[] = []
   for (let r = 0; r < rows; r++) {
     for (let c = 0; c < columns; c++) {
       const i = r * columns + c
@@ -159,11 +174,15 @@ export function buildGridTopology(
         if (c + 2 < columns) pairs.push(i, i + 2, BEND)
         if (r + 2 < rows) pairs.push(i, i + 2 * columns, BEND)
       }
+      if (bending === 'line') {
+        if (c + 2 < columns) lines.push(i, i + 1, i + 2)
+        if (r + 2 < rows) lines.push(i, i + columns, i + 2 * columns)
+      }
     }
   }
   const mesh = analyseMesh(rest, tris, n)
   const hinges = bending === 'dihedral' || bending === 'both' ? mesh.hinges : new Int32Array(0)
-  return assemble(rest, tris, mesh, pairs, comp, hinges, material, options, columns, rows)
+  return assemble(rest, tris, mesh, pairs, comp, lines, hinges, material, options, columns, rows)
 }
 
 /**
@@ -183,7 +202,7 @@ export function buildMeshTopology(
   const tris = Uint32Array.from(indices)
   const mesh = analyseMesh(rest, tris, n)
   const shearModel = options.shear ?? 'distance'
-  const bending = options.bending ?? 'distance'
+  const bending = options.bending ?? 'line'
   const pairs = new PairList()
   const comp = new PairList()
   const shearTarget = shearModel === 'compression' ? comp : shearModel === 'distance' ? pairs : null
@@ -202,8 +221,49 @@ export function buildMeshTopology(
     }
   }
   const hinges = bending === 'dihedral' || bending === 'both' ? mesh.hinges : new Int32Array(0)
+  const lines = bending === 'line' ? lineTriples(rest, n, pairs) : []
   const [columns, rows] = options.grid ?? [0, 0]
-  return assemble(rest, tris, mesh, pairs, comp, hinges, material, options, columns, rows)
+  return assemble(rest, tris, mesh, pairs, comp, lines, hinges, material, options, columns, rows)
+}
+
+/**
+ * Line-bending triples of a mesh: at every vertex, pairs of its stretch edges that point in nearly
+ * opposite directions (within 30°), best pairs first, each edge used once per vertex. On a
+ * triangulated grid these are exactly the rows and columns.
+ */
+function lineTriples(rest: Float64Array, n: number, pairs: PairList): number[] {
+  const neighbours: number[][] = Array.from({ length: n }, () => [])
+  for (let k = 0; k < pairs.length; k++) {
+    if (pairs.kind[k] !== STRETCH) continue
+    neighbours[pairs.a[k]].push(pairs.b[k])
+    neighbours[pairs.b[k]].push(pairs.a[k])
+  }
+  const out: number[] = []
+  const cosLimit = -Math.cos(Math.PI / 6)
+  for (let v = 0; v < n; v++) {
+    const nb = neighbours[v]
+    const candidates: [number, number, number][] = []
+    for (let i = 0; i < nb.length; i++) {
+      for (let j = i + 1; j < nb.length; j++) {
+        const a = nb[i], b = nb[j]
+        const ax = rest[3 * a] - rest[3 * v], ay = rest[3 * a + 1] - rest[3 * v + 1], az = rest[3 * a + 2] - rest[3 * v + 2]
+        const bx = rest[3 * b] - rest[3 * v], by = rest[3 * b + 1] - rest[3 * v + 1], bz = rest[3 * b + 2] - rest[3 * v + 2]
+        const la = Math.hypot(ax, ay, az), lb = Math.hypot(bx, by, bz)
+        if (la === 0 || lb === 0) continue
+        const cos = (ax * bx + ay * by + az * bz) / (la * lb)
+        if (cos < cosLimit) candidates.push([cos, a, b])
+      }
+    }
+    candidates.sort((p, q) => p[0] - q[0] || p[1] - q[1] || p[2] - q[2])
+    const used = new Set<number>()
+    for (const [, a, b] of candidates) {
+      if (used.has(a) || used.has(b)) continue
+      used.add(a)
+      used.add(b)
+      out.push(a, v, b)
+    }
+  }
+  return out
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -322,6 +382,7 @@ function assemble(
   mesh: MeshInfo,
   pairs: PairList,
   comp: PairList,
+  lines: number[],
   hinges: Int32Array,
   material: ClothMaterialSpec,
   options: TopologyOptions,
@@ -373,6 +434,26 @@ function assemble(
     compCompliance[k] = complianceOf(comp.a[j], comp.b[j], comp.kind[j], compRest[k])
   }
 
+  // line triples: solve order by the level of their nearest particle, interleaved like the pairs
+  const lineOrder = orderItems(lines, 3, null, levels)
+  const lc = lineOrder.length
+  const lineIds = new Int32Array(3 * lc)
+  const lineRest = new Float64Array(lc)
+  const lineCompliance = new Float64Array(lc)
+  for (let k = 0; k < lc; k++) {
+    const j = lineOrder[k]
+    const a = lines[3 * j], v = lines[3 * j + 1], b = lines[3 * j + 2]
+    lineIds[3 * k] = a
+    lineIds[3 * k + 1] = v
+    lineIds[3 * k + 2] = b
+    const dx = rest[3 * v] - 0.5 * (rest[3 * a] + rest[3 * b])
+    const dy = rest[3 * v + 1] - 0.5 * (rest[3 * a + 1] + rest[3 * b + 1])
+    const dz = rest[3 * v + 2] - 0.5 * (rest[3 * a + 2] + rest[3 * b + 2])
+    lineRest[k] = Math.sqrt(dx * dx + dy * dy + dz * dz)
+    const L = 0.5 * (dist(rest, a, v) + dist(rest, v, b))
+    lineCompliance[k] = (material.bendCompliance * L * L) / 4
+  }
+
   const hc = hinges.length / 4
   const hingeRest = new Float64Array(hc)
   const hingeCompliance = new Float64Array(hc)
@@ -420,6 +501,10 @@ function assemble(
     compRest,
     compCompliance,
     compCount: mc,
+    lineIds,
+    lineRest,
+    lineCompliance,
+    lineCount: lc,
     hingeIds: hinges,
     hingeRest,
     hingeCompliance,
@@ -522,43 +607,72 @@ function particleLevels(rest: Float64Array, n: number, mesh: MeshInfo, from?: Ar
 }
 
 /**
- * Solver order for a list of pairs. Gauss-Seidel propagates corrections in sweep order, so pairs
- * are sorted outward from the anchors (by the level of their nearer end, then kind, then farther
- * end): a hanging sheet swept from its pins converges 10-100× faster than swept from its hem. Within
- * that order, pairs are interleaved so that no pair shares a particle with the two before it,
- * which removes the store-to-load dependency between neighbours in the sweep and lets the CPU
- * overlap them (measured about 1.5× more projections per second on a 64×64 sheet).
+ * Solver order for a list of constraints. Gauss-Seidel propagates corrections in sweep order, so
+ * constraints are sorted outward from the anchors (by the level of their nearest particle, then
+ * kind, then farthest particle): a hanging sheet swept from its pins converges 10-100× faster than
+ * swept from its hem. Within that order, constraints are interleaved so that none shares a
+ * particle with the two before it, which removes the store-to-load dependency between neighbours
+ * in the sweep and lets the CPU overlap them (measured about 1.5× more projections per second on a
+ * 64×64 sheet).
+ *
+ * @param items particle indices, `arity` per constraint
+ * @param kinds per-constraint kind (sort key after the level), or null
  */
-function orderPairs(list: PairList, level: Int32Array): Int32Array {
-  const m = list.length
+function orderItems(items: ArrayLike<number>, arity: number, kinds: ArrayLike<number> | null, level: Int32Array): Int32Array {
+  const m = items.length / arity
+  const lo = new Int32Array(m), hi = new Int32Array(m)
+  for (let k = 0; k < m; k++) {
+    let a = Infinity, b = -Infinity
+    for (let j = 0; j < arity; j++) {
+      const l = level[items[arity * k + j]]
+      if (l < a) a = l
+      if (l > b) b = l
+    }
+    lo[k] = a
+    hi[k] = b
+  }
   const order = Array.from({ length: m }, (_, k) => k)
-  const lo = (k: number) => Math.min(level[list.a[k]], level[list.b[k]])
-  const hi = (k: number) => Math.max(level[list.a[k]], level[list.b[k]])
-  order.sort((p, q) => lo(p) - lo(q) || list.kind[p] - list.kind[q] || hi(p) - hi(q) || p - q)
+  order.sort((p, q) => lo[p] - lo[q] || (kinds ? kinds[p] - kinds[q] : 0) || hi[p] - hi[q] || p - q)
 
   const out = new Int32Array(m)
   const pending: number[] = []
+  const recent = new Int32Array(2 * arity).fill(-1)
   let next = 0
-  let prevA1 = -1, prevB1 = -1, prevA2 = -1, prevB2 = -1
   const LOOKAHEAD = 48
   for (let k = 0; k < m; k++) {
     while (pending.length < LOOKAHEAD && next < m) pending.push(order[next++])
     let pick = 0
     for (let s = 0; s < pending.length; s++) {
       const j = pending[s]
-      const a = list.a[j], b = list.b[j]
-      if (a !== prevA1 && a !== prevB1 && a !== prevA2 && a !== prevB2 &&
-          b !== prevA1 && b !== prevB1 && b !== prevA2 && b !== prevB2) {
+      let clash = false
+      for (let p = 0; p < arity && !clash; p++) {
+        const v = items[arity * j + p]
+        for (let r = 0; r < recent.length; r++) {
+          if (recent[r] === v) {
+            clash = true
+            break
+          }
+        }
+      }
+      if (!clash) {
         pick = s
         break
       }
     }
     const j = pending.splice(pick, 1)[0]
     out[k] = j
-    prevA2 = prevA1
-    prevB2 = prevB1
-    prevA1 = list.a[j]
-    prevB1 = list.b[j]
+    recent.copyWithin(arity, 0, arity)
+    for (let p = 0; p < arity; p++) recent[p] = items[arity * j + p]
   }
   return out
+}
+
+/** Solver order of a pair list (see `orderItems`). */
+function orderPairs(list: PairList, level: Int32Array): Int32Array {
+  const flat = new Int32Array(2 * list.length)
+  for (let k = 0; k < list.length; k++) {
+    flat[2 * k] = list.a[k]
+    flat[2 * k + 1] = list.b[k]
+  }
+  return orderItems(flat, 2, list.kind, level)
 }

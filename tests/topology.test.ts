@@ -7,7 +7,7 @@ const count = (kinds: Uint8Array, n: number, kind: number) => kinds.subarray(0, 
 
 describe('grid topology', () => {
   it('has rows, columns, both diagonals and skip-one bending, row-major from the top-left', () => {
-    const t = buildGridTopology(2, 1, 5, 4, ClothMaterial.COTTON, 'quad')
+    const t = buildGridTopology(2, 1, 5, 4, ClothMaterial.COTTON, 'quad', { bending: 'distance' })
     expect(t.particleCount).toBe(20)
     expect(count(t.distKind, t.distCount, STRETCH)).toBe(4 * 4 + 5 * 3)
     expect(count(t.distKind, t.distCount, SHEAR)).toBe(2 * 4 * 3)
@@ -18,6 +18,21 @@ describe('grid topology', () => {
     expect([p[0], p[1]]).toEqual([-1, 0])
     expect([p[3 * 4], p[3 * 4 + 1]]).toEqual([1, 0])
     expect(p[3 * 15 + 1]).toBeCloseTo(-1, 12)
+  })
+
+  it('line bending (the default) puts a triple on every row and column run of three', () => {
+    const t = buildGridTopology(2, 1, 5, 4, ClothMaterial.COTTON, 'quad')
+    expect(t.lineCount).toBe(4 * 3 + 5 * 2)
+    expect(count(t.distKind, t.distCount, BEND)).toBe(0)
+    for (let k = 0; k < t.lineCount; k++) {
+      const [a, v, b] = [t.lineIds[3 * k], t.lineIds[3 * k + 1], t.lineIds[3 * k + 2]]
+      expect(v - a).toBe(b - v) // a straight run: consecutive in a row (1) or a column (5)
+      expect([1, 5]).toContain(v - a)
+      expect(t.lineRest[k]).toBeCloseTo(0, 12) // flat
+    }
+    // a mesh gets the same triples from its nearly opposite edge pairs (quad diagonals excluded)
+    const m = buildGridTopology(1, 1, 3, 3, ClothMaterial.COTTON, 'triangle')
+    expect(m.lineCount).toBe(6)
   })
 
   it('every constraint appears once and the solve order sweeps from the top down', () => {
@@ -61,7 +76,7 @@ describe('grid topology', () => {
 describe('mesh topology', () => {
   it('derives edges, quad shear pairs, cross-edge bending pairs and hinges from triangles', () => {
     // a 3×3 vertex grid as triangles: 8 triangles, 16 edges, 4 quad diagonals
-    const t = buildGridTopology(1, 1, 3, 3, ClothMaterial.COTTON, 'triangle')
+    const t = buildGridTopology(1, 1, 3, 3, ClothMaterial.COTTON, 'triangle', { bending: 'distance' })
     expect(t.edgeCount).toBe(16)
     expect(count(t.distKind, t.distCount, SHEAR)).toBe(8) // 4 diagonals + 4 cross diagonals
     expect(count(t.distKind, t.distCount, STRETCH)).toBe(12)
