@@ -5,8 +5,8 @@ import { P_STRETCH_DAMP } from './params'
  * `params[P_STRETCH_DAMP]` of the particles' relative velocity along the pair, split by inverse mass (momentum is
  * unchanged). Only stretching motion is damped; rigid motion, swinging and bending (which do not
  * change the pair's length to first order) are not. The pair direction is normalised by the rest
- * length (`invRest2` = 1/rest²) rather than the current one, which differs only at large strain
- * and saves a division per pair.
+ * length (`invRest2` = 1/rest²) while the pair is shorter than rest, by its current length when
+ * stretched, so the pass never removes more than the relative velocity along the pair.
  */
 export function dampPairs(
   pos: Float64Array,
@@ -25,7 +25,13 @@ export function dampPairs(
     if (ws === 0) continue
     const a = 3 * i0, b = 3 * i1
     const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
-    const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) * invRest2[k]
+    // normalise by the larger of rest and current length²: the rest length is exact enough near
+    // rest and saves a division, but on an edge stretched far past rest (extreme wind) it would
+    // remove many times the relative velocity and blow the cloth up
+    const l2 = dx * dx + dy * dy + dz * dz
+    const ir2 = invRest2[k]
+    const inv = l2 * ir2 > 1 ? 1 / l2 : ir2
+    const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) * inv
     const s = (factor * vr) / ws
     const sa = wa * s, sb = wb * s
     vel[a] += sa * dx
