@@ -15,7 +15,8 @@ import { ensureClothWind, refreshClothWind } from './wind'
  * longer than (1 + strain)·rest for `hysteresis` consecutive steps breaks (the most strained first,
  * at most `maxTearsPerStep` per step, which keeps one overloaded step from unzipping the whole
  * cloth). Breaking edge (a, b) splits one of its ends, v: the plane through v perpendicular to the
- * edge sorts v's triangles by the side their centroid lies on; the triangles on the far side get a
+ * edge sorts v's triangles by the side their centroid lies on (on the rest shape, where v's fan is
+ * undistorted, so the cut is clean however far the edge has stretched); the triangles on the far side get a
  * new particle v′ (a copy of v: position, velocity, rest position; v's mass is shared between the
  * two by the rest area of their triangles) and are re-indexed to it. That is a crack across the
  * load, and the renderer shows a real hole because the triangles no longer share the vertex. The
@@ -209,9 +210,9 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
     if (options.capacity !== undefined && c.count + extra > c.tear.particleCapacity) {
       throw new ClothError('options.capacity', options.capacity, 'cannot grow once the cloth is tearable')
     }
-    if (maxTears > c.tear.cand.length) {
-      c.tear.cand = new Int32Array(maxTears)
-      c.tear.candRatio = new Float64Array(maxTears)
+    if (2 * maxTears + 4 > c.tear.cand.length) {
+      c.tear.cand = new Int32Array(2 * maxTears + 4)
+      c.tear.candRatio = new Float64Array(2 * maxTears + 4)
     }
   } else {
     reserve(c, extra, maxTears)
@@ -228,7 +229,7 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
   }
   // room for one step's tears of every tearable cloth
   let total = 0
-  for (const other of state.cloths) if (other.tear) total += Math.max(other.tear.cand.length, state.components.Tearable.maxTearsPerStep[other.eid])
+  for (const other of state.cloths) if (other.tear) total += state.components.Tearable.maxTearsPerStep[other.eid]
   const tw = state.tearing
   if (tw.pending.length < total * EV) {
     const grown = new Float64Array(total * EV)
@@ -319,12 +320,12 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
   const t = T.topology
   const S = T.stretch
   const strain = store.strain[eid]
-  let max = store.maxTearsPerStep[eid]
-  if (max > T.cand.length) max = T.cand.length
+  const max = store.maxTearsPerStep[eid]
   const p = T.params
   p[0] = (1 + strain) * (1 + strain)
   p[1] = store.hysteresis[eid]
-  p[2] = max
+  // more candidates than tears allowed: an edge that cannot split yet must not block the others
+  p[2] = Math.min(T.cand.length, 2 * max + 4)
   const n = findOverstrained(c.pos, t.stretchIds, t.stretchRest, S.count, T.over, p, T.cand, T.candRatio)
   state.stats.strainChecks += S.count
   if (n === 0) return
@@ -332,7 +333,7 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
   const tw = state.tearing
   let tears = 0
   for (let q = 0; q < n; q++) {
-    if (c.count >= T.particleCapacity) break
+    if (c.count >= T.particleCapacity || tears >= max) break
     const k = T.cand[q]
     // the edge's particles now (an earlier split this step may have re-indexed them)
     const tA = S.endT[2 * k]
@@ -343,12 +344,15 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
       first = b
       second = a
     }
+    // a clean cut across the edge at either end; failing that (a fan already cut into a sliver),
+    // cut the edge's own triangles away from the rest of an end's fan
     let split = first
-    let nv = splitParticle(c, T, first, second)
-    if (nv < 0) {
-      split = second
-      nv = splitParticle(c, T, second, first)
-    }
+    let nv = splitParticle(c, T, first, second, 0)
+    if (nv < 0) nv = splitParticle(c, T, (split = second), first, 0)
+    if (nv < 0) nv = splitParticle(c, T, (split = first), second, 1)
+    if (nv < 0) nv = splitParticle(c, T, (split = second), first, 1)
+    // both ends hold only the edge's own two triangles (a diamond left between two cracks): part them
+    if (nv < 0) nv = splitParticle(c, T, (split = first), second, 2)
     if (nv < 0) continue
     T.over[k] = 0
     tears++
@@ -373,15 +377,21 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
 }
 
 /**
- * Splits particle v across the plane through it perpendicular to v → o. Returns the new particle,
- * or −1 when every triangle of v lies on one side (nothing to split) or the capacity is used up.
+ * Splits particle v. Mode 0: across the plane through v perpendicular to v → o (rest shape), the
+ * far side's triangles moving to the new particle. Mode 1: the triangles that hold o move. Mode 2:
+ * all but the first triangle move. Returns
+ * the new particle, or −1 when every triangle of v lies on one side (nothing to split) or the
+ * capacity is used up.
  */
-function splitParticle(c: ClothState, T: ClothTear, v: number, o: number): number {
+function splitParticle(c: ClothState, T: ClothTear, v: number, o: number, mode: number): number {
   const t = T.topology
   const tris = t.triangles
   const pos = c.pos
-  const px = pos[3 * v], py = pos[3 * v + 1], pz = pos[3 * v + 2]
-  const dx = pos[3 * o] - px, dy = pos[3 * o + 1] - py, dz = pos[3 * o + 2] - pz
+  // classified on the rest shape: a fan stretched to many times its size can have every centroid
+  // on the far side in the current pose, while at rest it is a clean fan the plane cuts in two
+  const rest = t.restPositions
+  const px = rest[3 * v], py = rest[3 * v + 1], pz = rest[3 * v + 2]
+  const dx = rest[3 * o] - px, dy = rest[3 * o + 1] - py, dz = rest[3 * o + 2] - pz
   const fan = T.fan, corner = T.fanCorner, side = T.fanSide
   let fc = 0, plus = 0
   for (let tt = 0; tt < t.triangleCount; tt++) {
@@ -389,10 +399,10 @@ function splitParticle(c: ClothState, T: ClothTear, v: number, o: number): numbe
     const i0 = tris[base], i1 = tris[base + 1], i2 = tris[base + 2]
     const k = i0 === v ? 0 : i1 === v ? 1 : i2 === v ? 2 : -1
     if (k < 0) continue
-    const sx = pos[3 * i0] + pos[3 * i1] + pos[3 * i2] - 3 * px
-    const sy = pos[3 * i0 + 1] + pos[3 * i1 + 1] + pos[3 * i2 + 1] - 3 * py
-    const sz = pos[3 * i0 + 2] + pos[3 * i1 + 2] + pos[3 * i2 + 2] - 3 * pz
-    const s = sx * dx + sy * dy + sz * dz > 0 ? 1 : 0
+    const sx = rest[3 * i0] + rest[3 * i1] + rest[3 * i2] - 3 * px
+    const sy = rest[3 * i0 + 1] + rest[3 * i1 + 1] + rest[3 * i2 + 1] - 3 * py
+    const sz = rest[3 * i0 + 2] + rest[3 * i1 + 2] + rest[3 * i2 + 2] - 3 * pz
+    const s = mode === 0 ? (sx * dx + sy * dy + sz * dz > 0 ? 1 : 0) : mode === 1 ? (i0 === o || i1 === o || i2 === o ? 1 : 0) : fc > 0 ? 1 : 0
     fan[fc] = tt
     corner[fc] = k
     side[fc] = s
@@ -402,7 +412,6 @@ function splitParticle(c: ClothState, T: ClothTear, v: number, o: number): numbe
   if (plus === 0 || plus === fc) return -1
   const nv = c.count
   if (nv >= T.particleCapacity) return -1
-  const rest = t.restPositions
   let areaPlus = 0, areaAll = 0
   for (let f = 0; f < fc; f++) {
     const base = 3 * fan[f]
@@ -619,8 +628,8 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
     fan: new Int32Array(t.triangleCount),
     fanCorner: new Uint8Array(t.triangleCount),
     fanSide: new Uint8Array(t.triangleCount),
-    cand: new Int32Array(maxTears),
-    candRatio: new Float64Array(maxTears),
+    cand: new Int32Array(2 * maxTears + 4),
+    candRatio: new Float64Array(2 * maxTears + 4),
     params: new Float64Array(3),
     tethers: { particle: new Int32Array(P * K), anchor: new Int32Array(P * K), rest: new Float64Array(P * K), count: 0 },
     scratch: {
@@ -824,10 +833,12 @@ function hingeSet(t: TearTopology, mesh: MeshIndex): HingeSet {
 // Tethers of a tearable cloth, rebuilt into reserved arrays
 
 /**
- * Rebuilds a tearable cloth's tethers without allocating (same rules as `buildTethers`): each
- * free particle is tied to its nearest pinned particles, straight-line or along the mesh, but only
- * to anchors in its own connected piece of the split mesh, so torn pieces hang free. Runs in the
- * sync phase after pins changed or the cloth tore.
+ * Rebuilds a tearable cloth's tethers without allocating: each free particle is tied to the
+ * `perParticle` pinned particles nearest to it along the split mesh (multi-source Dijkstra on a
+ * typed-array heap), with the straight rest distance ('euclidean') or the path length
+ * ('geodesic'). Measured along the mesh, the nearest anchors are never across a tear and never in
+ * another piece, so torn pieces hang free and a crack is not held shut by the pins on its far
+ * side. Runs in the sync phase after pins changed or the cloth tore.
  */
 export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void {
   const T = c.tear!
@@ -861,42 +872,10 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
   best.fill(-1, 0, n * K)
   dist.fill(Infinity, 0, n * K)
   const rest = t.restPositions
-  if (c.tetherMode === 'geodesic') {
-    geodesicNearest(rest, n, s, A, K)
-  } else {
-    // connected pieces
-    const island = s.island, stack = s.stack
-    island.fill(-1, 0, n)
-    let label = 0
-    for (let i = 0; i < n; i++) {
-      if (island[i] >= 0) continue
-      let top = 0
-      stack[top++] = i
-      island[i] = label
-      while (top > 0) {
-        const v = stack[--top]
-        for (let q = start[v]; q < start[v + 1]; q++) {
-          const u = list[q]
-          if (island[u] < 0) {
-            island[u] = label
-            stack[top++] = u
-          }
-        }
-      }
-      label++
-    }
-    for (let i = 0; i < n; i++) {
-      if (c.pinCount[i] > 0) continue
-      const base = i * K
-      for (let q = 0; q < A; q++) {
-        const a = s.anchors[q]
-        if (island[a] !== island[i]) continue
-        const dx = rest[3 * a] - rest[3 * i], dy = rest[3 * a + 1] - rest[3 * i + 1], dz = rest[3 * a + 2] - rest[3 * i + 2]
-        s.tmp[0] = Math.sqrt(dx * dx + dy * dy + dz * dz)
-        insertBest(best, dist, base, K, a, s.tmp)
-      }
-    }
-  }
+  // anchors chosen along the split mesh (so a tether never reaches across a tear, and never into
+  // another piece); the rest length is the straight distance ('euclidean') or the path ('geodesic')
+  geodesicNearest(rest, n, s, A, K)
+  const straight = c.tetherMode !== 'geodesic'
   const slack = 1 + c.tetherSlack
   let m = 0
   for (let i = 0; i < n; i++) {
@@ -906,26 +885,16 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
       if (a < 0) continue
       out.particle[m] = i
       out.anchor[m] = a
-      out.rest[m] = dist[i * K + k] * slack
+      let d = dist[i * K + k]
+      if (straight) {
+        const dx = rest[3 * a] - rest[3 * i], dy = rest[3 * a + 1] - rest[3 * i + 1], dz = rest[3 * a + 2] - rest[3 * i + 2]
+        d = Math.sqrt(dx * dx + dy * dy + dz * dz)
+      }
+      out.rest[m] = d * slack
       m++
     }
   }
   out.count = m
-}
-
-/** Keeps the K nearest anchors per particle, sorted; the distance arrives in tmp[0] (no boxed argument). */
-function insertBest(anchor: Int32Array, dist: Float64Array, base: number, K: number, a: number, tmp: Float64Array): void {
-  const d = tmp[0]
-  for (let k = 0; k < K; k++) if (anchor[base + k] === a) return
-  if (d >= dist[base + K - 1]) return
-  let k = K - 1
-  while (k > 0 && dist[base + k - 1] > d) {
-    dist[base + k] = dist[base + k - 1]
-    anchor[base + k] = anchor[base + k - 1]
-    k--
-  }
-  dist[base + k] = d
-  anchor[base + k] = a
 }
 
 /** Multi-source Dijkstra settling each particle up to K times (once per anchor), typed-array heap. */
