@@ -11,7 +11,9 @@ import { ensureClothWind, refreshClothWind } from './wind'
 /**
  * Tearing by vertex splitting.
  *
- * After the solve on a cloth's last substep of a step, every structural edge is measured; an edge
+ * After the solve on a cloth's last substep of a step, every mesh edge is measured (structural
+ * edges and the triangles' diagonals, so a load that runs through a sheared diagonal breaks it
+ * too); an edge
  * longer than (1 + strain)·rest for `hysteresis` consecutive steps breaks (the most strained first,
  * at most `maxTearsPerStep` per step, which keeps one overloaded step from unzipping the whole
  * cloth). Breaking edge (a, b) splits one of its ends, v: the plane through v perpendicular to the
@@ -26,7 +28,7 @@ import { ensureClothWind, refreshClothWind } from './wind'
  * from, and the corners that must still coincide for it to make sense. After the splits of a step,
  * one pass over each constraint list re-reads the particles from the triangles and drops what is
  * no longer supported:
- * - an edge constraint (stretch, shear diagonal, mesh edge, stretch measurement) lives in a
+ * - an edge constraint (stretch, shear diagonal, stretch measurement, mesh edge) lives in a
  *   triangle; when its two triangles no longer share the edge, it is duplicated, one per side;
  * - a constraint across an edge (quad cross diagonal, bending pair, dihedral hinge) needs its two
  *   triangles to still share that edge, else it is removed;
@@ -97,7 +99,7 @@ interface PairSet {
   ids: Int32Array
   f64: Float64Array[]
   u8: Uint8Array[]
-  /** The hysteresis counters (stretch measurement only): reset on duplicates. */
+  /** The hysteresis counters (the mesh edges, which the tear phase measures): reset on duplicates. */
   over: Uint8Array | null
   count: number
   cap: number
@@ -318,7 +320,7 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
   const store = state.components.Tearable
   const eid = c.eid
   const t = T.topology
-  const S = T.stretch
+  const S = T.edges
   const strain = store.strain[eid]
   const max = store.maxTearsPerStep[eid]
   const p = T.params
@@ -326,7 +328,7 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
   p[1] = store.hysteresis[eid]
   // more candidates than tears allowed: an edge that cannot split yet must not block the others
   p[2] = Math.min(T.cand.length, 2 * max + 4)
-  const n = findOverstrained(c.pos, t.stretchIds, t.stretchRest, S.count, T.over, p, T.cand, T.candRatio)
+  const n = findOverstrained(c.pos, t.edges, t.edgeRest, S.count, T.over, p, T.cand, T.candRatio)
   state.stats.strainChecks += S.count
   if (n === 0) return
   const tris = t.triangles
@@ -337,8 +339,8 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
     const k = T.cand[q]
     // the edge's particles now (an earlier split this step may have re-indexed them)
     const tA = S.endT[2 * k]
-    const a = tA >= 0 ? tris[3 * tA + S.endC[2 * k]] : t.stretchIds[2 * k]
-    const b = tA >= 0 ? tris[3 * S.endT[2 * k + 1] + S.endC[2 * k + 1]] : t.stretchIds[2 * k + 1]
+    const a = tA >= 0 ? tris[3 * tA + S.endC[2 * k]] : t.edges[2 * k]
+    const b = tA >= 0 ? tris[3 * S.endT[2 * k + 1] + S.endC[2 * k + 1]] : t.edges[2 * k + 1]
     let first = a, second = b
     if (c.pinCount[a] > 0 && c.pinCount[b] === 0) {
       first = b
@@ -588,9 +590,9 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
     hingeCompliance: Float64Array.from(src.hingeCompliance.subarray(0, src.hingeCount)),
   }
   const mesh = new MeshIndex(t.triangles, t.triangleCount)
-  const over = new Uint8Array(S)
-  const stretch = pairSet(t.stretchIds, t.stretchCount, S, [t.stretchRest, t.stretchInvRest2], [over], over, mesh, t.restPositions)
-  const edges = pairSet(t.edges, t.edgeCount, E, [t.edgeRest], [], null, mesh, t.restPositions)
+  const over = new Uint8Array(E)
+  const stretch = pairSet(t.stretchIds, t.stretchCount, S, [t.stretchRest, t.stretchInvRest2], [], null, mesh, t.restPositions)
+  const edges = pairSet(t.edges, t.edgeCount, E, [t.edgeRest], [over], over, mesh, t.restPositions)
   const dist = pairSet(t.distIds, t.distCount, D, [t.distRest, t.distCompliance], [t.distKind], null, mesh, t.restPositions)
   const comp = pairSet(t.compIds, t.compCount, C, [t.compRest, t.compCompliance], [], null, mesh, t.restPositions)
   const hinges = hingeSet(t, mesh)
