@@ -409,6 +409,15 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
       }
       if (b[3] < P[o + Z_MIN] || b[0] > P[o + Z_MAX] || b[4] < P[o + Z_MIN + 1] || b[1] > P[o + Z_MAX + 1] ||
           b[5] < P[o + Z_MIN + 2] || b[2] > P[o + Z_MAX + 2]) continue
+      if (P[o + Z_SHAPE] === 2) {
+        // sphere: the exact distance from its centre to the cloth's box
+        const cx = P[o + Z_CX], cy = P[o + Z_CY], cz = P[o + Z_CZ]
+        const dx = cx < b[0] ? b[0] - cx : cx > b[3] ? cx - b[3] : 0
+        const dy = cy < b[1] ? b[1] - cy : cy > b[4] ? cy - b[4] : 0
+        const dz = cz < b[2] ? b[2] - cz : cz > b[5] ? cz - b[5] : 0
+        const r = P[o + Z_HX] + P[o + Z_FALLOFF]
+        if (dx * dx + dy * dy + dz * dz > r * r) continue
+      }
       uniform = false
     }
     if (P[o + Z_TURB] > 0) uniform = false
