@@ -1,4 +1,6 @@
 import { allocation, sheets, throughput } from './core'
+import { windCost } from './wind'
+import { tearCost } from './tearing'
 
 /** Benchmark suites by name; `npm run bench -- core` runs one. */
 const suites: Record<string, () => void | Promise<void>> = {
@@ -7,6 +9,8 @@ const suites: Record<string, () => void | Promise<void>> = {
     sheets()
     await allocation()
   },
+  wind: () => windCost(),
+  tearing: () => tearCost(),
 }
 
 const wanted = process.argv.slice(2)
