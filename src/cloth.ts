@@ -18,6 +18,7 @@ import { rotateVec3 } from './math'
 import { getCloth } from './pins'
 import { getClothWorld, type ClothMesh, type ClothState, type ClothWorldState } from './state'
 import { EMPTY_TETHERS, buildTethers, type TetherMode } from './tethers'
+import { rebuildTearTethers } from './tearing'
 import {
   buildGridTopology,
   buildMeshTopology,
@@ -280,6 +281,8 @@ function spawnCloth(
     renderNormal: new Float32Array(3 * n),
     renderIndex: Uint32Array.from(topology.triangles),
     mesh: null,
+    wind: null,
+    tear: null,
   }
   state.components.Cloth.state[eid] = c
   state.cloths.push(c)
@@ -292,6 +295,10 @@ export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   c.tethersDirty = false
   if (!c.useTethers) {
     c.tethers = EMPTY_TETHERS
+    return
+  }
+  if (c.tear !== null) {
+    rebuildTearTethers(state, c) // into reserved arrays: a tear step allocates nothing
     return
   }
   const anchors: number[] = []

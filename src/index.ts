@@ -26,6 +26,26 @@ export { setTransform, getTransform } from './transform'
 export { ClothMaterial, defineMaterial, resolveMaterial, type ClothMaterialSpec, type ClothMaterialName } from './materials'
 export { ClothError } from './errors'
 export { ClothSimulation, type ClothSimulationOptions } from './simulation'
+export {
+  createWindZone,
+  setWindZone,
+  gustWind,
+  removeWindZone,
+  getWindZones,
+  sampleWind,
+  type WindZoneOptions,
+  type WindShape,
+  type GustOptions,
+} from './wind'
+export {
+  makeTearable,
+  onClothTear,
+  drainClothTears,
+  getClothTearCount,
+  type TearableOptions,
+  type ClothTearEvent,
+  type ClothTearListener,
+} from './tearing'
 export type { ClothMesh, ClothPluginOptions, ClothState, ClothStats, ClothWorldState, TransformSource } from './state'
 export type { ClothTopology, BendingModel, BendSide, ShearModel } from './topology'
 export type { TetherMode } from './tethers'
@@ -34,6 +54,8 @@ export type { TetherMode } from './tethers'
 export type { TransformStore } from '../components/Transform'
 export type { PinStore } from '../components/Pin'
 export type { ClothStore } from '../components/Cloth'
+export type { WindZoneStore } from '../components/WindZone'
+export type { TearableStore } from '../components/Tearable'
 export { clothSync } from '../systems/clothSync'
 export { clothForces } from '../systems/clothForces'
 export { clothPredict } from '../systems/clothPredict'
@@ -42,6 +64,7 @@ export { clothCollide } from '../systems/clothCollide'
 export { clothTear } from '../systems/clothTear'
 export { clothWriteback } from '../systems/clothWriteback'
 export { clothPhases, clothFixedStep, clothSubstepCount, setClothSubstep } from '../systems/pipeline'
+export { clothEvents } from '../systems/clothEvents'
 
 // Kernels: plain functions over typed arrays, usable without a world.
 export { predictPositions, updateVelocities } from './kernels/integrate'
@@ -51,5 +74,8 @@ export { solveDihedrals } from './kernels/dihedral'
 export { solveLineBending } from './kernels/bending'
 export { solveTethers } from './kernels/tether'
 export { writeRenderMesh, measureStretch } from './kernels/mesh'
+export { accumulateAerodynamics, limitAerodynamics } from './kernels/aero'
+export { addZoneAir } from './kernels/wind'
+export { findOverstrained } from './kernels/strain'
 export { buildGridTopology, buildMeshTopology, dihedralAngle } from './topology'
 export { buildTethers } from './tethers'

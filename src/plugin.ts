@@ -7,6 +7,10 @@ import { ensureStoreCapacity } from './store'
 import { $cloth, createStats, findClothWorld, getClothWorld, type ClothPluginOptions, type ClothWorldState, type TransformSource } from './state'
 import { releasePin } from './pins'
 import { createKinematics } from './kinematics'
+import { createWindZoneStore } from '../components/WindZone'
+import { createTearableStore } from '../components/Tearable'
+import { createWindWorld, installWind } from './wind'
+import { createTearWorld, installTearing } from './tearing'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -32,6 +36,9 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   const Transform = createTransformStore(capacity)
   const Cloth = createClothStore()
   const Pin = createPinStore(capacity)
+  const WindZone = createWindZoneStore(capacity)
+  const Tearable = createTearableStore(capacity)
+  const wind = createWindWorld(options.airDensity)
   const state: ClothWorldState = {
     gravity: Float64Array.from(gravity),
     fixedTimeStep,
@@ -39,7 +46,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     teleportDistance,
     maxSpeed,
     accumulator: 0,
-    components: { Transform, Cloth, Pin },
+    components: { Transform, Cloth, Pin, WindZone, Tearable },
     transforms: options.transforms ?? transformSourceOf(Transform),
     capacity,
     cloths: [],
@@ -48,6 +55,8 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     substep: 0,
     substepCount: 0,
     stats: createStats(),
+    wind,
+    tearing: createTearWorld(),
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
@@ -78,6 +87,8 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     const i = state.cloths.indexOf(cloth)
     if (i >= 0) state.cloths.splice(i, 1)
   })
+  installWind(world, state)
+  installTearing(world, state)
   return world
 }
 
@@ -85,8 +96,10 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
 export function growStores(state: ClothWorldState, eid: number): void {
   if (eid < state.capacity) return
   const c = state.capacity
-  const { Transform, Pin } = state.components
+  const { Transform, Pin, WindZone, Tearable } = state.components
   ensureStoreCapacity(Transform, c, eid)
+  ensureStoreCapacity(WindZone, c, eid)
+  ensureStoreCapacity(Tearable, c, eid)
   state.capacity = ensureStoreCapacity(Pin, c, eid)
   // the default transform source aliases the Transform store's arrays: keep them in step
   if (state.transforms.component === Transform) Object.assign(state.transforms, transformSourceOf(Transform))
@@ -96,7 +109,7 @@ function transformSourceOf(t: TransformStore): TransformSource {
   return { component: t, px: t.px, py: t.py, pz: t.pz, qx: t.qx, qy: t.qy, qz: t.qz, qw: t.qw, sx: t.sx, sy: t.sy, sz: t.sz }
 }
 
-/** The stores this world's plugin uses (Transform, Cloth, Pin), for queries and direct reads. */
+/** The stores this world's plugin uses (Transform, Cloth, Pin, WindZone, Tearable), for queries and direct reads. */
 export function getClothComponents(world: object): ClothWorldState['components'] {
   return getClothWorld(world).components
 }

@@ -7,6 +7,8 @@ import { pinParticle, pinRow, unpin } from './pins'
 import { installClothPlugin } from './plugin'
 import type { ClothMesh, ClothPluginOptions } from './state'
 import { stepCloth } from './step'
+import { createWindZone, gustWind, removeWindZone, setWindZone } from './wind'
+import { makeTearable, onClothTear, type ClothTearListener, type TearableOptions } from './tearing'
 
 /** Options of the `ClothSimulation` facade: a sheet plus optional world settings. */
 export interface ClothSimulationOptions extends Omit<CreateClothOptions, 'material'> {
@@ -77,5 +79,42 @@ export class ClothSimulation {
   /** Mean and max edge stretch now. */
   getStretch(): { mean: number; max: number } {
     return getClothStretch(this.world, this.cloth)
+  }
+
+  private windZone = 0
+
+  /**
+   * Sets a global wind (a global wind zone, created on first use): direction, speed in m/s and
+   * turbulence (fraction of the speed). Strength 0 removes it, and the cloth is back in still air.
+   */
+  setWind(wind: { direction: ArrayLike<number>; strength: number; turbulence?: number }): void {
+    if (typeof wind !== 'object' || wind === null) throw new ClothError('wind', wind, 'must be an object')
+    if (wind.strength === 0 && this.windZone !== 0) {
+      removeWindZone(this.world, this.windZone)
+      this.windZone = 0
+      return
+    }
+    if (this.windZone === 0) {
+      if (wind.strength === 0) return
+      this.windZone = createWindZone(this.world, { direction: wind.direction, strength: wind.strength, turbulence: wind.turbulence ?? 0 })
+    } else {
+      setWindZone(this.world, this.windZone, { direction: wind.direction, strength: wind.strength, turbulence: wind.turbulence ?? 0 })
+    }
+  }
+
+  /** A gust on the wind set by `setWind`: extra m/s at its peak over `duration` seconds. */
+  gust(strength: number, duration = 1): void {
+    if (this.windZone === 0) throw new ClothError('wind', undefined, 'must be set with setWind before a gust')
+    gustWind(this.world, this.windZone, { strength, duration })
+  }
+
+  /** Makes the cloth tearable (see `makeTearable`). */
+  makeTearable(options?: TearableOptions): void {
+    makeTearable(this.world, this.cloth, options)
+  }
+
+  /** Subscribes to tears (see `onClothTear`); returns the unsubscribe function. */
+  onTear(listener: ClothTearListener): () => void {
+    return onClothTear(this.world, listener)
   }
 }

@@ -1,11 +1,15 @@
 import type { ClothStore } from '../components/Cloth'
 import type { PinStore } from '../components/Pin'
 import type { TransformStore } from '../components/Transform'
+import type { WindZoneStore } from '../components/WindZone'
+import type { TearableStore } from '../components/Tearable'
 import { ClothError } from './errors'
 import type { Kinematics } from './kinematics'
 import type { ClothMaterialSpec } from './materials'
 import type { TetherMode, TetherSet } from './tethers'
 import type { ClothTopology } from './topology'
+import type { ClothWind, WindWorld } from './wind'
+import type { ClothTear, TearWorld } from './tearing'
 
 /**
  * Where the plugin reads world transforms from. The plugin's own `Transform` store fits this
@@ -47,6 +51,8 @@ export interface ClothPluginOptions {
   maxSpeed?: number
   /** Initial entity capacity of the plugin's stores; they grow on demand. Default 1024. */
   capacity?: number
+  /** Density of the air for aerodynamics, kg/m³ (a wind zone may override it). Default 1.2. */
+  airDensity?: number
 }
 
 /** Counters of the work each phase did, accumulated since install (or the last reset). */
@@ -79,6 +85,8 @@ export interface ClothStats {
   colliderTests: number
   /** Particle pairs examined by self-collision. */
   selfCollisionTests: number
+  /** Tears (particle splits) by the tearing phase. */
+  tears: number
 }
 
 /** Everything one cloth instance owns: particle state in flat typed arrays plus shared rest data. */
@@ -147,6 +155,10 @@ export interface ClothState {
   renderIndex: Uint32Array
   /** Cached views handed out by getClothMesh (sized to the live counts). */
   mesh: ClothMesh | null
+  /** Aerodynamics buffers, allocated when a wind zone exists (see `src/wind.ts`), else null. */
+  wind: ClothWind | null
+  /** Tearing state of a tearable cloth (own rest data with reserved capacity), else null. */
+  tear: ClothTear | null
 }
 
 /** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
@@ -170,7 +182,7 @@ export interface ClothWorldState {
   maxSpeed: number
   /** Time not yet simulated, s. */
   accumulator: number
-  components: { Transform: TransformStore; Cloth: ClothStore; Pin: PinStore }
+  components: { Transform: TransformStore; Cloth: ClothStore; Pin: PinStore; WindZone: WindZoneStore; Tearable: TearableStore }
   /** Where transforms are read from (the plugin's Transform unless the host gave its own). */
   transforms: TransformSource
   /** Capacity of the entity-indexed stores. */
@@ -184,6 +196,10 @@ export interface ClothWorldState {
   substep: number
   substepCount: number
   stats: ClothStats
+  /** Wind zones and air (see `src/wind.ts`). */
+  wind: WindWorld
+  /** Tear events and tearable-cloth bookkeeping (see `src/tearing.ts`). */
+  tearing: TearWorld
 }
 
 /** Symbol under which the plugin keeps its state on a world. */
@@ -217,6 +233,7 @@ export function createStats(): ClothStats {
     strainChecks: 0,
     colliderTests: 0,
     selfCollisionTests: 0,
+    tears: 0,
   }
 }
 

@@ -1,4 +1,5 @@
 import { getClothWorld, localSubstep } from '../src/state'
+import { applyWind } from '../src/wind'
 
 /**
  * Forces phase, every substep: fills each cloth's extra per-particle acceleration (aerodynamics
@@ -12,6 +13,7 @@ export function clothForces<W extends object>(world: W): W {
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     c.subIndex = localSubstep(c.substeps, state.substep, state.substepCount)
+    if (c.subIndex >= 0 && c.wind !== null) applyWind(state, c)
   }
   return world
 }

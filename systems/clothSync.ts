@@ -2,6 +2,7 @@ import { rebuildTethers } from '../src/cloth'
 import { beginKinematicStep, sampleFrame } from '../src/kinematics'
 import { followTargetJumps } from '../src/pins'
 import { getClothWorld } from '../src/state'
+import { advanceWind } from '../src/wind'
 
 /**
  * Sync phase, once per fixed step before the substeps: picks the step's substep count, advances
@@ -29,5 +30,6 @@ export function clothSync<W extends object>(world: W): W {
   state.substepCount = total
   state.substep = 0
   state.stats.steps++
+  advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   return world
 }

@@ -1,8 +1,18 @@
+import { getClothWorld } from '../src/state'
+import { tearCloth } from '../src/tearing'
+
 /**
- * Tear phase, on each cloth's last substep of a step, after collisions: breaks over-strained edges
- * of tearable cloths. (Tearing arrives with the tearing feature; until then this phase does no
- * work.)
+ * Tear phase, on each cloth's last substep of a step, after collisions: measures the structural
+ * edges of tearable cloths on their final pose and splits the mesh where an edge stayed
+ * over-stretched (see `src/tearing.ts`). A cloth without `Tearable` costs one null check.
  */
 export function clothTear<W extends object>(world: W): W {
+  const state = getClothWorld(world)
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    if (c.tear === null || c.subIndex !== c.substeps - 1) continue
+    tearCloth(state, c)
+  }
   return world
 }

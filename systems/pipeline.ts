@@ -6,6 +6,7 @@ import { clothSolve } from './clothSolve'
 import { clothSync } from './clothSync'
 import { clothTear } from './clothTear'
 import { clothWriteback } from './clothWriteback'
+import { clothEvents } from './clothEvents'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -18,10 +19,12 @@ import { clothWriteback } from './clothWriteback'
  *     collide                 after the solve, so no constraint pushes a particle back into a collider
  *     tear                    after collide, on the last substep, so strain is measured on the final pose
  *     writeback               last: velocities from the motion, including collision and tear changes
+ *   events                    after the step: tear listeners see a finished step and may change the world
  *
  * `clothPhases` lists the per-substep phases in that order for engines that schedule systems
  * themselves; such an engine runs `clothSync`, then each phase once per `clothSubstepCount(world)`
- * with `setClothSubstep(world, s)` before each round, or simply calls `clothFixedStep`.
+ * with `setClothSubstep(world, s)` before each round, then `clothEvents`, or simply calls
+ * `clothFixedStep`.
  */
 export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide, clothTear, clothWriteback] as const
 
@@ -39,6 +42,7 @@ export function clothFixedStep<W extends object>(world: W): W {
     clothWriteback(world)
   }
   state.stats.substeps += state.substepCount
+  clothEvents(world)
   return world
 }
 

@@ -1,6 +1,8 @@
 import type { DemoScene } from '../scene'
 import { capeScene } from './cape'
 import { sheetScene } from './sheet'
+import { flagScene } from './flag'
+import { curtainScene } from './curtain'
 
 /** Every scene in the menu, in order. */
-export const scenes: DemoScene[] = [capeScene, sheetScene]
+export const scenes: DemoScene[] = [capeScene, sheetScene, flagScene, curtainScene]

@@ -1,5 +1,7 @@
 import { accuracy } from './accuracy'
 import { allocation, sheets, throughput } from './core'
+import { windCost } from './wind'
+import { tearCost } from './tearing'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -15,6 +17,8 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
     },
   },
   accuracy: { byDefault: false, run: () => accuracy() },
+  wind: { byDefault: true, run: () => windCost() },
+  tearing: { byDefault: true, run: () => tearCost() },
 }
 
 const wanted = process.argv.slice(2)
