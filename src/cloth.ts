@@ -147,7 +147,7 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
   const state = getClothWorld(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const positions = checkFiniteArray('options.positions', options.positions, 3)
-  const n = positions.length / 3
+  const n = (positions.length / 3) | 0
   if (n < 3) throw new ClothError('options.positions', positions, 'must hold at least 3 vertices')
   const indices = options.indices
   if (!isArrayLike(indices) || indices.length === 0 || indices.length % 3 !== 0) {

@@ -305,7 +305,7 @@ export function dispatchTearEvents(state: ClothWorldState): void {
   const n = tw.pendingCount
   if (n === 0) return
   tw.pendingCount = 0
-  const room = tw.queue.length / EV
+  const room = (tw.queue.length / EV) | 0
   for (let i = 0; i < n; i++) {
     if (tw.queueCount >= room) {
       tw.dropped++

@@ -36,7 +36,7 @@ export type BendSide = 'both' | 'front' | 'back'
  * ```
  */
 export interface ClothTopology {
-  /** Number of particles. */
+  /** Number of particles. (Counts here are kept small integers, `| 0` where they come from a division.) */
   readonly particleCount: number
   /** Rest positions, xyz interleaved, m. */
   readonly restPositions: Float64Array
@@ -197,7 +197,7 @@ export function buildMeshTopology(
   material: ClothMaterialSpec,
   options: TopologyOptions & { grid?: [number, number] } = {},
 ): ClothTopology {
-  const n = positions.length / 3
+  const n = (positions.length / 3) | 0
   const rest = Float64Array.from(positions)
   const tris = Uint32Array.from(indices)
   const mesh = analyseMesh(rest, tris, n)
@@ -283,7 +283,7 @@ interface MeshInfo {
 
 /** Finds unique edges, their wings and areas, and hinges. Edges with 3+ triangles get no hinge. */
 export function analyseMesh(rest: Float64Array, tris: Uint32Array, n: number): MeshInfo {
-  const triCount = tris.length / 3
+  const triCount = (tris.length / 3) | 0
   const index = new Map<number, number>()
   const edgeA: number[] = []
   const edgeB: number[] = []
@@ -389,7 +389,7 @@ function assemble(
   columns: number,
   rows: number,
 ): ClothTopology {
-  const n = rest.length / 3
+  const n = (rest.length / 3) | 0
   const levels = particleLevels(rest, n, mesh, options.orderFrom)
   const edgeAreaByKey = new Map<number, number>()
   for (let e = 0; e < mesh.edgeCount; e++) {
@@ -454,7 +454,7 @@ function assemble(
     lineCompliance[k] = (material.bendCompliance * L * L) / 4
   }
 
-  const hc = hinges.length / 4
+  const hc = (hinges.length / 4) | 0
   const hingeRest = new Float64Array(hc)
   const hingeCompliance = new Float64Array(hc)
   for (let h = 0; h < hc; h++) {
@@ -485,7 +485,7 @@ function assemble(
     restPositions: rest,
     masses: particleMasses(rest, tris, mesh.triangleArea, material.density),
     triangles: tris,
-    triangleCount: tris.length / 3,
+    triangleCount: (tris.length / 3) | 0,
     edges: mesh.edges,
     edgeRest,
     edgeCount: mesh.edgeCount,
@@ -522,7 +522,7 @@ function assemble(
  * neighbours, which Gauss-Seidel handles badly, so masses are clamped to at least 10 % of the mean.
  */
 function particleMasses(rest: Float64Array, tris: Uint32Array, areas: Float64Array, density: number): Float64Array {
-  const n = rest.length / 3
+  const n = (rest.length / 3) | 0
   const mass = new Float64Array(n)
   for (let t = 0; t < areas.length; t++) {
     const share = (areas[t] * density) / 3
@@ -619,7 +619,7 @@ function particleLevels(rest: Float64Array, n: number, mesh: MeshInfo, from?: Ar
  * @param kinds per-constraint kind (sort key after the level), or null
  */
 function orderItems(items: ArrayLike<number>, arity: number, kinds: ArrayLike<number> | null, level: Int32Array): Int32Array {
-  const m = items.length / arity
+  const m = (items.length / arity) | 0
   const lo = new Int32Array(m), hi = new Int32Array(m)
   for (let k = 0; k < m; k++) {
     let a = Infinity, b = -Infinity

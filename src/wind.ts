@@ -460,9 +460,9 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
  * (tearing): never in a step.
  */
 export function ensureClothWind(c: ClothState): void {
-  const particles = c.pos.length / 3
+  const particles = (c.pos.length / 3) | 0
   const t = c.topology
-  const triangles = t.triangles.length / 3
+  const triangles = (t.triangles.length / 3) | 0
   let cw = c.wind
   if (cw === null || cw.accel.length < 3 * particles || cw.triInvMass.length < triangles) {
     cw = c.wind = {
