@@ -5,8 +5,9 @@ import { P_STRETCH_DAMP } from './params'
  * `params[P_STRETCH_DAMP]` of the particles' relative velocity along the pair, split by inverse mass (momentum is
  * unchanged). Only stretching motion is damped; rigid motion, swinging and bending (which do not
  * change the pair's length to first order) are not. The pair direction is normalised by the rest
- * length (`invRest2` = 1/rest²) rather than the current one, which differs only at large strain
- * and saves a division per pair.
+ * length (`invRest2` = 1/rest²) while the pair is not longer than at rest, which saves a division
+ * per pair, and by its current length once it is stretched: the removed fraction never exceeds
+ * `factor`, so the pass can only take energy out, however far the pair is pulled.
  */
 export function dampPairs(
   pos: Float64Array,
@@ -25,7 +26,13 @@ export function dampPairs(
     if (ws === 0) continue
     const a = 3 * i0, b = 3 * i1
     const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
-    const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) * invRest2[k]
+    // normalise by the larger of rest² and length²: dividing a stretched pair by rest² alone
+    // removed (length/rest)² × the relative velocity, which beyond ~1.8× length reversed and amplified it
+    // (a cloth pulled apart gained energy until it went NaN)
+    const l2 = dx * dx + dy * dy + dz * dz
+    let inv = invRest2[k]
+    if (l2 * inv > 1 || (inv === 0 && l2 > 1e-24)) inv = 1 / l2
+    const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) * inv
     const s = (factor * vr) / ws
     const sa = wa * s, sb = wb * s
     vel[a] += sa * dx
