@@ -2,6 +2,7 @@ import type { ClothStore } from '../components/Cloth'
 import type { PinStore } from '../components/Pin'
 import type { TransformStore } from '../components/Transform'
 import { ClothError } from './errors'
+import type { ClothGuardOptions, ClothGuardState, GuardWorld } from './guard'
 import type { Kinematics } from './kinematics'
 import type { ClothMaterialSpec } from './materials'
 import type { TetherMode, TetherSet } from './tethers'
@@ -47,6 +48,11 @@ export interface ClothPluginOptions {
   maxSpeed?: number
   /** Initial entity capacity of the plugin's stores; they grow on demand. Default 1024. */
   capacity?: number
+  /**
+   * Explosion guard defaults for the cloths of this world (see `ClothGuardOptions`); false turns it
+   * off. Default on: finite, bounds 2 × the cloth's size, speed half of `maxSpeed`.
+   */
+  guard?: boolean | ClothGuardOptions
 }
 
 /** Counters of the work each phase did, accumulated since install (or the last reset). */
@@ -77,6 +83,10 @@ export interface ClothStats {
   colliderTests: number
   /** Particle pairs examined by self-collision. */
   selfCollisionTests: number
+  /** Cloth health checks by the explosion guard (one per cloth per step). */
+  guardChecks: number
+  /** Cloths reset by the explosion guard. */
+  guardResets: number
 }
 
 /** Everything one cloth instance owns: particle state in flat typed arrays plus shared rest data. */
@@ -144,6 +154,8 @@ export interface ClothState {
   renderIndex: Uint32Array
   /** Cached views handed out by getClothMesh (sized to the live counts). */
   mesh: ClothMesh | null
+  /** Explosion guard: settings, thresholds, last good pose, rest pose (see `src/guard.ts`). */
+  guard: ClothGuardState
 }
 
 /** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
@@ -181,6 +193,8 @@ export interface ClothWorldState {
   substep: number
   substepCount: number
   stats: ClothStats
+  /** Explosion guard defaults, reset events and listeners. */
+  guard: GuardWorld
 }
 
 /** Symbol under which the plugin keeps its state on a world. */
@@ -213,6 +227,8 @@ export function createStats(): ClothStats {
     strainChecks: 0,
     colliderTests: 0,
     selfCollisionTests: 0,
+    guardChecks: 0,
+    guardResets: 0,
   }
 }
 
