@@ -420,6 +420,9 @@ function findOffender(c: ClothState, reason: number): number {
 function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, srcCount: number): void {
   const P = state.components.Pin
   const pos = c.pos
+  // where the pins hold their particles at the end of this step (a NaN may have reached pinned
+  // particles too: 0 × NaN is NaN in the constraint updates)
+  placePinnedParticles(state, c)
   const f = fit
   for (let k = 0; k < fit.length; k++) f[k] = 0
   let n = 0
@@ -427,7 +430,6 @@ function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, 
     const i = P.particle[c.pins[q]]
     if (i >= srcCount) continue
     const j = 3 * i
-    if (!Number.isFinite(pos[j] + pos[j + 1] + pos[j + 2])) continue
     f[F_CS] += src[j]
     f[F_CS + 1] += src[j + 1]
     f[F_CS + 2] += src[j + 2]
@@ -447,7 +449,6 @@ function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, 
       const i = P.particle[c.pins[q]]
       if (i >= srcCount) continue
       const j = 3 * i
-      if (!Number.isFinite(pos[j] + pos[j + 1] + pos[j + 2])) continue
       for (let a = 0; a < 3; a++) {
         const s = src[j + a] - f[F_CS + a]
         for (let b = 0; b < 3; b++) f[F_S + 3 * a + b] += s * (pos[j + b] - f[F_CT + b])
@@ -459,14 +460,13 @@ function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, 
   const qx = f[F_Q], qy = f[F_Q + 1], qz = f[F_Q + 2], qw = f[F_Q + 3]
   const csx = f[F_CS], csy = f[F_CS + 1], csz = f[F_CS + 2]
   const ctx = n > 0 ? f[F_CT] : csx, cty = n > 0 ? f[F_CT + 1] : csy, ctz = n > 0 ? f[F_CT + 2] : csz
-  const prev = c.prev, vel = c.vel, invMass = c.invMass
+  const prev = c.prev, vel = c.vel
   for (let i = 0; i < c.count; i++) {
     const j = 3 * i
     vel[j] = 0
     vel[j + 1] = 0
     vel[j + 2] = 0
-    const pinned = invMass[i] === 0 && Number.isFinite(pos[j] + pos[j + 1] + pos[j + 2])
-    if (!pinned) {
+    if (c.pinCount[i] === 0) {
       if (i < srcCount) {
         const vx = src[j] - csx, vy = src[j + 1] - csy, vz = src[j + 2] - csz
         const tx = 2 * (qy * vz - qz * vy), ty = 2 * (qz * vx - qx * vz), tz = 2 * (qx * vy - qy * vx)
@@ -482,6 +482,51 @@ function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, 
     prev[j] = pos[j]
     prev[j + 1] = pos[j + 1]
     prev[j + 2] = pos[j + 2]
+  }
+}
+
+/**
+ * Writes every pinned particle's position at the end of the current step: its pin's offset (as
+ * blended so far) on the target's pose at the step's end (world pins: the offset itself). Same
+ * placement as `placePins` on the last substep, without advancing the blend.
+ */
+function placePinnedParticles(state: ClothWorldState, c: ClothState): void {
+  const P = state.components.Pin
+  const T = state.transforms
+  const to = state.kinematics.stepTo
+  const pos = c.pos
+  for (let q = 0; q < c.pins.length; q++) {
+    const pin = c.pins[q]
+    let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
+    const left = P.blendLeft[pin], total = P.blendTime[pin]
+    if (left > 0 && total > 0) {
+      const u = 1 - left / total
+      const sm = u * u * (3 - 2 * u)
+      const b = 3 * pin
+      lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * sm
+      ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * sm
+      lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * sm
+    }
+    const i = 3 * P.particle[pin]
+    const tgt = P.target[pin]
+    if (tgt === 0) {
+      pos[i] = lx
+      pos[i + 1] = ly
+      pos[i + 2] = lz
+      continue
+    }
+    if (T.sx && T.sy && T.sz) {
+      const sx = T.sx[tgt], sy = T.sy[tgt], sz = T.sz[tgt]
+      if (sx > 0) lx *= sx
+      if (sy > 0) ly *= sy
+      if (sz > 0) lz *= sz
+    }
+    const o = 7 * P.slot[pin]
+    const qx = to[o + 3], qy = to[o + 4], qz = to[o + 5], qw = to[o + 6]
+    const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)
+    pos[i] = to[o] + lx + qw * tx + (qy * tz - qz * ty)
+    pos[i + 1] = to[o + 1] + ly + qw * ty + (qz * tx - qx * tz)
+    pos[i + 2] = to[o + 2] + lz + qw * tz + (qx * ty - qy * tx)
   }
 }
 

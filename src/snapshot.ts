@@ -15,7 +15,7 @@
  */
 import { entityExists, hasComponent, removeEntity } from 'bitecs'
 import { ClothError } from './errors'
-import { resolveGuardOptions, applyGuardSettings, type GuardSettings } from './guard'
+import { applyGuardSettings, type GuardSettings } from './guard'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION } from './kinematics'
 import { getCloth, pinParticle } from './pins'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
@@ -154,7 +154,8 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   s.guardCounters[0] = g.safeCount
   s.guardCounters[1] = g.sinceSafe
   s.guardCounters[2] = g.failStreak
-  w.guardSettings = { ...g.settings }
+  w.guardSettings = s.guardSettings ?? { ...g.settings }
+  copySettings(g.settings, s.guardSettings)
   return s
 }
 
@@ -193,14 +194,16 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   c.vel.set(s.vel)
   c.invMass.set(s.invMass)
   c.pinCount.set(s.pinCount)
-  c.substeps = s.settings[0]
-  c.iterations = s.settings[1]
+  // integers back as integers (| 0): a float64 read stored into a small-integer field would turn
+  // the field into a boxed number for every cloth
+  c.substeps = s.settings[0] | 0
+  c.iterations = s.settings[1] | 0
   c.h = s.settings[2]
   c.damping = s.settings[3]
   c.stretchDamping = s.settings[4]
   c.useTethers = s.settings[5] === 1
   c.tetherSlack = s.settings[6]
-  c.tethersPerParticle = s.settings[7]
+  c.tethersPerParticle = s.settings[7] | 0
   c.tethersDirty = s.settings[8] === 1
   c.skipTeleport = s.settings[9] === 1
   c.tetherMode = s.tetherMode
@@ -229,10 +232,10 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   const g = c.guard
   if (g.safe.length < s.guardSafe.length) g.safe = new Float64Array(c.pos.length)
   g.safe.set(s.guardSafe)
-  g.safeCount = s.guardCounters[0]
-  g.sinceSafe = s.guardCounters[1]
-  g.failStreak = s.guardCounters[2]
-  g.settings = resolveGuardOptions(s.guardSettings, g.settings, 'state.guardSettings')
+  g.safeCount = s.guardCounters[0] | 0
+  g.sinceSafe = s.guardCounters[1] | 0
+  g.failStreak = s.guardCounters[2] | 0
+  copySettings(s.guardSettings, g.settings)
   applyGuardSettings(g)
   c.version++
 }
@@ -271,6 +274,14 @@ function restorePins(world: object, state: ClothWorldState, c: ClothState, s: Cl
   }
 }
 
+function copySettings(from: GuardSettings, to: GuardSettings): void {
+  to.enabled = from.enabled
+  to.finite = from.finite
+  to.bounds = from.bounds
+  to.speed = from.speed
+  to.snapshotInterval = from.snapshotInterval
+}
+
 function checkSnapshot(s: unknown, arg: string): void {
   const x = s as ClothSnapshot
   if (typeof s !== 'object' || s === null || x.format !== 'bitecs-cloth-state/1' || !(x.shape instanceof Int32Array) || !(x.pos instanceof Float64Array)) {
@@ -284,9 +295,25 @@ function checkSnapshot(s: unknown, arg: string): void {
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
-  for (const a of [x.pos, x.prev, x.vel, x.invMass, x.pinData, x.targetData, x.settings, x.world, x.guardSafe]) {
-    for (let i = 0; i < a.length; i++) if (!Number.isFinite(a[i])) throw new ClothError(arg, s, 'holds a non-finite number')
+  if (
+    !allFinite(x.pos) || !allFinite(x.prev) || !allFinite(x.vel) || !allFinite(x.invMass) || !allFinite(x.pinData) ||
+    !allFinite(x.targetData) || !allFinite(x.settings) || !allFinite(x.world) || !(x.guardSafe instanceof Float64Array) || !allFinite(x.guardSafe)
+  ) {
+    throw new ClothError(arg, s, 'holds a non-finite number')
   }
+  const g = x.guardSettings
+  if (
+    typeof g !== 'object' || g === null || typeof g.enabled !== 'boolean' || typeof g.finite !== 'boolean' ||
+    !(g.bounds === false || (g.bounds > 0 && g.bounds < Infinity)) || !(g.speed === false || (g.speed > 0 && g.speed < Infinity)) ||
+    !Number.isInteger(g.snapshotInterval) || g.snapshotInterval < 1
+  ) {
+    throw new ClothError(`${arg}.guardSettings`, g, 'must be guard settings as saved by saveClothState')
+  }
+}
+
+function allFinite(a: ArrayLike<number>): boolean {
+  for (let i = 0; i < a.length; i++) if (!Number.isFinite(a[i])) return false
+  return true
 }
 
 function firstTargetIndex(P: { target: Uint32Array }, pins: number[], q: number, t: number): boolean {

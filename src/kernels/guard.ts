@@ -35,6 +35,9 @@ export function checkClothHealth(
   count: number,
   g: Float64Array,
 ): number {
+  // every parameter is read on every call (a typed-array read first met in optimized code on a
+  // rare path deoptimizes it)
+  const finite = g[G_FINITE], reach = g[G_REACH], speed2 = g[G_SPEED2]
   let bad = 0
   let minX = Infinity, minY = Infinity, minZ = Infinity
   let maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity
@@ -67,23 +70,24 @@ export function checkClothHealth(
     s2 += vx * vx + vy * vy + vz * vz
   }
   if (count === 0) return HEALTH_OK
-  if (bad !== 0 && g[G_FINITE] !== 0) return HEALTH_NONFINITE
-  const reach = g[G_REACH]
-  let excess = 0
-  if (pMinX <= pMaxX) {
-    // how far the cloth's box sticks out of the pinned particles' box, per side
-    excess = pMinX - minX
-    if (maxX - pMaxX > excess) excess = maxX - pMaxX
-    if (pMinY - minY > excess) excess = pMinY - minY
-    if (maxY - pMaxY > excess) excess = maxY - pMaxY
-    if (pMinZ - minZ > excess) excess = pMinZ - minZ
-    if (maxZ - pMaxZ > excess) excess = maxZ - pMaxZ
-  } else {
-    // no pins: the cloth's own extent
-    excess = maxX - minX
-    if (maxY - minY > excess) excess = maxY - minY
-    if (maxZ - minZ > excess) excess = maxZ - minZ
-  }
+  const nonFinite = bad !== 0
+  const testFinite = finite !== 0
+  if (nonFinite && testFinite) return HEALTH_NONFINITE
+  // every subtraction runs on every call (no arithmetic behind a rarely taken branch: optimized
+  // code that meets an operation it never saw run deoptimizes, and deoptimizing allocates)
+  const ex = maxX - minX, ey = maxY - minY, ez = maxZ - minZ
+  const lx = pMinX - minX, hx = maxX - pMaxX, ly = pMinY - minY, hy = maxY - pMaxY, lz = pMinZ - minZ, hz = maxZ - pMaxZ
+  const pinned = pMinX <= pMaxX
+  const ax = pinned ? lx : ex, bx = pinned ? hx : 0
+  const ay = pinned ? ly : ey, by = pinned ? hy : 0
+  const az = pinned ? lz : ez, bz = pinned ? hz : 0
+  // pinned: how far the cloth's box sticks out of the pinned particles' box; unpinned: its extent
+  let excess = ax
+  if (bx > excess) excess = bx
+  if (ay > excess) excess = ay
+  if (by > excess) excess = by
+  if (az > excess) excess = az
+  if (bz > excess) excess = bz
   excess -= reach
   g[G_OUT_EXCESS] = excess
   const inv = 1 / count
@@ -91,7 +95,6 @@ export function checkClothHealth(
   const rel2 = s2 * inv - (mx * mx + my * my + mz * mz)
   g[G_OUT_SPEED2] = rel2
   if (reach > 0 && excess > 0) return HEALTH_BOUNDS
-  const speed2 = g[G_SPEED2]
   if (speed2 > 0 && rel2 > speed2) return HEALTH_SPEED
   return HEALTH_OK
 }

@@ -1,7 +1,7 @@
 // Torture suite, part 1: abusive inputs (frame times, pins, a long session). See harness.ts for
 // what every case must show; one case per `it`: a scene, an abuse, a release.
 import { addEntity } from 'bitecs'
-import { describe, it } from 'vitest'
+import { describe, expect, it } from 'vitest'
 import { createCloth, pinParticle, setTransform } from '../../src/index'
 import { rng } from '../helpers'
 import { expectStable, runTorture, type Scene } from './harness'
@@ -184,11 +184,12 @@ describe('a long game session', () => {
         const u = r()
         return u < 0.02 ? 0 : u < 0.04 ? 0.25 : (0.5 + r()) / 60 // stalls, hitches, jittery frames
       },
-      frames: 9000,
+      frames: 10_000,
       checkEvery: 10,
       release: (s) => setTransform(s.world, s.hero, [0, 1.6, 0], [0, 0, 0, 1]),
       settle: 600,
     })
     expectStable(result)
+    expect(result.steps).toBeGreaterThanOrEqual(10_000)
   })
 })
