@@ -323,7 +323,8 @@ function firstTargetIndex(P: { target: Uint32Array }, pins: number[], q: number,
 
 function copyInto(dst: Float64Array | undefined, src: Float64Array, len: number): Float64Array {
   const out = dst && dst.length === len ? dst : new Float64Array(len)
-  for (let i = 0; i < len; i++) out[i] = src[i]
+  if (src.length === len) out.set(src) // a block copy (the usual case: the arrays hold no spare room)
+  else for (let i = 0; i < len; i++) out[i] = src[i]
   return out
 }
 
