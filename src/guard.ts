@@ -10,8 +10,6 @@
 import { ClothError, checkInteger, checkPositive } from './errors'
 import {
   G_FINITE,
-  G_OUT_EXCESS,
-  G_OUT_SPEED2,
   G_REACH,
   G_SPEED2,
   GUARD_PARAM_COUNT,
@@ -414,8 +412,7 @@ function findOffender(c: ClothState, reason: number): number {
 
 /**
  * pos ← R·(src − c_src) + c_now for every particle, with R, c_src, c_now fitted to the pinned
- * particles (their current positions are the targets); prev ← pos, vel ← 0. Particles beyond
- * `srcCount` (added by tearing after the copy) are put on the pins' centroid.
+ * particles (their current positions are the targets); prev ← pos, vel ← 0.
  */
 function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, srcCount: number): void {
   const P = state.components.Pin
@@ -461,28 +458,41 @@ function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, 
   const csx = f[F_CS], csy = f[F_CS + 1], csz = f[F_CS + 2]
   const ctx = n > 0 ? f[F_CT] : csx, cty = n > 0 ? f[F_CT + 1] : csy, ctz = n > 0 ? f[F_CT + 2] : csz
   const prev = c.prev, vel = c.vel
+  let mx = 0, my = 0, mz = 0
   for (let i = 0; i < c.count; i++) {
     const j = 3 * i
     vel[j] = 0
     vel[j + 1] = 0
     vel[j + 2] = 0
+    if (i >= srcCount) continue
     if (c.pinCount[i] === 0) {
-      if (i < srcCount) {
-        const vx = src[j] - csx, vy = src[j + 1] - csy, vz = src[j + 2] - csz
-        const tx = 2 * (qy * vz - qz * vy), ty = 2 * (qz * vx - qx * vz), tz = 2 * (qx * vy - qy * vx)
-        pos[j] = ctx + vx + qw * tx + (qy * tz - qz * ty)
-        pos[j + 1] = cty + vy + qw * ty + (qz * tx - qx * tz)
-        pos[j + 2] = ctz + vz + qw * tz + (qx * ty - qy * tx)
-      } else {
-        pos[j] = ctx
-        pos[j + 1] = cty
-        pos[j + 2] = ctz
-      }
+      const vx = src[j] - csx, vy = src[j + 1] - csy, vz = src[j + 2] - csz
+      const tx = 2 * (qy * vz - qz * vy), ty = 2 * (qz * vx - qx * vz), tz = 2 * (qx * vy - qy * vx)
+      pos[j] = ctx + vx + qw * tx + (qy * tz - qz * ty)
+      pos[j + 1] = cty + vy + qw * ty + (qz * tx - qx * tz)
+      pos[j + 2] = ctz + vz + qw * tz + (qx * ty - qy * tx)
     }
-    prev[j] = pos[j]
-    prev[j + 1] = pos[j + 1]
-    prev[j + 2] = pos[j + 2]
+    mx += pos[j]
+    my += pos[j + 1]
+    mz += pos[j + 2]
   }
+  // particles the copy does not cover (added by tearing since): kept if finite, else put on the
+  // centroid of the restored ones
+  const m = Math.min(srcCount, c.count)
+  if (m > 0) {
+    mx /= m
+    my /= m
+    mz /= m
+  }
+  for (let i = srcCount; i < c.count; i++) {
+    const j = 3 * i
+    if (c.pinCount[i] === 0 && !Number.isFinite(pos[j] + pos[j + 1] + pos[j + 2])) {
+      pos[j] = mx
+      pos[j + 1] = my
+      pos[j + 2] = mz
+    }
+  }
+  for (let j = 0; j < 3 * c.count; j++) prev[j] = pos[j]
 }
 
 /**
@@ -599,11 +609,6 @@ function hornRotation(f: Float64Array): void {
   f[F_Q + 1] = y
   f[F_Q + 2] = z
   f[F_Q + 3] = w
-}
-
-/** Diagnostics of the last check of a cloth: rms relative speed and how far out of bounds. */
-export function lastGuardMeasure(g: ClothGuardState): { speed: number; excess: number } {
-  return { speed: Math.sqrt(Math.max(0, g.params[G_OUT_SPEED2])), excess: g.params[G_OUT_EXCESS] }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -16,6 +16,7 @@ import {
   getClothStats,
   installClothPlugin,
   onClothReset,
+  pinParticle,
   pinRow,
   setClothGuard,
   setTransform,
@@ -223,6 +224,29 @@ describe('restore', () => {
       const local = vec3.fromValues(initial[3 * i], initial[3 * i + 1] - 1.6, initial[3 * i + 2])
       const want = vec3.add(vec3.create(), vec3.transformQuat(vec3.create(), local, q), [t[0], 1.6 + t[1], t[2]])
       for (let k = 0; k < 3; k++) expect(c.pos[3 * i + k]).toBeCloseTo(want[k], 9)
+    }
+  })
+
+  it('the rigid fit recovers any rotation from three pins (Horn), also a half turn', () => {
+    for (const [axis, angle] of [[[0.3, -0.8, 0.5], 2.1], [[1, 0, 0], Math.PI], [[0.2, 0.1, 1], -0.7]] as const) {
+      const world = installClothPlugin(createWorld())
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 2, 0])
+      const cloth = createCloth(world, { width: 1, height: 1, resolution: 6, position: [0, 2, 0] })
+      const c = getClothState(world, cloth)
+      const initial = Float64Array.from(c.pos)
+      for (const i of [0, 5, 35]) pinParticle(world, cloth, i, hero)
+      const q = quat.setAxisAngle(quat.create(), vec3.normalize(vec3.create(), axis as unknown as vec3), angle)
+      setTransform(world, hero, [1, 3, -2], q)
+      for (let f = 0; f < 2; f++) {
+        c.pos[3 * 20] = NaN // twice in a row: the second reset places the rest shape
+        stepCloth(world, 1 / 60)
+      }
+      for (let i = 0; i < c.count; i++) {
+        const local = vec3.fromValues(initial[3 * i], initial[3 * i + 1] - 2, initial[3 * i + 2])
+        const want = vec3.add(vec3.create(), vec3.transformQuat(vec3.create(), local, q), [1, 3, -2])
+        for (let k = 0; k < 3; k++) expect(c.pos[3 * i + k]).toBeCloseTo(want[k], 9)
+      }
     }
   })
 
