@@ -2,8 +2,12 @@ import { addComponent, addEntity, entityExists, hasComponent, removeEntity } fro
 import type { quat, vec3 } from 'gl-matrix'
 import {
   ClothError,
+  MAX_COORDINATE,
+  checkBoundedArray,
   checkFiniteArray,
   checkInteger,
+  checkObject,
+  checkPoint,
   checkNonNegative,
   checkOneOf,
   checkPositive,
@@ -16,6 +20,7 @@ import { createKernelParams } from './kernels/params'
 import { resolveMaterial, type ClothMaterialSpec } from './materials'
 import { rotateVec3 } from './math'
 import { getCloth } from './pins'
+import { createClothGuard, resolveGuardOptions, type ClothGuardOptions, type GuardSettings } from './guard'
 import { getClothWorld, type ClothMesh, type ClothState, type ClothWorldState } from './state'
 import { EMPTY_TETHERS, buildTethers, type TetherMode } from './tethers'
 import { rebuildTearTethers } from './tearing'
@@ -74,6 +79,8 @@ export interface ClothOptions {
   mass?: number
   /** Particles to sweep constraints outward from (where it will be pinned). Default: from the top. */
   orderFrom?: ArrayLike<number>
+  /** Explosion guard for this cloth, over the world's defaults; false turns it off. */
+  guard?: boolean | ClothGuardOptions
 }
 
 /** Options of `createCloth` (a rectangular sheet). */
@@ -110,8 +117,8 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
 export function createCloth(world: object, options: CreateClothOptions): number {
   const state = getClothWorld(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  const width = checkPositive('options.width', options.width)
-  const height = checkPositive('options.height', options.height)
+  const width = checkSize('options.width', options.width)
+  const height = checkSize('options.height', options.height)
   let columns: number, rows: number
   if (isArrayLike(options.resolution)) {
     const r = options.resolution as ArrayLike<number>
@@ -122,9 +129,9 @@ export function createCloth(world: object, options: CreateClothOptions): number 
     columns = rows = checkInteger('options.resolution', options.resolution, 2, 4096)
   }
   const topo = options.topology === undefined ? 'quad' : checkOneOf('options.topology', options.topology, ['quad', 'triangle'] as const)
-  const position = options.position === undefined ? ORIGIN : checkVec3('options.position', options.position)
+  const position = options.position === undefined ? ORIGIN : checkPoint('options.position', options.position)
   const rotation = options.rotation === undefined ? IDENTITY : normalized(checkQuat('options.rotation', options.rotation))
-  const common = checkCommon(options, columns * rows)
+  const common = checkCommon(options, columns * rows, state)
   const topology = buildGridTopology(width, height, columns, rows, common.material, topo, common.topologyOptions)
 
   const pos = new Float64Array(3 * topology.particleCount)
@@ -146,7 +153,7 @@ export function createCloth(world: object, options: CreateClothOptions): number 
 export function createClothFromMesh(world: object, options: CreateClothFromMeshOptions): number {
   const state = getClothWorld(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  const positions = checkFiniteArray('options.positions', options.positions, 3)
+  const positions = checkBoundedArray('options.positions', options.positions, 3, MAX_COORDINATE)
   const n = (positions.length / 3) | 0
   if (n < 3) throw new ClothError('options.positions', positions, 'must hold at least 3 vertices')
   const indices = options.indices
@@ -171,7 +178,7 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
     if (masses.length !== n) throw new ClothError('options.masses', masses, `must have one entry per vertex (${n})`)
     for (let i = 0; i < n; i++) if (!(masses[i] > 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   }
-  const common = checkCommon(options, n)
+  const common = checkCommon(options, n, state)
   const topology = buildMeshTopology(positions, indices as ArrayLike<number>, common.material, common.topologyOptions)
   return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses)
 }
@@ -186,9 +193,10 @@ interface CommonOptions {
   mass: number | undefined
   tethers: Required<TetherOptions>
   topologyOptions: { bending: BendingModel; shear: ShearModel; bendSide: BendSide; orderFrom?: ArrayLike<number> }
+  guard: GuardSettings
 }
 
-function checkCommon(o: ClothOptions, n: number): CommonOptions {
+function checkCommon(o: ClothOptions, n: number, state: ClothWorldState): CommonOptions {
   const material = resolveMaterial(o.material)
   const iterations = o.iterations === undefined ? 1 : checkInteger('options.iterations', o.iterations, 1, 256)
   const substeps = o.substeps === undefined ? 8 : checkInteger('options.substeps', o.substeps, 1, 256)
@@ -208,7 +216,8 @@ function checkCommon(o: ClothOptions, n: number): CommonOptions {
     }
     orderFrom = o.orderFrom
   }
-  return { material, iterations, substeps, solver, damping, stretchDamping, mass, tethers: checkTetherOptions(o.tethers, 'options.tethers'), topologyOptions: { bending, shear, bendSide, orderFrom } }
+  const guard = resolveGuardOptions(o.guard, state.guard.defaults, 'options.guard')
+  return { material, iterations, substeps, solver, damping, stretchDamping, mass, tethers: checkTetherOptions(o.tethers, 'options.tethers'), topologyOptions: { bending, shear, bendSide, orderFrom }, guard }
 }
 
 function checkTetherOptions(t: boolean | TetherOptions | undefined, arg: string): Required<TetherOptions> {
@@ -240,6 +249,15 @@ function spawnCloth(
     scale = o.mass / total
   }
   for (let i = 0; i < n; i++) invMass[i] = 1 / (masses ? masses[i] : topology.masses[i] * scale)
+  for (let i = 0; i < n; i++) {
+    // a particle lighter than a nanogram (or a density or mass so small that 1/m overflows) is
+    // rejected: its inverse mass would turn the constraint sums into Infinity and NaN
+    if (!(invMass[i] <= MAX_INV_MASS)) {
+      const m = masses ? masses[i] : topology.masses[i] * scale
+      const arg = masses ? `options.masses[${i}]` : o.mass !== undefined ? 'options.mass' : 'options.material.density'
+      throw new ClothError(arg, masses ? m : o.mass ?? o.material.density, `gives particle ${i} a mass of ${m} kg; particles need at least ${1 / MAX_INV_MASS} kg`)
+    }
+  }
 
   const eid = addEntity(world as never)
   const c: ClothState = {
@@ -283,6 +301,7 @@ function spawnCloth(
     mesh: null,
     wind: null,
     tear: null,
+    guard: createClothGuard(topology, pos, o.guard),
   }
   state.components.Cloth.state[eid] = c
   state.cloths.push(c)
@@ -348,6 +367,7 @@ export function getCloths(world: object): number[] {
 export function setClothQuality(world: object, cloth: number, quality: { substeps?: number; iterations?: number }): void {
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
+  checkObject('quality', quality)
   if (quality.substeps !== undefined) {
     c.substeps = checkInteger('quality.substeps', quality.substeps, 1, 256)
     c.h = state.fixedTimeStep / c.substeps
@@ -358,6 +378,7 @@ export function setClothQuality(world: object, cloth: number, quality: { substep
 /** Changes a cloth's tether settings (`false` turns tethers off); they are rebuilt at the next step. */
 export function setClothTethers(world: object, cloth: number, tethers: boolean | TetherOptions): void {
   const c = getCloth(getClothWorld(world), cloth)
+  if (typeof tethers !== 'boolean') checkObject('tethers', tethers)
   const current: TetherOptions = { enabled: c.useTethers, mode: c.tetherMode, slack: c.tetherSlack, perParticle: c.tethersPerParticle }
   const t = checkTetherOptions(typeof tethers === 'boolean' ? { ...current, enabled: tethers } : { ...current, ...tethers }, 'tethers')
   c.useTethers = t.enabled
@@ -373,6 +394,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
  */
 export function getClothStretch(world: object, cloth: number, out = { mean: 0, max: 0 }): { mean: number; max: number } {
   const c = getCloth(getClothWorld(world), cloth)
+  checkObject('out', out)
   const t = c.topology
   return measureStretch(c.pos, t.stretchIds, t.stretchRest, t.stretchCount, out)
 }
@@ -385,6 +407,14 @@ export function removeCloth(world: object, cloth: number): void {
 }
 
 const ORIGIN = [0, 0, 0]
+/** Largest inverse mass, 1/kg (particles of at least 1e-12 kg). */
+const MAX_INV_MASS = 1e12
+
+function checkSize(argument: string, value: unknown): number {
+  const v = checkPositive(argument, value)
+  if (v > MAX_COORDINATE) throw new ClothError(argument, value, `must be at most ${MAX_COORDINATE} m`)
+  return v
+}
 const IDENTITY = [0, 0, 0, 1]
 
 function normalized(q: ArrayLike<number>): number[] {

@@ -130,3 +130,33 @@ export function isArrayLike(value: unknown): value is ArrayLike<unknown> {
     (typeof value === 'object' && value !== null && typeof (value as { length?: unknown }).length === 'number')
   )
 }
+
+/**
+ * Largest accepted world coordinate, size or offset, m. Beyond ~1e150 squared lengths overflow to
+ * Infinity (and Infinity − Infinity is NaN); 1e9 m keeps sub-micrometre precision in float64.
+ */
+export const MAX_COORDINATE = 1e9
+
+/** A 3-vector of finite numbers, each within ±MAX_COORDINATE (a world position or offset). */
+export function checkPoint(argument: string, value: unknown): ArrayLike<number> {
+  const v = checkVec3(argument, value)
+  for (let i = 0; i < 3; i++) {
+    if (Math.abs(v[i]) > MAX_COORDINATE) throw new ClothError(argument, value, `must lie within ±${MAX_COORDINATE} m`)
+  }
+  return v
+}
+
+/** A flat array of finite numbers within ±max, length a multiple of `stride`. */
+export function checkBoundedArray(argument: string, value: unknown, stride: number, max: number): ArrayLike<number> {
+  const arr = checkFiniteArray(argument, value, stride)
+  for (let i = 0; i < arr.length; i++) {
+    if (Math.abs(arr[i]) > max) throw new ClothError(`${argument}[${i}]`, arr[i], `must lie within ±${max}`)
+  }
+  return arr
+}
+
+/** A non-null object (an options bag). */
+export function checkObject(argument: string, value: unknown): object {
+  if (typeof value !== 'object' || value === null) throw new ClothError(argument, value, 'must be an object')
+  return value
+}

@@ -66,16 +66,27 @@ export { clothWriteback } from '../systems/clothWriteback'
 export { clothPhases, clothFixedStep, clothSubstepCount, setClothSubstep } from '../systems/pipeline'
 export { clothEvents } from '../systems/clothEvents'
 
-// Kernels: plain functions over typed arrays, usable without a world.
-export { predictPositions, updateVelocities } from './kernels/integrate'
-export { solveDistances, solveDistancesXpbd, solveCompression } from './kernels/distance'
-export { dampPairs } from './kernels/damping'
-export { solveDihedrals } from './kernels/dihedral'
-export { solveLineBending } from './kernels/bending'
-export { solveTethers } from './kernels/tether'
-export { writeRenderMesh, measureStretch } from './kernels/mesh'
-export { accumulateAerodynamics, limitAerodynamics } from './kernels/aero'
-export { addZoneAir } from './kernels/wind'
-export { findOverstrained } from './kernels/strain'
-export { buildGridTopology, buildMeshTopology, dihedralAngle } from './topology'
-export { buildTethers } from './tethers'
+// Kernels: plain functions over typed arrays, usable without a world. The exported versions check
+// their arguments (ClothError); the plugin's systems call the unchecked ones in src/kernels/.
+export { predictPositions, updateVelocities } from './checked'
+export { solveDistances, solveDistancesXpbd, solveCompression } from './checked'
+export { dampPairs } from './checked'
+export { solveDihedrals, solveLineBending } from './checked'
+export { solveTethers } from './checked'
+export { writeRenderMesh, measureStretch } from './checked'
+export { buildGridTopology, buildMeshTopology, dihedralAngle } from './checked'
+export { buildTethers } from './checked'
+
+// Explosion guard and snapshots (hard cases stay numerically stable).
+export {
+  onClothReset,
+  drainClothResets,
+  setClothGuard,
+  getClothGuard,
+  type ClothGuardOptions,
+  type ClothResetEvent,
+  type ClothResetReason,
+} from './guard'
+export { clothGuard } from '../systems/clothGuard'
+export { checkClothHealth } from './checked'
+export { saveClothState, restoreClothState, type ClothSnapshot } from './snapshot'

@@ -1,4 +1,4 @@
-import { ClothError } from './errors'
+import { ClothError, MAX_COORDINATE } from './errors'
 import type { ClothWorldState } from './state'
 
 /**
@@ -147,8 +147,8 @@ export function readPoseInto(state: ClothWorldState, eid: number, out: Float64Ar
   const t = state.transforms
   const px = t.px[eid], py = t.py[eid], pz = t.pz[eid]
   let qx = t.qx[eid], qy = t.qy[eid], qz = t.qz[eid], qw = t.qw[eid]
-  if (!Number.isFinite(px + py + pz + qx + qy + qz + qw)) {
-    throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], 'must be finite')
+  if (!Number.isFinite(px + py + pz + qx + qy + qz + qw) || !(Math.abs(px) <= MAX_COORDINATE && Math.abs(py) <= MAX_COORDINATE && Math.abs(pz) <= MAX_COORDINATE)) {
+    throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], `must be finite, the position within ±${MAX_COORDINATE} m`)
   }
   const l = Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
   if (l > 1e-12) {

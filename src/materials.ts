@@ -108,6 +108,7 @@ export function defineMaterial(
   fields: Partial<ClothMaterialSpec>,
   base: ClothMaterialSpec | string = ClothMaterial.COTTON,
 ): ClothMaterialSpec {
+  if (typeof fields !== 'object' || fields === null) throw new ClothError('fields', fields, 'must be an object of material fields')
   const from = resolveMaterial(base, 'base')
   const out = { ...from, ...fields, name: fields.name ?? `custom ${from.name}` }
   validateMaterial(out, 'material')

@@ -1,6 +1,6 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, checkIndex, checkInteger, checkNonNegative, checkQuat, checkVec3 } from './errors'
+import { ClothError, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from './errors'
 import { P_H, P_STEP_FRACTION } from './kernels/params'
 import { rotateVec3 } from './math'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
@@ -45,7 +45,8 @@ export function pinParticle(
       throw new ClothError('target', tgt, 'must have a Transform (call setTransform first)')
     }
   }
-  if (offset !== undefined) checkVec3('offset', offset)
+  if (offset !== undefined) checkPoint('offset', offset)
+  checkObject('options', options)
   const blendTime = options.blendTime === undefined ? 0.25 : checkNonNegative('options.blendTime', options.blendTime)
 
   const pin = addEntity(world as never)
@@ -291,7 +292,7 @@ export function teleportCloth(
 ): void {
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
-  checkVec3('translation', translation)
+  checkPoint('translation', translation)
   let rx = 0, ry = 0, rz = 0, rw = 1
   if (rotation !== undefined) {
     checkQuat('rotation', rotation)
@@ -303,7 +304,7 @@ export function teleportCloth(
   }
   let px = 0, py = 0, pz = 0
   if (pivot !== undefined) {
-    checkVec3('pivot', pivot)
+    checkPoint('pivot', pivot)
     px = pivot[0]
     py = pivot[1]
     pz = pivot[2]

@@ -2,7 +2,7 @@ import { observe, onAdd, onRemove, removeEntity, entityExists } from 'bitecs'
 import { createClothStore } from '../components/Cloth'
 import { createPinStore } from '../components/Pin'
 import { createTransformStore, resetTransform, type TransformStore } from '../components/Transform'
-import { ClothError, checkInteger, checkPositive, checkVec3 } from './errors'
+import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3 } from './errors'
 import { ensureStoreCapacity } from './store'
 import { $cloth, createStats, findClothWorld, getClothWorld, type ClothPluginOptions, type ClothWorldState, type TransformSource } from './state'
 import { releasePin } from './pins'
@@ -11,6 +11,7 @@ import { createWindZoneStore } from '../components/WindZone'
 import { createTearableStore } from '../components/Tearable'
 import { createWindWorld, installWind } from './wind'
 import { createTearWorld, installTearing } from './tearing'
+import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './guard'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -25,13 +26,19 @@ import { createTearWorld, installTearing } from './tearing'
 export function installClothPlugin<W extends object>(world: W, options: ClothPluginOptions = {}): W {
   if (typeof world !== 'object' || world === null) throw new ClothError('world', world, 'must be a bitECS world')
   if (findClothWorld(world)) return world
+  checkObject('options', options)
   const gravity = options.gravity === undefined ? [0, -9.81, 0] : checkVec3('options.gravity', options.gravity)
+  checkBoundedArray('options.gravity', gravity, 3, MAX_COORDINATE)
   const fixedTimeStep = options.fixedTimeStep === undefined ? 1 / 60 : checkPositive('options.fixedTimeStep', options.fixedTimeStep)
+  // 1/h² of a step shorter than a microsecond split into 256 substeps still fits a double; a step
+  // longer than a second is not real time
+  if (fixedTimeStep < 1e-6 || fixedTimeStep > 1) throw new ClothError('options.fixedTimeStep', fixedTimeStep, 'must be between 1e-6 and 1 s')
   const maxStepsPerFrame = options.maxStepsPerFrame === undefined ? 4 : checkInteger('options.maxStepsPerFrame', options.maxStepsPerFrame, 1, 1000)
   const teleportDistance = options.teleportDistance === undefined ? 2 : checkPositive('options.teleportDistance', options.teleportDistance)
   const maxSpeed = options.maxSpeed === undefined ? 250 : checkPositive('options.maxSpeed', options.maxSpeed)
   const capacity = options.capacity === undefined ? 1024 : checkInteger('options.capacity', options.capacity, 1, 1 << 26)
   if (options.transforms !== undefined) validateTransformSource(options.transforms)
+  const guard = resolveGuardOptions(options.guard, defaultGuardSettings(maxSpeed), 'options.guard')
 
   const Transform = createTransformStore(capacity)
   const Cloth = createClothStore()
@@ -57,6 +64,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     stats: createStats(),
     wind,
     tearing: createTearWorld(),
+    guard: createGuardWorld(guard),
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 

@@ -4,6 +4,7 @@ import type { TransformStore } from '../components/Transform'
 import type { WindZoneStore } from '../components/WindZone'
 import type { TearableStore } from '../components/Tearable'
 import { ClothError } from './errors'
+import type { ClothGuardOptions, ClothGuardState, GuardWorld } from './guard'
 import type { Kinematics } from './kinematics'
 import type { ClothMaterialSpec } from './materials'
 import type { TetherMode, TetherSet } from './tethers'
@@ -53,6 +54,11 @@ export interface ClothPluginOptions {
   capacity?: number
   /** Density of the air for aerodynamics, kg/m³ (a wind zone may override it). Default 1.2. */
   airDensity?: number
+  /**
+   * Explosion guard defaults for the cloths of this world (see `ClothGuardOptions`); false turns it
+   * off. Default on: finite, bounds 2 × the cloth's size, speed half of `maxSpeed`.
+   */
+  guard?: boolean | ClothGuardOptions
 }
 
 /** Counters of the work each phase did, accumulated since install (or the last reset). */
@@ -87,6 +93,10 @@ export interface ClothStats {
   selfCollisionTests: number
   /** Tears (particle splits) by the tearing phase. */
   tears: number
+  /** Cloth health checks by the explosion guard (one per cloth per step). */
+  guardChecks: number
+  /** Cloths reset by the explosion guard. */
+  guardResets: number
 }
 
 /** Everything one cloth instance owns: particle state in flat typed arrays plus shared rest data. */
@@ -159,6 +169,8 @@ export interface ClothState {
   wind: ClothWind | null
   /** Tearing state of a tearable cloth (own rest data with reserved capacity), else null. */
   tear: ClothTear | null
+  /** Explosion guard: settings, thresholds, last good pose, rest pose (see `src/guard.ts`). */
+  guard: ClothGuardState
 }
 
 /** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
@@ -200,6 +212,8 @@ export interface ClothWorldState {
   wind: WindWorld
   /** Tear events and tearable-cloth bookkeeping (see `src/tearing.ts`). */
   tearing: TearWorld
+  /** Explosion guard defaults, reset events and listeners. */
+  guard: GuardWorld
 }
 
 /** Symbol under which the plugin keeps its state on a world. */
@@ -234,6 +248,8 @@ export function createStats(): ClothStats {
     colliderTests: 0,
     selfCollisionTests: 0,
     tears: 0,
+    guardChecks: 0,
+    guardResets: 0,
   }
 }
 

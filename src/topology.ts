@@ -418,7 +418,7 @@ function assemble(
     distIds[2 * k + 1] = b
     distRest[k] = dist(rest, a, b)
     distKind[k] = pairs.kind[j]
-    distCompliance[k] = complianceOf(a, b, pairs.kind[j], distRest[k])
+    distCompliance[k] = Math.min(MAX_COMPLIANCE, complianceOf(a, b, pairs.kind[j], distRest[k]))
   }
 
   const compOrder = orderPairs(comp, levels)
@@ -431,7 +431,7 @@ function assemble(
     compIds[2 * k] = comp.a[j]
     compIds[2 * k + 1] = comp.b[j]
     compRest[k] = dist(rest, comp.a[j], comp.b[j])
-    compCompliance[k] = complianceOf(comp.a[j], comp.b[j], comp.kind[j], compRest[k])
+    compCompliance[k] = Math.min(MAX_COMPLIANCE, complianceOf(comp.a[j], comp.b[j], comp.kind[j], compRest[k]))
   }
 
   // line triples: solve order by the level of their nearest particle, interleaved like the pairs
@@ -451,9 +451,10 @@ function assemble(
     const dz = rest[3 * v + 2] - 0.5 * (rest[3 * a + 2] + rest[3 * b + 2])
     lineRest[k] = Math.sqrt(dx * dx + dy * dy + dz * dz)
     const L = 0.5 * (dist(rest, a, v) + dist(rest, v, b))
-    lineCompliance[k] = (material.bendCompliance * L * L) / 4
+    lineCompliance[k] = Math.min(MAX_COMPLIANCE, (material.bendCompliance * L * L) / 4)
   }
 
+  hinges = dropDegenerateHinges(rest, hinges, mesh)
   const hc = (hinges.length / 4) | 0
   const hingeRest = new Float64Array(hc)
   const hingeCompliance = new Float64Array(hc)
@@ -462,7 +463,7 @@ function assemble(
     hingeRest[h] = dihedralAngle(rest, e0, e1, w0, w1)
     const L = dist(rest, e0, e1)
     const areas = triArea(rest, e0, e1, w0) + triArea(rest, e1, e0, w1)
-    hingeCompliance[h] = L > 0 ? (material.bendCompliance * areas) / (3 * L * L) : 0
+    hingeCompliance[h] = Math.min(MAX_COMPLIANCE, (material.bendCompliance * areas) / (3 * L * L))
   }
   const side = options.bendSide ?? 'both'
 
@@ -514,6 +515,35 @@ function assemble(
     columns,
     rows,
   }
+}
+
+/**
+ * Per-constraint compliance cap, m/N or 1/(N·m). A material may ask for any finite compliance, but
+ * beyond ~1e305 the XPBD term compliance/h² overflows to Infinity and Infinity × 0 is NaN; 1e30 is
+ * already no stiffness at all.
+ */
+const MAX_COMPLIANCE = 1e30
+
+/**
+ * Removes hinges whose rest geometry defines no angle: a shared edge of (almost) zero length or a
+ * triangle of (almost) zero area. Such a hinge would get compliance 0 (rigid) and a rest angle of 0
+ * by convention, and once the particles separate it would fight the cloth with a made-up target
+ * (a mesh with a collapsed row buzzed at 50 m/s that way).
+ */
+function dropDegenerateHinges(rest: Float64Array, hinges: Int32Array, mesh: MeshInfo): Int32Array {
+  let sum = 0
+  for (let e = 0; e < mesh.edgeCount; e++) sum += dist(rest, mesh.edges[2 * e], mesh.edges[2 * e + 1])
+  const minL = mesh.edgeCount > 0 ? 1e-6 * (sum / mesh.edgeCount) : 0
+  const keep: number[] = []
+  for (let h = 0; h < hinges.length; h += 4) {
+    const e0 = hinges[h], e1 = hinges[h + 1], w0 = hinges[h + 2], w1 = hinges[h + 3]
+    const L = dist(rest, e0, e1)
+    // each triangle's height over the shared edge at least 1e-6 of the edge (area ≥ 5e-7·L²)
+    const minArea = 5e-7 * L * L
+    if (!(L > minL) || !(triArea(rest, e0, e1, w0) > minArea) || !(triArea(rest, e1, e0, w1) > minArea)) continue
+    keep.push(e0, e1, w0, w1)
+  }
+  return keep.length === hinges.length ? hinges : Int32Array.from(keep)
 }
 
 /**

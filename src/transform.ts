@@ -1,6 +1,6 @@
 import { addComponent, entityExists, hasComponent } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, checkQuat, checkVec3 } from './errors'
+import { ClothError, checkPoint, checkQuat, checkVec3, isArrayLike } from './errors'
 import { normalizeQuat } from './math'
 import { getClothWorld, type ClothWorldState } from './state'
 import { growStores } from './plugin'
@@ -21,11 +21,11 @@ export function setTransform(
 ): void {
   const state = getClothWorld(world)
   checkEntity(world, 'eid', eid)
-  checkVec3('position', position)
+  checkPoint('position', position)
   if (rotation !== undefined) checkQuat('rotation', rotation)
   if (scale !== undefined) {
     checkVec3('scale', scale)
-    for (let i = 0; i < 3; i++) if (!(scale[i] > 0)) throw new ClothError('scale', scale, 'must be positive')
+    for (let i = 0; i < 3; i++) if (!(scale[i] > 0) || scale[i] > 1e6) throw new ClothError('scale', scale, 'must be positive (at most 1e6)')
   }
   const src = state.transforms
   if (!hasComponent(world as never, eid, src.component)) {
@@ -62,6 +62,8 @@ const scratch = new Float64Array(4)
  */
 export function getTransform(world: object, eid: number, outPosition?: vec3 | Writable, outRotation?: quat | Writable): boolean {
   const state = getClothWorld(world)
+  if (outPosition !== undefined && (!isArrayLike(outPosition) || outPosition.length < 3)) throw new ClothError('outPosition', outPosition, 'must be an array of 3 numbers')
+  if (outRotation !== undefined && (!isArrayLike(outRotation) || outRotation.length < 4)) throw new ClothError('outRotation', outRotation, 'must be an array of 4 numbers')
   if (!entityExists(world as never, eid) || !hasComponent(world as never, eid, state.transforms.component)) return false
   const t = state.transforms
   if (outPosition) {

@@ -1,6 +1,8 @@
+import { checkInteger } from '../src/errors'
 import { getClothWorld } from '../src/state'
 import { clothCollide } from './clothCollide'
 import { clothForces } from './clothForces'
+import { clothGuard } from './clothGuard'
 import { clothPredict } from './clothPredict'
 import { clothSolve } from './clothSolve'
 import { clothSync } from './clothSync'
@@ -19,11 +21,14 @@ import { clothEvents } from './clothEvents'
  *     collide                 after the solve, so no constraint pushes a particle back into a collider
  *     tear                    after collide, on the last substep, so strain is measured on the final pose
  *     writeback               last: velocities from the motion, including collision and tear changes
+ *   guard                     once, after the last substep: a cloth that went non-finite, out of
+ *                             reach of its pins or into runaway speed goes back to a safe pose
+ *                             before the renderer, the listeners or the next step read it
  *   events                    after the step: tear listeners see a finished step and may change the world
  *
  * `clothPhases` lists the per-substep phases in that order for engines that schedule systems
  * themselves; such an engine runs `clothSync`, then each phase once per `clothSubstepCount(world)`
- * with `setClothSubstep(world, s)` before each round, then `clothEvents`, or simply calls
+ * with `setClothSubstep(world, s)` before each round, then `clothGuard` and `clothEvents`, or simply calls
  * `clothFixedStep`.
  */
 export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide, clothTear, clothWriteback] as const
@@ -41,6 +46,7 @@ export function clothFixedStep<W extends object>(world: W): W {
     clothTear(world)
     clothWriteback(world)
   }
+  clothGuard(world)
   state.stats.substeps += state.substepCount
   clothEvents(world)
   return world
@@ -53,5 +59,6 @@ export function clothSubstepCount(world: object): number {
 
 /** Selects the global substep the per-substep phases work on next. */
 export function setClothSubstep(world: object, s: number): void {
-  getClothWorld(world).substep = s
+  const state = getClothWorld(world)
+  state.substep = checkInteger('s', s, 0, Math.max(0, state.substepCount - 1))
 }

@@ -16,5 +16,6 @@ describe('allocation', () => {
     const during = lines.slice(lines.indexOf('START') + 1, lines.indexOf('END'))
     expect(lines).toContain('END')
     expect(during.filter((l) => /Scavenge|Mark-Compact|Mark-sweep/.test(l))).toEqual([])
+    expect(lines).toContain('RESETS 2') // the guard checked every step and reset the cape twice before
   })
 })

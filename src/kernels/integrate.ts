@@ -45,9 +45,9 @@ export function predictPositions(
 
 /**
  * Reads velocities back from the motion of the substep: v = (x − prev)/h. A speed above the
- * limit (`params[P_MAX_SPEED]`, m/s) is scaled down to it and the particle is moved back to where
- * that speed takes it (x = prev + v·h): a last line of defence against runaway energy that also
- * bounds how far a diverging solve can throw a particle, so positions stay finite.
+ * limit (`params[P_MAX_SPEED]`, m/s) is scaled down to it: a last line of defence against runaway
+ * energy. Positions are left where the solve put them, so a cloth can follow a pin that jumps
+ * (a runaway position is the explosion guard's job, once per step).
  */
 export function updateVelocities(
   pos: Float64Array,
@@ -56,7 +56,7 @@ export function updateVelocities(
   params: Float64Array,
   count: number,
 ): void {
-  const invH = params[P_INV_H], h = params[P_H]
+  const invH = params[P_INV_H]
   const maxSpeed = params[P_MAX_SPEED]
   const max2 = maxSpeed * maxSpeed
   for (let i = 0; i < count; i++) {
@@ -70,9 +70,6 @@ export function updateVelocities(
       vx *= f
       vy *= f
       vz *= f
-      pos[j] = prev[j] + vx * h
-      pos[j + 1] = prev[j + 1] + vy * h
-      pos[j + 2] = prev[j + 2] + vz * h
     }
     vel[j] = vx
     vel[j + 1] = vy

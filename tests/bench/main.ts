@@ -2,6 +2,7 @@ import { accuracy } from './accuracy'
 import { allocation, sheets, throughput } from './core'
 import { windCost } from './wind'
 import { tearCost } from './tearing'
+import { guardCost, snapshotCost } from './stability'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -19,6 +20,13 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
   accuracy: { byDefault: false, run: () => accuracy() },
   wind: { byDefault: true, run: () => windCost() },
   tearing: { byDefault: true, run: () => tearCost() },
+  stability: {
+    byDefault: true,
+    run: () => {
+      guardCost()
+      snapshotCost()
+    },
+  },
 }
 
 const wanted = process.argv.slice(2)

@@ -1,0 +1,100 @@
+/**
+ * Health check of one cloth after a step (the explosion guard's per-step test), in one pass over
+ * positions and velocities. Thresholds come from a per-cloth parameter block (slots below) so the
+ * call passes no doubles and allocates nothing.
+ *
+ * - finite: every position and velocity is a finite number;
+ * - bounds: every particle lies within `G_REACH` metres of the box around the pinned particles
+ *   (inverse mass 0); a cloth without pins may span at most `G_REACH` along each axis;
+ * - speed: the rms particle speed relative to the cloth's mean velocity is at most √`G_SPEED2`.
+ *   (Relative: a cape on a fast vehicle moves fast as a whole; an exploding one moves apart.)
+ */
+
+/** 1 to test finiteness, 0 to skip. */
+export const G_FINITE = 0
+/** Allowed distance beyond the pinned particles' box (or extent of an unpinned cloth), m; 0 = off. */
+export const G_REACH = 1
+/** Square of the allowed rms relative speed, m²/s²; 0 = off. */
+export const G_SPEED2 = 2
+/** Measured by the last check: rms relative speed², m²/s² (for tests and diagnostics). */
+export const G_OUT_SPEED2 = 3
+/** Measured by the last check: how far the cloth reached beyond the allowed region, m (≤ 0: inside). */
+export const G_OUT_EXCESS = 4
+export const GUARD_PARAM_COUNT = 5
+
+/** Check results. */
+export const HEALTH_OK = 0
+export const HEALTH_NONFINITE = 1
+export const HEALTH_BOUNDS = 2
+export const HEALTH_SPEED = 3
+
+export function checkClothHealth(
+  pos: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  g: Float64Array,
+): number {
+  // every parameter is read on every call (a typed-array read first met in optimized code on a
+  // rare path deoptimizes it)
+  const finite = g[G_FINITE], reach = g[G_REACH], speed2 = g[G_SPEED2]
+  let bad = 0
+  let minX = Infinity, minY = Infinity, minZ = Infinity
+  let maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity
+  let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity
+  let pMaxX = -Infinity, pMaxY = -Infinity, pMaxZ = -Infinity
+  let sx = 0, sy = 0, sz = 0, s2 = 0
+  for (let i = 0; i < count; i++) {
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    const vx = vel[j], vy = vel[j + 1], vz = vel[j + 2]
+    // NaN or ±Infinity anywhere makes the sum × 0 NaN; finite values add exactly 0
+    bad += (x + y + z + vx + vy + vz) * 0
+    if (x < minX) minX = x
+    if (x > maxX) maxX = x
+    if (y < minY) minY = y
+    if (y > maxY) maxY = y
+    if (z < minZ) minZ = z
+    if (z > maxZ) maxZ = z
+    if (invMass[i] === 0) {
+      if (x < pMinX) pMinX = x
+      if (x > pMaxX) pMaxX = x
+      if (y < pMinY) pMinY = y
+      if (y > pMaxY) pMaxY = y
+      if (z < pMinZ) pMinZ = z
+      if (z > pMaxZ) pMaxZ = z
+    }
+    sx += vx
+    sy += vy
+    sz += vz
+    s2 += vx * vx + vy * vy + vz * vz
+  }
+  if (count === 0) return HEALTH_OK
+  const nonFinite = bad !== 0
+  const testFinite = finite !== 0
+  if (nonFinite && testFinite) return HEALTH_NONFINITE
+  // every subtraction runs on every call (no arithmetic behind a rarely taken branch: optimized
+  // code that meets an operation it never saw run deoptimizes, and deoptimizing allocates)
+  const ex = maxX - minX, ey = maxY - minY, ez = maxZ - minZ
+  const lx = pMinX - minX, hx = maxX - pMaxX, ly = pMinY - minY, hy = maxY - pMaxY, lz = pMinZ - minZ, hz = maxZ - pMaxZ
+  const pinned = pMinX <= pMaxX
+  const ax = pinned ? lx : ex, bx = pinned ? hx : 0
+  const ay = pinned ? ly : ey, by = pinned ? hy : 0
+  const az = pinned ? lz : ez, bz = pinned ? hz : 0
+  // pinned: how far the cloth's box sticks out of the pinned particles' box; unpinned: its extent
+  let excess = ax
+  if (bx > excess) excess = bx
+  if (ay > excess) excess = ay
+  if (by > excess) excess = by
+  if (az > excess) excess = az
+  if (bz > excess) excess = bz
+  excess -= reach
+  g[G_OUT_EXCESS] = excess
+  const inv = 1 / count
+  const mx = sx * inv, my = sy * inv, mz = sz * inv
+  const rel2 = s2 * inv - (mx * mx + my * my + mz * mz)
+  g[G_OUT_SPEED2] = rel2
+  if (reach > 0 && excess > 0) return HEALTH_BOUNDS
+  if (speed2 > 0 && rel2 > speed2) return HEALTH_SPEED
+  return HEALTH_OK
+}

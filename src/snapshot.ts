@@ -1,0 +1,337 @@
+/**
+ * Snapshots of a cloth's simulation state: everything the next step reads, so that restoring a
+ * snapshot and stepping again reproduces the original run byte for byte (rollback netcode,
+ * replays, "undo" in an editor, deterministic tests).
+ *
+ * A snapshot holds: particle positions, previous positions, velocities and inverse masses; the
+ * pins (particle, target, offset, blend progress) in order; the motion history of the pins' target
+ * entities (their frame samples and step poses, as interpolated between frames); the cloth's
+ * quality and tether settings and its current tethers; its explosion-guard state (last good pose,
+ * counters); and the world's step accumulator and frame timing. XPBD multipliers are not saved:
+ * they start from zero every substep.
+ *
+ * Not in a snapshot: the Transform of target entities (the host owns them: restore those too, or
+ * the next frame sample sees where they are now) and the rest data (the mesh), which must match.
+ */
+import { entityExists, hasComponent, removeEntity } from 'bitecs'
+import { ClothError } from './errors'
+import { applyGuardSettings, type GuardSettings } from './guard'
+import { K_SINCE_SAMPLE, K_STEP_FRACTION } from './kinematics'
+import { getCloth, pinParticle } from './pins'
+import { getClothWorld, type ClothState, type ClothWorldState } from './state'
+import type { TetherMode, TetherSet } from './tethers'
+
+/** A saved cloth state (see `saveClothState`). Plain data: structured-clone it, keep it, reuse it. */
+export interface ClothSnapshot {
+  readonly format: 'bitecs-cloth-state/1'
+  /** Shape of the cloth it came from: particles, distance constraints, hinges, triangles. */
+  readonly shape: Int32Array
+  pos: Float64Array
+  prev: Float64Array
+  vel: Float64Array
+  invMass: Float64Array
+  pinCount: Uint16Array
+  /** Per pin, in order: entity, particle, target (0 = world point). */
+  pins: Int32Array
+  /** Per pin: ox, oy, oz, blendFrom xyz, blendLeft, blendTime. */
+  pinData: Float64Array
+  /** Distinct target entities of the pins. */
+  targets: Int32Array
+  /** Per target: sampleFrom, sampleTo, stepFrom, stepTo (7 each), jump (10), jumped, forceJump. */
+  targetData: Float64Array
+  /** substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle, tethersDirty, skipTeleport. */
+  settings: Float64Array
+  tetherMode: TetherMode
+  /** The cloth's tethers (immutable arrays, shared rather than copied). */
+  tethers: TetherSet
+  /** World: accumulator, time since the last frame sample, step fraction, newFrame, framed. */
+  world: Float64Array
+  /** Guard: last good pose, and safeCount, sinceSafe, failStreak. */
+  guardSafe: Float64Array
+  guardCounters: Float64Array
+  guardSettings: GuardSettings
+}
+
+const PIN_DATA = 8
+const TARGET_DATA = 7 * 4 + 10 + 2
+
+/**
+ * Saves everything the next steps of `cloth` depend on. With `into` (an earlier snapshot of the
+ * same cloth), its arrays are reused when the sizes still fit, so saving every frame allocates
+ * nothing.
+ *
+ * @example
+ * const saved = saveClothState(world, cape)
+ * // ... step, the player rolls back ...
+ * restoreClothState(world, cape, saved)
+ */
+export function saveClothState(world: object, cloth: number, into?: ClothSnapshot): ClothSnapshot {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  if (into !== undefined && (typeof into !== 'object' || into === null || into.format !== 'bitecs-cloth-state/1')) {
+    throw new ClothError('into', into, 'must be a snapshot returned by saveClothState')
+  }
+  const n = c.count
+  const P = state.components.Pin
+  const k = state.kinematics
+  const np = c.pins.length
+  // distinct targets, in pin order
+  let nt = 0
+  for (let q = 0; q < np; q++) {
+    const t = P.target[c.pins[q]]
+    if (t !== 0 && firstTargetIndex(P, c.pins, q, t)) nt++
+  }
+  const s: ClothSnapshot = into ?? ({ format: 'bitecs-cloth-state/1' } as ClothSnapshot)
+  const w = s as { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
+  w.shape = fit32(s.shape, 4)
+  s.shape[0] = n
+  s.shape[1] = c.topology.distCount
+  s.shape[2] = c.topology.hingeCount
+  s.shape[3] = c.topology.triangleCount
+  w.pos = copyInto(s.pos, c.pos, 3 * n)
+  w.prev = copyInto(s.prev, c.prev, 3 * n)
+  w.vel = copyInto(s.vel, c.vel, 3 * n)
+  w.invMass = copyInto(s.invMass, c.invMass, n)
+  w.pinCount = s.pinCount && s.pinCount.length === n ? s.pinCount : new Uint16Array(n)
+  for (let i = 0; i < n; i++) s.pinCount[i] = c.pinCount[i]
+  w.pins = fit32(s.pins, 3 * np)
+  w.pinData = fit64(s.pinData, PIN_DATA * np)
+  w.targets = fit32(s.targets, nt)
+  w.targetData = fit64(s.targetData, TARGET_DATA * nt)
+  let t = 0
+  for (let q = 0; q < np; q++) {
+    const pin = c.pins[q]
+    const target = P.target[pin]
+    s.pins[3 * q] = pin
+    s.pins[3 * q + 1] = P.particle[pin]
+    s.pins[3 * q + 2] = target
+    const d = PIN_DATA * q
+    s.pinData[d] = P.ox[pin]
+    s.pinData[d + 1] = P.oy[pin]
+    s.pinData[d + 2] = P.oz[pin]
+    s.pinData[d + 3] = P.blendFrom[3 * pin]
+    s.pinData[d + 4] = P.blendFrom[3 * pin + 1]
+    s.pinData[d + 5] = P.blendFrom[3 * pin + 2]
+    s.pinData[d + 6] = P.blendLeft[pin]
+    s.pinData[d + 7] = P.blendTime[pin]
+    if (target === 0 || !firstTargetIndex(P, c.pins, q, target)) continue
+    s.targets[t] = target
+    const slot = k.slotOf[target]
+    const o = 7 * slot, e = TARGET_DATA * t
+    for (let j = 0; j < 7; j++) {
+      s.targetData[e + j] = k.sampleFrom[o + j]
+      s.targetData[e + 7 + j] = k.sampleTo[o + j]
+      s.targetData[e + 14 + j] = k.stepFrom[o + j]
+      s.targetData[e + 21 + j] = k.stepTo[o + j]
+    }
+    for (let j = 0; j < 10; j++) s.targetData[e + 28 + j] = k.jump[10 * slot + j]
+    s.targetData[e + 38] = k.jumped[slot]
+    s.targetData[e + 39] = k.forceJump[slot]
+    t++
+  }
+  w.settings = fit64(s.settings, 10)
+  s.settings[0] = c.substeps
+  s.settings[1] = c.iterations
+  s.settings[2] = c.h
+  s.settings[3] = c.damping
+  s.settings[4] = c.stretchDamping
+  s.settings[5] = c.useTethers ? 1 : 0
+  s.settings[6] = c.tetherSlack
+  s.settings[7] = c.tethersPerParticle
+  s.settings[8] = c.tethersDirty ? 1 : 0
+  s.settings[9] = c.skipTeleport ? 1 : 0
+  w.tetherMode = c.tetherMode
+  w.tethers = c.tethers
+  w.world = fit64(s.world, 5)
+  s.world[0] = state.accumulator
+  s.world[1] = k.time[K_SINCE_SAMPLE]
+  s.world[2] = k.time[K_STEP_FRACTION]
+  s.world[3] = k.newFrame ? 1 : 0
+  s.world[4] = k.framed ? 1 : 0
+  const g = c.guard
+  w.guardSafe = copyInto(s.guardSafe, g.safe, 3 * g.safeCount)
+  w.guardCounters = fit64(s.guardCounters, 3)
+  s.guardCounters[0] = g.safeCount
+  s.guardCounters[1] = g.sinceSafe
+  s.guardCounters[2] = g.failStreak
+  w.guardSettings = s.guardSettings ?? { ...g.settings }
+  copySettings(g.settings, s.guardSettings)
+  return s
+}
+
+/**
+ * Puts `cloth` back into a saved state, so that stepping on reproduces the run that followed the
+ * save, byte for byte (given the same inputs: the host must also restore its Transforms). The
+ * snapshot may come from this cloth or from another cloth built the same way (same mesh and
+ * options), also in another world whose pin target entities have the same ids.
+ *
+ * Pins are made to match the snapshot: pins added since are removed, pins removed since are
+ * created again (as new entities; `getPins` lists them). The motion history of the pin targets and
+ * the world's step accumulator and frame timing are part of the snapshot, so they are rewound for
+ * the whole world: when rolling back, restore every cloth from snapshots taken at the same time.
+ */
+export function restoreClothState(world: object, cloth: number, snapshot: ClothSnapshot): void {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  checkSnapshot(snapshot, 'state')
+  const s = snapshot
+  const n = s.shape[0]
+  if (n !== c.count || s.shape[1] !== c.topology.distCount || s.shape[2] !== c.topology.hingeCount || s.shape[3] !== c.topology.triangleCount) {
+    throw new ClothError('state', snapshot, `was saved from a cloth of a different mesh (${n} particles, this one has ${c.count})`)
+  }
+  const np = s.pins.length / 3
+  for (let q = 0; q < np; q++) {
+    const target = s.pins[3 * q + 2]
+    if (target !== 0 && (!entityExists(world as never, target) || !hasComponent(world as never, target, state.transforms.component))) {
+      throw new ClothError('state', snapshot, `pins entity ${target}, which no longer exists or has no Transform`)
+    }
+    if (!(s.pins[3 * q + 1] >= 0 && s.pins[3 * q + 1] < n)) throw new ClothError('state', snapshot, 'holds a pin on a particle out of range')
+  }
+  restorePins(world, state, c, s)
+
+  c.pos.set(s.pos)
+  c.prev.set(s.prev)
+  c.vel.set(s.vel)
+  c.invMass.set(s.invMass)
+  c.pinCount.set(s.pinCount)
+  // integers back as integers (| 0): a float64 read stored into a small-integer field would turn
+  // the field into a boxed number for every cloth
+  c.substeps = s.settings[0] | 0
+  c.iterations = s.settings[1] | 0
+  c.h = s.settings[2]
+  c.damping = s.settings[3]
+  c.stretchDamping = s.settings[4]
+  c.useTethers = s.settings[5] === 1
+  c.tetherSlack = s.settings[6]
+  c.tethersPerParticle = s.settings[7] | 0
+  c.tethersDirty = s.settings[8] === 1
+  c.skipTeleport = s.settings[9] === 1
+  c.tetherMode = s.tetherMode
+  c.tethers = s.tethers
+
+  const k = state.kinematics
+  for (let t = 0; t < s.targets.length; t++) {
+    const slot = k.slotOf[s.targets[t]]
+    const o = 7 * slot, e = TARGET_DATA * t
+    for (let j = 0; j < 7; j++) {
+      k.sampleFrom[o + j] = s.targetData[e + j]
+      k.sampleTo[o + j] = s.targetData[e + 7 + j]
+      k.stepFrom[o + j] = s.targetData[e + 14 + j]
+      k.stepTo[o + j] = s.targetData[e + 21 + j]
+    }
+    for (let j = 0; j < 10; j++) k.jump[10 * slot + j] = s.targetData[e + 28 + j]
+    k.jumped[slot] = s.targetData[e + 38]
+    k.forceJump[slot] = s.targetData[e + 39]
+  }
+  state.accumulator = s.world[0]
+  k.time[K_SINCE_SAMPLE] = s.world[1]
+  k.time[K_STEP_FRACTION] = s.world[2]
+  k.newFrame = s.world[3] === 1
+  k.framed = s.world[4] === 1
+
+  const g = c.guard
+  if (g.safe.length < s.guardSafe.length) g.safe = new Float64Array(c.pos.length)
+  g.safe.set(s.guardSafe)
+  g.safeCount = s.guardCounters[0] | 0
+  g.sinceSafe = s.guardCounters[1] | 0
+  g.failStreak = s.guardCounters[2] | 0
+  copySettings(s.guardSettings, g.settings)
+  applyGuardSettings(g)
+  c.version++
+}
+
+/** Makes the cloth's pins those of the snapshot (same particles, targets, order) and restores their data. */
+function restorePins(world: object, state: ClothWorldState, c: ClothState, s: ClothSnapshot): void {
+  const P = state.components.Pin
+  const np = s.pins.length / 3
+  let same = c.pins.length === np
+  for (let q = 0; same && q < np; q++) {
+    const pin = c.pins[q]
+    same = pin === s.pins[3 * q] && P.particle[pin] === s.pins[3 * q + 1] && P.target[pin] === s.pins[3 * q + 2]
+  }
+  if (!same) {
+    for (let q = c.pins.length - 1; q >= 0; q--) {
+      const pin = c.pins[q]
+      if (entityExists(world as never, pin)) removeEntity(world as never, pin)
+    }
+    for (let q = 0; q < np; q++) {
+      const target = s.pins[3 * q + 2]
+      const d = PIN_DATA * q
+      pinParticle(world, c.eid, s.pins[3 * q + 1], target === 0 ? null : target, [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]], { blendTime: 0 })
+    }
+  }
+  for (let q = 0; q < np; q++) {
+    const pin = c.pins[q]
+    const d = PIN_DATA * q
+    P.ox[pin] = s.pinData[d]
+    P.oy[pin] = s.pinData[d + 1]
+    P.oz[pin] = s.pinData[d + 2]
+    P.blendFrom[3 * pin] = s.pinData[d + 3]
+    P.blendFrom[3 * pin + 1] = s.pinData[d + 4]
+    P.blendFrom[3 * pin + 2] = s.pinData[d + 5]
+    P.blendLeft[pin] = s.pinData[d + 6]
+    P.blendTime[pin] = s.pinData[d + 7]
+  }
+}
+
+function copySettings(from: GuardSettings, to: GuardSettings): void {
+  to.enabled = from.enabled
+  to.finite = from.finite
+  to.bounds = from.bounds
+  to.speed = from.speed
+  to.snapshotInterval = from.snapshotInterval
+}
+
+function checkSnapshot(s: unknown, arg: string): void {
+  const x = s as ClothSnapshot
+  if (typeof s !== 'object' || s === null || x.format !== 'bitecs-cloth-state/1' || !(x.shape instanceof Int32Array) || !(x.pos instanceof Float64Array)) {
+    throw new ClothError(arg, s, 'must be a snapshot returned by saveClothState')
+  }
+  const n = x.shape[0]
+  if (
+    x.pos.length !== 3 * n || x.prev.length !== 3 * n || x.vel.length !== 3 * n || x.invMass.length !== n ||
+    x.pinCount.length !== n || x.pins.length % 3 !== 0 || x.pinData.length !== (PIN_DATA * x.pins.length) / 3 ||
+    x.targetData.length !== TARGET_DATA * x.targets.length || x.settings.length !== 10 || x.world.length !== 5
+  ) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
+  }
+  if (
+    !allFinite(x.pos) || !allFinite(x.prev) || !allFinite(x.vel) || !allFinite(x.invMass) || !allFinite(x.pinData) ||
+    !allFinite(x.targetData) || !allFinite(x.settings) || !allFinite(x.world) || !(x.guardSafe instanceof Float64Array) || !allFinite(x.guardSafe)
+  ) {
+    throw new ClothError(arg, s, 'holds a non-finite number')
+  }
+  const g = x.guardSettings
+  if (
+    typeof g !== 'object' || g === null || typeof g.enabled !== 'boolean' || typeof g.finite !== 'boolean' ||
+    !(g.bounds === false || (g.bounds > 0 && g.bounds < Infinity)) || !(g.speed === false || (g.speed > 0 && g.speed < Infinity)) ||
+    !Number.isInteger(g.snapshotInterval) || g.snapshotInterval < 1
+  ) {
+    throw new ClothError(`${arg}.guardSettings`, g, 'must be guard settings as saved by saveClothState')
+  }
+}
+
+function allFinite(a: ArrayLike<number>): boolean {
+  for (let i = 0; i < a.length; i++) if (!Number.isFinite(a[i])) return false
+  return true
+}
+
+function firstTargetIndex(P: { target: Uint32Array }, pins: number[], q: number, t: number): boolean {
+  for (let r = 0; r < q; r++) if (P.target[pins[r]] === t) return false
+  return true
+}
+
+function copyInto(dst: Float64Array | undefined, src: Float64Array, len: number): Float64Array {
+  const out = dst && dst.length === len ? dst : new Float64Array(len)
+  if (src.length === len) out.set(src) // a block copy (the usual case: the arrays hold no spare room)
+  else for (let i = 0; i < len; i++) out[i] = src[i]
+  return out
+}
+
+function fit64(a: Float64Array | undefined, len: number): Float64Array {
+  return a && a.length === len ? a : new Float64Array(len)
+}
+
+function fit32(a: Int32Array | undefined, len: number): Int32Array {
+  return a && a.length === len ? a : new Int32Array(len)
+}

@@ -1,0 +1,26 @@
+import { deliverResets, guardActive, keepSafePose, resetCloth } from '../src/guard'
+import { HEALTH_OK, checkClothHealth } from '../src/kernels/guard'
+import { getClothWorld } from '../src/state'
+
+/**
+ * Guard phase, once per fixed step after the last substep: checks each cloth's health (finite,
+ * within reach of its pins, no runaway speed; one pass over its particles) and puts a failing
+ * cloth back into a safe pose with its velocities cleared, raising a reset event. Good steps copy
+ * the pose as the next safe one. Listeners (`onClothReset`) are called at the end, after every
+ * cloth was checked. A cloth whose guard is off costs nothing here.
+ */
+export function clothGuard<W extends object>(world: W): W {
+  const state = getClothWorld(world)
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    const g = c.guard
+    if (!guardActive(g)) continue
+    state.stats.guardChecks++
+    const health = checkClothHealth(c.pos, c.vel, c.invMass, c.count, g.params)
+    if (health === HEALTH_OK) keepSafePose(c)
+    else resetCloth(state, c, health)
+  }
+  deliverResets(state)
+  return world
+}

@@ -1,0 +1,351 @@
+// The explosion guard: a broken cloth is caught after the step it broke in, put back into a safe
+// pose and reported; each of its three tests is needed (turn it off and the case goes NaN or flies
+// apart).
+import { addEntity, createWorld } from 'bitecs'
+import { glMatrix, quat, vec3 } from 'gl-matrix'
+import { describe, expect, it } from 'vitest'
+import {
+  ClothError,
+  checkClothHealth,
+  createCloth,
+  defineMaterial,
+  drainClothResets,
+  getClothGuard,
+  getClothMesh,
+  getClothState,
+  getClothStats,
+  installClothPlugin,
+  onClothReset,
+  pinParticle,
+  pinRow,
+  setClothGuard,
+  setTransform,
+  stepCloth,
+  type ClothGuardOptions,
+  type ClothPluginOptions,
+  type ClothResetEvent,
+} from '../../src/index'
+import { hashBytes } from '../helpers'
+import { geodesicDiameter, hangingSheet, inspect } from './harness'
+import { heroWithCape } from './scenes'
+
+glMatrix.setMatrixArrayType(Array)
+
+/** A world with one 1 m sheet hanging from its top row. */
+function sheetWorld(options: ClothPluginOptions = {}, cloth: Parameters<typeof hangingSheet>[1] = {}) {
+  const world = installClothPlugin(createWorld(), options)
+  const sheet = hangingSheet(world, cloth)
+  for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+  return { world, sheet, c: getClothState(world, sheet) }
+}
+
+/** Rms particle speed relative to the cloth's mean velocity, m/s (what the guard measures). */
+function relativeRmsSpeed(c: { vel: Float64Array; count: number }): number {
+  let sx = 0, sy = 0, sz = 0, s2 = 0
+  for (let i = 0; i < c.count; i++) {
+    sx += c.vel[3 * i]
+    sy += c.vel[3 * i + 1]
+    sz += c.vel[3 * i + 2]
+    s2 += c.vel[3 * i] ** 2 + c.vel[3 * i + 1] ** 2 + c.vel[3 * i + 2] ** 2
+  }
+  const n = c.count
+  return Math.sqrt(Math.max(0, s2 / n - (sx * sx + sy * sy + sz * sz) / (n * n)))
+}
+
+/** True when the render mesh holds a non-finite number. */
+function meshHasNaN(world: object, cloth: number): boolean {
+  const m = getClothMesh(world, cloth)
+  return !m.positions.every(Number.isFinite) || !m.normals.every(Number.isFinite)
+}
+
+/**
+ * Soft in-plane, rigid dihedral bending, nothing holding it to its pins but the edges: the hinges'
+ * corrections stretch the edges a little each substep and nothing pulls them back, so the sheet
+ * gains energy until the speed limit (250 m/s) is all that holds it (a real instability of this
+ * material, not an injected fault; see the README).
+ */
+const jelly = defineMaterial({ name: 'jelly', stretchCompliance: 300, shearCompliance: 1e6, bendCompliance: 0, damping: 0, stretchDamping: 0 })
+const jellySheet = { material: jelly, bending: 'dihedral' as const, tethers: false }
+
+describe('health check (one pass over the particles)', () => {
+  it('passes a hanging sheet and flags NaN, a particle out of reach and runaway speed', () => {
+    const { world, sheet, c } = sheetWorld()
+    const g = Float64Array.from([1, 2, 100 * 100, 0, 0]) // finite on, 2 m of reach, 100 m/s
+    expect(checkClothHealth(c.pos, c.vel, c.invMass, c.count, g)).toBe(0)
+    const pos = Float64Array.from(c.pos), vel = Float64Array.from(c.vel)
+    pos[3 * 40 + 1] = NaN
+    expect(checkClothHealth(pos, vel, c.invMass, c.count, g)).toBe(1)
+    pos[3 * 40 + 1] = Infinity
+    expect(checkClothHealth(pos, vel, c.invMass, c.count, g)).toBe(1)
+    pos[3 * 40 + 1] = 2 - 1.99 // the pinned row is at y = 2: 1.99 m below it is within reach...
+    expect(checkClothHealth(pos, vel, c.invMass, c.count, g)).toBe(0)
+    pos[3 * 40 + 1] = 2 - 2.01 // ...2.01 m is not
+    expect(checkClothHealth(pos, vel, c.invMass, c.count, g)).toBe(2)
+    pos.set(c.pos)
+    for (let i = 0; i < c.count; i++) vel[3 * i] = i % 2 ? 150 : -150 // apart, not along
+    expect(checkClothHealth(pos, vel, c.invMass, c.count, g)).toBe(3)
+    vel.fill(0)
+    for (let i = 0; i < c.count; i++) vel[3 * i] = 200 // the whole cloth fast: a vehicle, fine
+    expect(checkClothHealth(pos, vel, c.invMass, c.count, g)).toBe(0)
+    expect(getClothStats(world).guardChecks).toBe(30)
+    expect(getClothGuard(world, sheet).size).toBeCloseTo(geodesicDiameter(world, sheet), 9)
+  })
+})
+
+describe('each guard is needed', () => {
+  it('finite: a NaN written into one particle is caught; without the test it spreads to the mesh', () => {
+    for (const finite of [true, false]) {
+      const { world, sheet, c } = sheetWorld({ guard: { finite } })
+      c.vel[3 * 27 + 2] = NaN // a host system's bug (e.g. a drag toward a degenerate ray)
+      stepCloth(world, 1 / 60)
+      if (finite) {
+        expect(meshHasNaN(world, sheet)).toBe(false)
+        expect(c.pos.every(Number.isFinite) && c.vel.every(Number.isFinite)).toBe(true)
+        const events = drainClothResets(world)
+        expect(events).toEqual([{ cloth: sheet, reason: 'nonfinite', step: 31, particle: events[0].particle, restoredTo: 'snapshot' }])
+        expect(events[0].particle).toBeGreaterThanOrEqual(0) // the first non-finite one (it spread within the step)
+      } else {
+        expect(meshHasNaN(world, sheet)).toBe(true)
+        for (let f = 0; f < 10; f++) stepCloth(world, 1 / 60)
+        let nan = 0
+        for (let i = 0; i < c.count; i++) if (!Number.isFinite(c.pos[3 * i])) nan++
+        expect(nan).toBeGreaterThan(c.count / 2) // it has spread through the constraints
+      }
+    }
+  })
+
+  it('bounds: a particle thrown 1 km away is caught; without the test the cloth whips metres out of bounds', () => {
+    // skip-one bending: line bending pulls the particle straight back by itself
+    for (const bounds of [2, false] as const) {
+      const { world, sheet, c } = sheetWorld({ guard: { bounds } }, { tethers: false, bending: 'distance' })
+      const allowed = 1.25 * geodesicDiameter(world, sheet) + 0.05
+      c.pos[3 * 60] += 1000 // a host system's bug moves one particle
+      let worst = -Infinity
+      for (let f = 0; f < 120; f++) {
+        stepCloth(world, 1 / 60)
+        worst = Math.max(worst, inspect(world, sheet, allowed).excess)
+      }
+      if (bounds) {
+        expect(worst).toBeLessThan(0)
+        const events = drainClothResets(world)
+        expect(events.map((e) => e.reason)).toEqual(['bounds'])
+        expect([59, 60, 61, 62, 63]).toContain(events[0].particle) // the farthest out: 60 or a neighbour it dragged
+      } else {
+        expect(worst).toBeGreaterThan(5) // it snaps back at the speed limit, metres out of bounds on the way
+        expect(getClothStats(world).guardResets).toBe(0) // the speed test alone does not see it
+      }
+    }
+  })
+
+  it('speed: with bounds off (say, a cloth allowed to fall away from its pins), speed alone catches a runaway', () => {
+    for (const speed of [undefined, false] as const) {
+      const { world, sheet, c } = sheetWorld({ guard: { bounds: false, ...(speed === false ? { speed } : {}) } }, jellySheet)
+      let fastFrames = 0, extent = 0
+      for (let f = 0; f < 600; f++) {
+        stepCloth(world, 1 / 60)
+        if (relativeRmsSpeed(c) > 130) fastFrames++
+        for (let i = 0; i < c.count; i++) extent = Math.max(extent, Math.hypot(c.pos[3 * i], c.pos[3 * i + 1] - 2, c.pos[3 * i + 2]))
+      }
+      const reasons = new Set(drainClothResets(world).map((e) => e.reason))
+      if (speed === undefined) {
+        expect(fastFrames).toBe(0) // never above the 125 m/s threshold after a step
+        expect(extent).toBeLessThan(50)
+        expect([...reasons]).toEqual(['speed'])
+      } else {
+        expect(fastFrames).toBeGreaterThan(200) // racing at the speed limit...
+        expect(extent).toBeGreaterThan(100) // ...hundreds of metres from its pins
+        expect(reasons.size).toBe(0)
+      }
+      expect(inspect(world, sheet, Infinity).finite).toBe(true)
+    }
+  })
+
+  it('all together: an unstable material (soft stretch, rigid hinges) never leaves its bounds; unguarded it flies to kilometres', () => {
+    for (const guard of [true, false]) {
+      const { world, sheet } = sheetWorld({ guard }, jellySheet)
+      const allowed = 2 * geodesicDiameter(world, sheet)
+      let worst = -Infinity, finite = true
+      for (let f = 0; f < 600; f++) {
+        stepCloth(world, 1 / 60)
+        const h = inspect(world, sheet, allowed)
+        worst = Math.max(worst, h.excess)
+        finite &&= h.finite
+      }
+      expect(finite).toBe(true) // the speed limit alone keeps it finite...
+      if (guard) {
+        expect(worst).toBeLessThanOrEqual(1e-9) // ...the guard keeps it within 2 sizes of its pins
+        expect(getClothStats(world).guardResets).toBeGreaterThan(0)
+      } else {
+        expect(worst).toBeGreaterThan(100)
+      }
+    }
+  })
+})
+
+describe('restore', () => {
+  it('puts the last good pose back, moved with the pins, velocities cleared, pins exactly on their targets', () => {
+    const world = installClothPlugin(createWorld())
+    const { cloths: [cape], hero } = heroWithCape(world)
+    for (let f = 0; f < 60; f++) stepCloth(world, 1 / 60)
+    const c = getClothState(world, cape)
+    const good = Float64Array.from(c.pos)
+    setTransform(world, hero, [0.05, 1.6, 0]) // the character moves 5 cm in the failing step
+    c.vel[3 * 20] = NaN
+    stepCloth(world, 1 / 60)
+    const [e] = drainClothResets(world)
+    expect(e.restoredTo).toBe('snapshot')
+    expect(c.vel.every((v) => v === 0)).toBe(true)
+    for (let i = 0; i < c.count; i++) {
+      const expected = [good[3 * i] + 0.05, good[3 * i + 1], good[3 * i + 2]]
+      for (let k = 0; k < 3; k++) expect(c.pos[3 * i + k]).toBeCloseTo(expected[k], 9)
+      expect(c.prev[3 * i]).toBe(c.pos[3 * i])
+    }
+    for (let i = 0; i < 6; i++) expect(c.pos[3 * i]).toBe(good[3 * i] + 0.05) // the pinned row, exactly
+  })
+
+  it('a fault that persists falls back to the rest shape, placed (rotation included) on the pins', () => {
+    const world = installClothPlugin(createWorld())
+    const { cloths: [cape], hero } = heroWithCape(world)
+    const c = getClothState(world, cape)
+    const initial = Float64Array.from(c.pos)
+    const q = quat.setAxisAngle(quat.create(), [0, 1, 0], Math.PI / 2)
+    const t = vec3.fromValues(3, 0.5, -2)
+    setTransform(world, hero, [3, 2.1, -2], q) // the hero turned a quarter and moved
+    for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+    const events: string[] = []
+    const off = onClothReset(world, (ev) => events.push(ev.restoredTo))
+    for (let f = 0; f < 3; f++) {
+      c.pos[3 * 30] = NaN // broken every step
+      stepCloth(world, 1 / 60)
+    }
+    off()
+    expect(events).toEqual(['snapshot', 'rest', 'rest'])
+    // the rest shape, rotated about the hero like the pins: x' = q·(x − hero₀) + hero₁
+    for (let i = 0; i < c.count; i++) {
+      const local = vec3.fromValues(initial[3 * i], initial[3 * i + 1] - 1.6, initial[3 * i + 2])
+      const want = vec3.add(vec3.create(), vec3.transformQuat(vec3.create(), local, q), [t[0], 1.6 + t[1], t[2]])
+      for (let k = 0; k < 3; k++) expect(c.pos[3 * i + k]).toBeCloseTo(want[k], 9)
+    }
+  })
+
+  it('the rigid fit recovers any rotation from three pins (Horn), also a half turn', () => {
+    for (const [axis, angle] of [[[0.3, -0.8, 0.5], 2.1], [[1, 0, 0], Math.PI], [[0.2, 0.1, 1], -0.7]] as const) {
+      const world = installClothPlugin(createWorld())
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 2, 0])
+      const cloth = createCloth(world, { width: 1, height: 1, resolution: 6, position: [0, 2, 0] })
+      const c = getClothState(world, cloth)
+      const initial = Float64Array.from(c.pos)
+      for (const i of [0, 5, 35]) pinParticle(world, cloth, i, hero)
+      const q = quat.setAxisAngle(quat.create(), vec3.normalize(vec3.create(), axis as unknown as vec3), angle)
+      setTransform(world, hero, [1, 3, -2], q)
+      for (let f = 0; f < 2; f++) {
+        c.pos[3 * 20] = NaN // twice in a row: the second reset places the rest shape
+        stepCloth(world, 1 / 60)
+      }
+      for (let i = 0; i < c.count; i++) {
+        const local = vec3.fromValues(initial[3 * i], initial[3 * i + 1] - 2, initial[3 * i + 2])
+        const want = vec3.add(vec3.create(), vec3.transformQuat(vec3.create(), local, q), [1, 3, -2])
+        for (let k = 0; k < 3; k++) expect(c.pos[3 * i + k]).toBeCloseTo(want[k], 9)
+      }
+    }
+  })
+
+  it('with a snapshot interval, the restored pose is the last copy (up to that many steps old)', () => {
+    for (const interval of [1, 10]) {
+      const world = installClothPlugin(createWorld(), { guard: { snapshotInterval: interval } })
+      const sheet = hangingSheet(world)
+      const c = getClothState(world, sheet)
+      for (let i = 0; i < c.count; i++) c.vel[3 * i + 2] = 1 // swinging
+      for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+      const at30 = Float64Array.from(c.pos)
+      for (let f = 0; f < 5; f++) stepCloth(world, 1 / 60)
+      const at35 = Float64Array.from(c.pos)
+      c.pos[3 * 50] = NaN
+      stepCloth(world, 1 / 60)
+      const want = interval === 10 ? at30 : at35
+      for (let i = 0; i < 3 * c.count; i++) expect(c.pos[i]).toBeCloseTo(want[i], 12)
+      expect(Math.abs(c.pos[3 * 60 + 2] - at30[3 * 60 + 2]) + Math.abs(c.pos[3 * 60 + 2] - at35[3 * 60 + 2])).toBeGreaterThan(1e-3)
+    }
+  })
+})
+
+describe('events and options', () => {
+  it('listeners get a reused event object after the step; drain returns copies once; the queue keeps the latest 64', () => {
+    const { world, sheet, c } = sheetWorld()
+    const seen: ClothResetEvent[] = []
+    const objects = new Set<object>()
+    const off = onClothReset(world, (e) => {
+      objects.add(e)
+      seen.push({ ...e })
+    })
+    for (let f = 0; f < 70; f++) {
+      c.pos[3 * (8 + (f % 56))] = NaN // (not the pinned row: pins put their particles back anyway)
+      stepCloth(world, 1 / 60)
+    }
+    off()
+    c.pos[3 * 20] = NaN
+    stepCloth(world, 1 / 60)
+    expect(seen.length).toBe(70)
+    expect(objects.size).toBe(1)
+    expect(seen[0]).toMatchObject({ cloth: sheet, reason: 'nonfinite', step: 31, restoredTo: 'snapshot' })
+    expect(seen[1]).toMatchObject({ step: 32, restoredTo: 'rest' }) // broken again right after: the rest shape
+    expect(getClothStats(world).guardResets).toBe(71)
+    const drained = drainClothResets(world)
+    expect(drained.length).toBe(64)
+    expect(drained[63].step).toBe(101)
+    expect(drainClothResets(world)).toEqual([])
+  })
+
+  it('a broken cloth never touches another: the other cloth’s bytes match a world without the fault', () => {
+    const run = (fault: boolean) => {
+      const world = installClothPlugin(createWorld())
+      const a = hangingSheet(world, { position: [-2, 2, 0] })
+      const b = hangingSheet(world, { position: [2, 2, 0], bending: 'both' })
+      for (let f = 0; f < 90; f++) {
+        if (fault && f === 40) getClothState(world, a).pos[3 * 30] = NaN
+        stepCloth(world, 1 / 60)
+      }
+      expect(meshHasNaN(world, a)).toBe(false)
+      return hashBytes(getClothState(world, b).pos)
+    }
+    expect(run(true)).toBe(run(false))
+  })
+
+  it('turns off per world, per cloth at creation and at run time; bad options are ClothErrors', () => {
+    const off = sheetWorld({ guard: false })
+    stepCloth(off.world, 1 / 60)
+    expect(getClothStats(off.world).guardChecks).toBe(0)
+    const world = installClothPlugin(createWorld())
+    const a = hangingSheet(world, { guard: false })
+    const b = hangingSheet(world, { guard: { speed: 10, bounds: 3 } })
+    stepCloth(world, 1 / 60)
+    expect(getClothStats(world).guardChecks).toBe(1)
+    expect(getClothGuard(world, a).enabled).toBe(false)
+    expect(getClothGuard(world, b)).toMatchObject({ enabled: true, finite: true, speed: 10, bounds: 3, snapshotInterval: 1 })
+    setClothGuard(world, b, false)
+    stepCloth(world, 1 / 60)
+    expect(getClothStats(world).guardChecks).toBe(1)
+    setClothGuard(world, a, { enabled: true, speed: false })
+    stepCloth(world, 1 / 60)
+    expect(getClothStats(world).guardChecks).toBe(2)
+    const bad: [unknown, string][] = [
+      [{ bounds: 0 }, 'options.bounds'],
+      [{ speed: -1 }, 'options.speed'],
+      [{ speed: NaN }, 'options.speed'],
+      [{ snapshotInterval: 0 }, 'options.snapshotInterval'],
+      [{ finite: 'yes' }, 'options.finite'],
+      ['on', 'options'],
+    ]
+    for (const [options, argument] of bad) {
+      expect(() => setClothGuard(world, a, options as ClothGuardOptions)).toThrow(ClothError)
+      try {
+        setClothGuard(world, a, options as ClothGuardOptions)
+      } catch (e) {
+        expect((e as ClothError).argument).toBe(argument)
+      }
+    }
+    expect(() => installClothPlugin(createWorld(), { guard: { bounds: -2 } })).toThrow(/options\.guard\.bounds/)
+    expect(() => onClothReset(world, 5 as never)).toThrow(ClothError)
+  })
+})

@@ -1,0 +1,323 @@
+// Property-based tests (fast-check): random meshes, materials, pins, frame-time sequences and API
+// calls. A failure prints the seed and the path of the shrunk counterexample; to replay it, pass
+// them back: `it.prop([...], { seed, path, endOnFailure: true })`. STABILITY_RUNS=10 runs ten times
+// as many cases (the default, 1,150 in all, takes a few seconds); STABILITY_SEED picks the seed.
+import { fc, it } from '@fast-check/vitest'
+import { addEntity, createWorld } from 'bitecs'
+import { describe, expect } from 'vitest'
+import {
+  ClothError,
+  createCloth,
+  createClothFromMesh,
+  defineMaterial,
+  getClothMesh,
+  getClothState,
+  installClothPlugin,
+  pinParticle,
+  restoreClothState,
+  saveClothState,
+  setClothGuard,
+  setClothQuality,
+  setClothTethers,
+  setTransform,
+  stepCloth,
+  teleportCloth,
+  unpin,
+  removeCloth,
+  type BendSide,
+  type BendingModel,
+  type ClothMaterialSpec,
+  type ClothOptions,
+  type ShearModel,
+} from '../../src/index'
+import { hashBytes } from '../helpers'
+
+const scale = Math.max(1, Number(process.env.STABILITY_RUNS ?? 1))
+// A fixed seed by default, so CI runs the same 1,150 cases every time (a test that draws new cases
+// on every run fails at random); STABILITY_SEED=<n> explores others, and a failure prints its seed.
+const seed = process.env.STABILITY_SEED === undefined ? 20261121 : Number(process.env.STABILITY_SEED)
+const runs = (n: number) => ({ numRuns: n * scale, seed })
+
+// ---------------------------------------------------------------------------------------------
+// Arbitraries
+
+/** 10^x for x in [lo, hi], or exactly 0 now and then. */
+const logOrZero = (lo: number, hi: number) => fc.oneof({ arbitrary: fc.constant(0), weight: 1 }, { arbitrary: fc.double({ min: lo, max: hi, noNaN: true }).map((x) => 10 ** x), weight: 4 })
+
+const materialArb: fc.Arbitrary<ClothMaterialSpec> = fc
+  .record({
+    density: fc.double({ min: -2, max: 1, noNaN: true }).map((x) => 10 ** x),
+    stretchCompliance: logOrZero(-9, 307),
+    shearCompliance: logOrZero(-9, 307),
+    bendCompliance: logOrZero(-3, 307),
+    damping: fc.oneof(fc.constant(0), fc.double({ min: 0, max: 50, noNaN: true })),
+    stretchDamping: fc.oneof(fc.constant(0), fc.double({ min: 0, max: 200, noNaN: true })),
+  })
+  .map((m) => defineMaterial({ name: 'random', ...m }))
+
+const solverArb = fc.record({
+  material: materialArb,
+  bending: fc.constantFrom<BendingModel>('line', 'distance', 'dihedral', 'both', 'none'),
+  shear: fc.constantFrom<ShearModel>('distance', 'compression', 'none'),
+  bendSide: fc.constantFrom<BendSide>('both', 'front', 'back'),
+  solver: fc.constantFrom<'xpbd' | 'pbd'>('xpbd', 'pbd'),
+  iterations: fc.integer({ min: 1, max: 4 }),
+  substeps: fc.integer({ min: 1, max: 8 }),
+  tethers: fc.boolean(),
+})
+
+/** A grid sheet, or a random triangle soup (coincident points, slivers, non-manifold edges and all). */
+const meshArb = fc.oneof(
+  fc.record({
+    kind: fc.constant('grid' as const),
+    width: fc.double({ min: 0.05, max: 5, noNaN: true }),
+    height: fc.double({ min: 0.05, max: 5, noNaN: true }),
+    columns: fc.integer({ min: 2, max: 6 }),
+    rows: fc.integer({ min: 2, max: 6 }),
+    topology: fc.constantFrom<'quad' | 'triangle'>('quad', 'triangle'),
+  }),
+  fc.integer({ min: 3, max: 14 }).chain((n) =>
+    fc.record({
+      kind: fc.constant('soup' as const),
+      // points on a coarse lattice so coincident and collinear ones are common
+      positions: fc.array(fc.integer({ min: -4, max: 4 }).map((k) => k * 0.125), { minLength: 3 * n, maxLength: 3 * n }),
+      indices: fc
+        .array(
+          fc.tuple(fc.nat(n - 1), fc.nat(n - 1), fc.nat(n - 1)).filter(([a, b, c]) => a !== b && b !== c && a !== c),
+          { minLength: 1, maxLength: 2 * n },
+        )
+        .map((ts) => ts.flat()),
+    }),
+  ),
+)
+
+/** Frame times: stalls, normal and uneven frames, hitches. */
+const dtsArb = fc.array(fc.oneof(fc.constant(0), fc.double({ min: 0, max: 0.1, noNaN: true }), fc.constant(1 / 60), fc.constant(10)), { minLength: 1, maxLength: 12 })
+
+type MeshSpec =
+  | { kind: 'grid'; width: number; height: number; columns: number; rows: number; topology: 'quad' | 'triangle' }
+  | { kind: 'soup'; positions: number[]; indices: number[] }
+
+function buildCloth(world: object, mesh: MeshSpec, solver: ClothOptions): number {
+  if (mesh.kind === 'grid') {
+    return createCloth(world, { width: mesh.width, height: mesh.height, resolution: [mesh.columns, mesh.rows], topology: mesh.topology, position: [0, 2, 0], ...solver })
+  }
+  return createClothFromMesh(world, { positions: mesh.positions, indices: mesh.indices, ...solver })
+}
+
+function allFinite(a: ArrayLike<number>, n = a.length): boolean {
+  for (let i = 0; i < n; i++) if (!Number.isFinite(a[i])) return false
+  return true
+}
+
+function kineticEnergy(c: { vel: Float64Array; invMass: Float64Array; count: number }): number {
+  let e = 0
+  for (let i = 0; i < c.count; i++) {
+    if (c.invMass[i] === 0) continue
+    e += (0.5 / c.invMass[i]) * (c.vel[3 * i] ** 2 + c.vel[3 * i + 1] ** 2 + c.vel[3 * i + 2] ** 2)
+  }
+  return e
+}
+
+// ---------------------------------------------------------------------------------------------
+
+describe('properties', () => {
+  it.prop([meshArb, solverArb, fc.array(fc.nat(), { maxLength: 4 }), fc.boolean(), dtsArb], runs(300))(
+    'any valid mesh, material, pins and frame times: positions, velocities and the mesh stay finite; pins hold their particles exactly',
+    (mesh, solver, pinSeeds, moving, dts) => {
+      // the guard is off: this is about the solver itself
+      const world = installClothPlugin(createWorld(), { guard: false })
+      const cloth = buildCloth(world, mesh as MeshSpec, solver)
+      const c = getClothState(world, cloth)
+      const target = addEntity(world)
+      setTransform(world, target, [0, 2, 0])
+      const pinned: [number, number, number[]][] = [] // particle, target (0: world), offset
+      for (const s of pinSeeds) {
+        const i = s % c.count
+        if (s % 2 === 0) {
+          const offset = [c.pos[3 * i], c.pos[3 * i + 1] + 0.1, c.pos[3 * i + 2]]
+          pinParticle(world, cloth, i, null, offset, { blendTime: 0 })
+          pinned.push([i, 0, offset])
+        } else {
+          pinParticle(world, cloth, i, target, [0.1 * (i % 3), -0.05, 0], { blendTime: 0 })
+          pinned.push([i, target, [0.1 * (i % 3), -0.05, 0]])
+        }
+      }
+      let t = 0
+      for (const dt of dts) {
+        t += dt
+        const p = moving ? [Math.min(t, 3), 2 + 0.1 * Math.min(t, 3), 0] : [0, 2, 0]
+        setTransform(world, target, p)
+        stepCloth(world, dt)
+        expect(allFinite(c.pos, 3 * c.count) && allFinite(c.vel, 3 * c.count)).toBe(true)
+        const m = getClothMesh(world, cloth)
+        expect(allFinite(m.positions) && allFinite(m.normals)).toBe(true)
+        // pinned particles sit exactly on their pins: world pins always, pins on the target while
+        // it stands still (a moving target is interpolated within the frame); where several pins
+        // hold one particle the last one wins, so those are skipped
+        if (dt < 1 / 60) continue
+        for (const [i, tgt, o] of pinned) {
+          if (pinned.filter(([j]) => j === i).length !== 1 || (tgt !== 0 && moving)) continue
+          const want = tgt === 0 ? o : [p[0] + o[0], p[1] + o[1], p[2] + o[2]]
+          for (let k = 0; k < 3; k++) expect(Math.abs(c.pos[3 * i + k] - want[k])).toBeLessThanOrEqual(1e-12 * (1 + Math.abs(want[k])))
+        }
+      }
+    },
+  )
+
+  it.prop(
+    [meshArb, solverArb.map((s) => ({ ...s, bending: s.bending === 'dihedral' || s.bending === 'both' ? ('distance' as const) : s.bending })), fc.integer({ min: 1, max: 1 << 30 }), fc.integer({ min: 5, max: 40 })],
+    runs(250),
+  )(
+    'no energy from nowhere: a free cloth without gravity or air drag (distance constraints, any material) never gains kinetic energy, and keeps its momentum',
+    (mesh, solver, seed, frames) => {
+      const material = defineMaterial({ ...solver.material, damping: 0 })
+      const world = installClothPlugin(createWorld(), { gravity: [0, 0, 0], guard: false })
+      const cloth = buildCloth(world, mesh as MeshSpec, { ...solver, material })
+      const c = getClothState(world, cloth)
+      // random velocities at the rest shape (no stored energy): up to 2 m/s
+      let r = seed
+      for (let i = 0; i < 3 * c.count; i++) {
+        r = (Math.imul(r, 1103515245) + 12345) >>> 0
+        c.vel[i] = ((r / 2 ** 32) - 0.5) * 4
+      }
+      const e0 = kineticEnergy(c)
+      const p0 = momentum(c)
+      for (let f = 0; f < frames; f++) {
+        stepCloth(world, 1 / 60)
+        expect(kineticEnergy(c)).toBeLessThanOrEqual(e0 * (1 + 1e-9) + 1e-15)
+      }
+      const p1 = momentum(c)
+      const scaleP = Math.max(1e-12, Math.hypot(...p0), Math.sqrt(2 * e0 * totalMass(c)))
+      for (let k = 0; k < 3; k++) expect(Math.abs(p1[k] - p0[k])).toBeLessThanOrEqual(1e-9 * scaleP)
+    },
+  )
+
+  it.prop(
+    [
+      fc.record({
+        columns: fc.integer({ min: 2, max: 6 }),
+        rows: fc.integer({ min: 2, max: 6 }),
+        width: fc.double({ min: 0.2, max: 5, noNaN: true }),
+        height: fc.double({ min: 0.2, max: 5, noNaN: true }),
+        density: fc.double({ min: -1.3, max: 0, noNaN: true }).map((x) => 10 ** x),
+        stretchCompliance: fc.double({ min: -9, max: -2, noNaN: true }).map((x) => 10 ** x),
+        shearCompliance: fc.double({ min: -9, max: 1, noNaN: true }).map((x) => 10 ** x),
+        bendCompliance: fc.double({ min: 2, max: 8, noNaN: true }).map((x) => 10 ** x),
+        stretchDamping: fc.oneof(fc.constant(0), fc.double({ min: 0, max: 200, noNaN: true })),
+        iterations: fc.integer({ min: 1, max: 4 }),
+        substeps: fc.integer({ min: 1, max: 8 }),
+        bending: fc.constantFrom<BendingModel>('dihedral', 'both'),
+        topology: fc.constantFrom<'quad' | 'triangle'>('quad', 'triangle'),
+      }).filter((p) => {
+        const aspect = p.width / (p.columns - 1) / (p.height / (p.rows - 1))
+        return aspect <= 3 && aspect >= 1 / 3
+      }),
+      fc.integer({ min: 1, max: 1 << 30 }),
+    ],
+    runs(150),
+  )(
+    'no energy from nowhere with dihedral bending, within the documented range (bend compliance ≥ 100, stretch ≤ 0.01, elements ≤ 3:1)',
+    (p, seed) => {
+      const material = defineMaterial({ name: 'random', density: p.density, stretchCompliance: p.stretchCompliance, shearCompliance: p.shearCompliance, bendCompliance: p.bendCompliance, damping: 0, stretchDamping: p.stretchDamping })
+      const world = installClothPlugin(createWorld(), { gravity: [0, 0, 0], guard: false })
+      const cloth = createCloth(world, { width: p.width, height: p.height, resolution: [p.columns, p.rows], material, bending: p.bending, topology: p.topology, iterations: p.iterations, substeps: p.substeps })
+      const c = getClothState(world, cloth)
+      let r = seed
+      for (let i = 0; i < 3 * c.count; i++) {
+        r = (Math.imul(r, 1103515245) + 12345) >>> 0
+        c.vel[i] = (r / 2 ** 32 - 0.5) * 4
+      }
+      const e0 = kineticEnergy(c)
+      for (let f = 0; f < 40; f++) {
+        stepCloth(world, 1 / 60)
+        expect(kineticEnergy(c)).toBeLessThanOrEqual(e0 * (1 + 1e-9) + 1e-15)
+      }
+    },
+  )
+
+  it.prop([fc.array(fc.record({ op: fc.nat(11), a: fc.anything({ withBigInt: false }), b: fc.oneof(fc.double(), fc.integer(), fc.constantFrom(NaN, Infinity, -Infinity, -1, 0, 1e308)), c: fc.nat(200) }), { minLength: 1, maxLength: 16 })], runs(250))(
+    'any sequence of API calls with garbage arguments: every error is a ClothError, and the world stays finite',
+    (ops) => {
+      const world = installClothPlugin(createWorld(), { guard: false })
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 1.6, 0])
+      const cloths = [createCloth(world, { width: 1, height: 1, resolution: 4 })]
+      const pins: number[] = []
+      for (const { op, a, b, c } of ops) {
+        const cloth = cloths[c % cloths.length] ?? c
+        const v = (x: unknown) => [x, b, 0] as unknown as number[]
+        try {
+          switch (op) {
+            case 0: stepCloth(world, b); break
+            case 1: pins.push(pinParticle(world, cloth, c % 20, c % 3 === 0 ? hero : null, c % 2 ? v(a) : undefined, { blendTime: b })); break
+            case 2: unpin(world, pins.length > 0 && c % 2 ? pins.splice(c % pins.length, 1)[0] : (a as number)); break
+            case 3: setTransform(world, c % 2 ? hero : (a as number), v(b), c % 3 ? [0, b, 0, 1] : undefined); break
+            case 4: teleportCloth(world, cloth, v(a), c % 2 ? [a, b, 0, 1] as number[] : undefined); break
+            case 5: setClothQuality(world, cloth, { substeps: b, iterations: c % 2 ? (a as number) : undefined }); break
+            case 6: setClothTethers(world, cloth, a as boolean); break
+            case 7: setClothGuard(world, cloth, a as boolean); break
+            case 8: cloths.push(createCloth(world, { width: b, height: 1, resolution: (c % 6) as number, material: a as string })); break
+            case 9: cloths.push(createClothFromMesh(world, { positions: [0, 0, 0, 1, 0, 0, 0, b, 0], indices: [0, 1, c % 4], masses: c % 2 ? [1, b, 1] : undefined })); break
+            case 10: restoreClothState(world, cloth, saveClothState(world, cloths[0])); break
+            default: removeCloth(world, c % 2 ? cloth : (a as number))
+          }
+        } catch (e) {
+          expect(e).toBeInstanceOf(ClothError)
+        }
+        stepCloth(world, 1 / 60)
+      }
+      for (const cl of cloths) {
+        try {
+          const s = getClothState(world, cl)
+          expect(allFinite(s.pos, 3 * s.count)).toBe(true)
+        } catch (e) {
+          expect(e).toBeInstanceOf(ClothError) // removed
+        }
+      }
+    },
+  )
+
+  it.prop([meshArb, solverArb, dtsArb], runs(100))('the same random scene built and stepped twice gives the same bytes', (mesh, solver, dts) => {
+    const run = () => {
+      const world = installClothPlugin(createWorld())
+      const cloth = buildCloth(world, mesh as MeshSpec, solver)
+      pinParticle(world, cloth, 0)
+      for (const dt of dts) stepCloth(world, dt)
+      for (let f = 0; f < 5; f++) stepCloth(world, 1 / 60)
+      return hashBytes(getClothState(world, cloth).pos)
+    }
+    expect(run()).toBe(run())
+  })
+
+  it.prop([meshArb, solverArb, dtsArb, dtsArb], runs(100))('save, step, restore, step again: the same bytes', (mesh, solver, before, after) => {
+    const world = installClothPlugin(createWorld())
+    const cloth = buildCloth(world, mesh as MeshSpec, solver)
+    pinParticle(world, cloth, 0)
+    for (const dt of before) stepCloth(world, dt)
+    const snap = saveClothState(world, cloth)
+    const c = getClothState(world, cloth)
+    const trail = () => after.map((dt) => {
+      stepCloth(world, dt)
+      return hashBytes(c.pos) + hashBytes(c.vel)
+    })
+    const first = trail()
+    restoreClothState(world, cloth, snap)
+    expect(trail()).toEqual(first)
+  })
+})
+
+function momentum(c: { vel: Float64Array; invMass: Float64Array; count: number }): number[] {
+  const p = [0, 0, 0]
+  for (let i = 0; i < c.count; i++) {
+    if (c.invMass[i] === 0) continue
+    for (let k = 0; k < 3; k++) p[k] += c.vel[3 * i + k] / c.invMass[i]
+  }
+  return p
+}
+
+function totalMass(c: { invMass: Float64Array; count: number }): number {
+  let m = 0
+  for (let i = 0; i < c.count; i++) if (c.invMass[i] > 0) m += 1 / c.invMass[i]
+  return m
+}

@@ -1,0 +1,182 @@
+// Input validation audit: the gaps found in the public API, each now a ClothError naming the
+// argument (tests/errors.test.ts has the rest).
+import { addEntity, createWorld } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  ClothError,
+  buildGridTopology,
+  buildMeshTopology,
+  buildTethers,
+  checkClothHealth,
+  clothSync,
+  createCloth,
+  createClothFromMesh,
+  dampPairs,
+  defineMaterial,
+  dihedralAngle,
+  getClothComponents,
+  getClothState,
+  getClothStretch,
+  getTransform,
+  installClothPlugin,
+  measureStretch,
+  pinParticle,
+  predictPositions,
+  setClothQuality,
+  setClothSubstep,
+  setClothTethers,
+  setTransform,
+  solveCompression,
+  solveDihedrals,
+  solveLineBending,
+  solveDistances,
+  solveDistancesXpbd,
+  solveTethers,
+  stepCloth,
+  teleportCloth,
+  updateVelocities,
+  writeRenderMesh,
+} from '../src/index'
+import { createKernelParams } from '../src/kernels/params'
+import { makeWorld } from './helpers'
+
+/** Expects a ClothError naming `argument`. */
+function rejects(fn: () => unknown, argument: string) {
+  let error: unknown
+  try {
+    fn()
+  } catch (e) {
+    error = e
+  }
+  expect(error, `expected a ClothError for ${argument}`).toBeInstanceOf(ClothError)
+  expect((error as ClothError).argument).toBe(argument)
+  expect((error as Error).message).toContain(argument)
+}
+
+const sheet = { width: 1, height: 1, resolution: 4 }
+const tri = { positions: [0, 0, 0, 1, 0, 0, 0, 1, 0], indices: [0, 1, 2] }
+
+describe('input validation gaps, closed', () => {
+  it('plugin options: not an object, a fixed step outside [1e-6, 1] s, gravity beyond 1e9', () => {
+    rejects(() => installClothPlugin(createWorld(), null as never), 'options')
+    rejects(() => installClothPlugin(createWorld(), 5 as never), 'options')
+    rejects(() => installClothPlugin(createWorld(), { fixedTimeStep: 1e-7 }), 'options.fixedTimeStep')
+    rejects(() => installClothPlugin(createWorld(), { fixedTimeStep: 2 }), 'options.fixedTimeStep')
+    rejects(() => installClothPlugin(createWorld(), { gravity: [0, -1e10, 0] }), 'options.gravity[1]')
+    rejects(() => installClothPlugin(createWorld(), { guard: { speed: 0 } }), 'options.guard.speed')
+  })
+
+  it('sizes and coordinates beyond 1e9 m (their squares would overflow on the way to NaN)', () => {
+    const world = makeWorld()
+    rejects(() => createCloth(world, { ...sheet, width: 1e10 }), 'options.width')
+    rejects(() => createCloth(world, { ...sheet, position: [0, 0, -2e9] }), 'options.position')
+    rejects(() => createClothFromMesh(world, { ...tri, positions: [0, 0, 0, 1e10, 0, 0, 0, 1, 0] }), 'options.positions[3]')
+    const cloth = createCloth(world, sheet)
+    rejects(() => pinParticle(world, cloth, 0, null, [0, 1e10, 0]), 'offset')
+    rejects(() => teleportCloth(world, cloth, [1e10, 0, 0]), 'translation')
+    rejects(() => teleportCloth(world, cloth, [1, 0, 0], undefined, [0, 0, 1e12]), 'pivot')
+    const e = addEntity(world)
+    rejects(() => setTransform(world, e, [0, 0, 1e10]), 'position')
+    rejects(() => setTransform(world, e, [0, 0, 0], undefined, [1, 1e7, 1]), 'scale')
+  })
+
+  it('particles lighter than 1e-12 kg: an inverse mass near Infinity turns the solve into NaN', () => {
+    const world = makeWorld()
+    rejects(() => createClothFromMesh(world, { ...tri, masses: [1, 1e-13, 1] }), 'options.masses[1]')
+    rejects(() => createClothFromMesh(world, { ...tri, masses: [1, 5e-324, 1] }), 'options.masses[1]')
+    rejects(() => createCloth(world, { ...sheet, mass: 1e-300 }), 'options.mass')
+    rejects(() => createCloth(world, { ...sheet, material: defineMaterial({ density: 1e-300 }) }), 'options.material.density')
+  })
+
+  it('options bags that are not objects', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, sheet)
+    rejects(() => setClothQuality(world, cloth, null as never), 'quality')
+    rejects(() => setClothTethers(world, cloth, 5 as never), 'tethers')
+    rejects(() => setClothTethers(world, cloth, null as never), 'tethers')
+    rejects(() => getClothStretch(world, cloth, null as never), 'out')
+    rejects(() => pinParticle(world, cloth, 0, null, undefined, null as never), 'options')
+    rejects(() => defineMaterial(null as never), 'fields')
+    const e = addEntity(world)
+    setTransform(world, e, [0, 0, 0])
+    rejects(() => getTransform(world, e, 5 as never), 'outPosition')
+    rejects(() => getTransform(world, e, undefined, [0, 0] as never), 'outRotation')
+  })
+
+  it('a host writing a non-finite or absurd transform into its own stores: caught where transforms enter the step', () => {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1, 0])
+    const cloth = createCloth(world, sheet)
+    pinParticle(world, cloth, 0, hero)
+    getClothComponents(world).Transform.px[hero] = 1e12
+    rejects(() => stepCloth(world, 1 / 60), `transform of entity ${hero}`)
+    getClothComponents(world).Transform.px[hero] = NaN
+    rejects(() => stepCloth(world, 1 / 60), `transform of entity ${hero}`)
+    getClothComponents(world).Transform.px[hero] = 0
+    stepCloth(world, 1 / 60)
+    expect(getClothState(world, cloth).pos.every(Number.isFinite)).toBe(true)
+  })
+
+  it('setClothSubstep: a substep index of the current step', () => {
+    const world = makeWorld()
+    createCloth(world, { ...sheet, substeps: 4 })
+    clothSync(world)
+    rejects(() => setClothSubstep(world, 1.5), 's')
+    rejects(() => setClothSubstep(world, 4), 's')
+    setClothSubstep(world, 3)
+  })
+})
+
+describe('exported kernels and builders check their arguments', () => {
+  const n = 4
+  const pos = () => Float64Array.from([0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0])
+  const w = () => new Float64Array(n).fill(1)
+  const p = () => {
+    const b = createKernelParams()
+    b.fill(1)
+    return b
+  }
+  const ids = (...v: number[]) => Int32Array.from(v)
+  const f64 = (...v: number[]) => Float64Array.from(v)
+
+  it('solvers: index ranges, indices, array sizes, finite values, the parameter block', () => {
+    rejects(() => solveDistances(pos(), w(), ids(0, 9), f64(1), f64(0), p(), 0, 1), 'ids[1]')
+    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(1), f64(0), p(), 0, 2), 'end')
+    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(NaN), f64(0), p(), 0, 1), 'rest[0]')
+    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(1), f64(-1), p(), 0, 1), 'compliance[0]')
+    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(1), f64(0), new Float64Array(2), 0, 1), 'params')
+    rejects(() => solveDistancesXpbd(pos(), w(), ids(0, 1), f64(1), f64(0), new Float64Array(0), p(), 0, 1), 'lambda')
+    rejects(() => solveCompression(pos(), f64(1, 1, -1, 1), ids(0, 1), f64(1), f64(0), null, p(), 0, 1), 'invMass[2]')
+    rejects(() => solveDihedrals(pos(), w(), ids(0, 1, 2, 3), f64(0), f64(0), null, 2, p(), 0, 1), 'side')
+    rejects(() => solveDihedrals(pos().subarray(0, 9), w(), ids(0, 1, 2, 3), f64(0), f64(0), null, 0, p(), 0, 1), 'pos')
+    rejects(() => solveTethers(pos(), w(), ids(0), ids(7), f64(1), 1), 'anchor[0]')
+    rejects(() => dampPairs(pos(), pos(), w(), ids(0, 1), 2, p()), 'ids')
+    rejects(() => solveLineBending(pos(), w(), ids(0, 1, 9), f64(0), f64(0), null, p(), 0, 1), 'ids[2]')
+    rejects(() => solveLineBending(pos(), w(), ids(0, 1, 2), f64(-1), f64(0), null, p(), 0, 1), 'rest[0]')
+    solveDistances(pos(), w(), ids(0, 1), f64(1), f64(0), p(), 0, 1) // and valid calls run
+  })
+
+  it('integration, render and measure kernels', () => {
+    rejects(() => predictPositions(pos(), pos(), pos(), w(), null, p(), 5), 'invMass')
+    rejects(() => predictPositions(pos(), pos(), f64(NaN, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0), w(), null, p(), 4), 'vel[0]')
+    rejects(() => updateVelocities(pos(), pos(), pos(), p(), -1), 'count')
+    rejects(() => writeRenderMesh(pos(), 4, Uint32Array.from([0, 1, 4]), 1, new Float32Array(12), new Float32Array(12)), 'tris[2]')
+    rejects(() => writeRenderMesh(pos(), 4, Uint32Array.from([0, 1, 2]), 1, new Float32Array(3), new Float32Array(12)), 'outPos')
+    rejects(() => measureStretch([0, 0, NaN], ids(), f64(), 0), 'pos[2]')
+    rejects(() => checkClothHealth(pos(), pos(), w(), 4, new Float64Array(1)), 'guard')
+  })
+
+  it('builders', () => {
+    rejects(() => buildGridTopology(NaN, 1, 4, 4, 'cotton'), 'width')
+    rejects(() => buildGridTopology(1, 1, 1, 4, 'cotton'), 'columns')
+    rejects(() => buildGridTopology(1, 1, 4, 4, 'tweed'), 'material')
+    rejects(() => buildGridTopology(1, 1, 4, 4, 'cotton', 'quad', { bending: 'springs' as never }), 'options.bending')
+    rejects(() => buildMeshTopology([0, 0, 0, 1, 0, 0, 0, 1, Infinity], [0, 1, 2], 'cotton'), 'positions[8]')
+    rejects(() => buildMeshTopology(tri.positions, [0, 1, 1], 'cotton'), 'indices[0..2]')
+    rejects(() => dihedralAngle(pos(), 0, 1, 2, 9), 'w1')
+    rejects(() => buildTethers(pos(), 4, [0, 1], 1, [7], 'euclidean', 2, 0), 'anchors[0]')
+    rejects(() => buildTethers(pos(), 4, [0, 1], 1, [0], 'straight' as never, 2, 0), 'mode')
+    expect(buildGridTopology(1, 1, 4, 4, 'cotton').particleCount).toBe(16)
+  })
+})
