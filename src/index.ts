@@ -52,3 +52,29 @@ export { solveTethers } from './kernels/tether'
 export { writeRenderMesh, measureStretch } from './kernels/mesh'
 export { buildGridTopology, buildMeshTopology, dihedralAngle } from './topology'
 export { buildTethers } from './tethers'
+
+// Collisions: colliders, layers, self-collision.
+export {
+  addSphereCollider,
+  addCapsuleCollider,
+  addBoxCollider,
+  addConvexHullCollider,
+  addPlaneCollider,
+  removeCollider,
+  getColliders,
+  getColliderPose,
+  getColliderHull,
+  type ColliderOptions,
+  type SphereColliderOptions,
+  type CapsuleColliderOptions,
+  type BoxColliderOptions,
+  type ConvexHullColliderOptions,
+  type PlaneColliderOptions,
+} from './colliders'
+export { setClothCollision, getCollisionComponents, type ClothCollisionOptions } from './collision'
+export { enableSelfCollision, disableSelfCollision, hasSelfCollision, type SelfCollisionOptions } from './selfCollision'
+export { buildConvexHull, MAX_HULL_PLANES } from './hull'
+export { SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_BOX, SHAPE_HULL, SHAPE_PLANE, type ColliderStore, type ConvexHull } from '../components/Collider'
+export type { SelfCollisionStore } from '../components/SelfCollision'
+export { collideSphere, collideCapsule, collideBox, collideHull, collidePlane, closestPoint } from './kernels/collide'
+export { buildHash, gatherPairs, solvePairs, clampRelativeMotion } from './kernels/selfCollide'

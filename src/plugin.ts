@@ -7,6 +7,7 @@ import { ensureStoreCapacity } from './store'
 import { $cloth, createStats, findClothWorld, getClothWorld, type ClothPluginOptions, type ClothWorldState, type TransformSource } from './state'
 import { releasePin } from './pins'
 import { createKinematics } from './kinematics'
+import { createCollisionWorld, installCollision } from './collision'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -48,6 +49,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     substep: 0,
     substepCount: 0,
     stats: createStats(),
+    collision: createCollisionWorld(capacity),
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
@@ -78,6 +80,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     const i = state.cloths.indexOf(cloth)
     if (i >= 0) state.cloths.splice(i, 1)
   })
+  installCollision(world, state)
   return world
 }
 

@@ -1,4 +1,5 @@
 import type { ClothStore } from '../components/Cloth'
+import type { ClothCollision, CollisionWorld } from './collision'
 import type { PinStore } from '../components/Pin'
 import type { TransformStore } from '../components/Transform'
 import { ClothError } from './errors'
@@ -144,6 +145,8 @@ export interface ClothState {
   renderIndex: Uint32Array
   /** Cached views handed out by getClothMesh (sized to the live counts). */
   mesh: ClothMesh | null
+  /** Collision settings and per-step collision state (set when the cloth is created). */
+  collision?: ClothCollision
 }
 
 /** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
@@ -181,6 +184,8 @@ export interface ClothWorldState {
   substep: number
   substepCount: number
   stats: ClothStats
+  /** Colliders and self-collision (see `src/collision.ts`). */
+  collision: CollisionWorld
 }
 
 /** Symbol under which the plugin keeps its state on a world. */
