@@ -399,7 +399,9 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
   const dx = f[F_PE] - f[F_PS], dy = f[F_PE + 1] - f[F_PS + 1], dz = f[F_PE + 2] - f[F_PS + 2]
   let dot = Math.abs(t[17] * t[24] + t[18] * t[25] + t[19] * t[26] + t[20] * t[27])
   if (dot > 1) dot = 1
-  const reach = Math.hypot(C.bound[b], C.bound[b + 1], C.bound[b + 2]) + C.bound[b + 3]
+  // (not Math.hypot: with several arguments it allocates in optimised code)
+  const bx = C.bound[b], by = C.bound[b + 1], bz = C.bound[b + 2]
+  const reach = Math.sqrt(bx * bx + by * by + bz * bz) + C.bound[b + 3]
   const motion = Math.sqrt(dx * dx + dy * dy + dz * dz) + 2 * Math.acos(dot) * reach
   const lim = 0.5 * (C.depth[eid] + f[F_RADIUS]) - motion
   f[F_LIM2] = lim > 0 ? lim * lim : -1

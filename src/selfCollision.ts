@@ -9,6 +9,7 @@ import {
   S_CONTACT_SCALE,
   S_MU_S,
   S_RADIUS,
+  S_REST_FILTER,
   S_SLOP,
   S_W_A,
   S_W_B,
@@ -21,19 +22,28 @@ import { getCloth } from './pins'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 
 /**
- * How far (in collision distances D) particles may travel relative to their cloth's mean motion
- * within one fixed step: the step's measured spread of velocities × TRAVEL_GAIN plus TRAVEL_FLOOR,
- * at most TRAVEL_CAP. Pairs are gathered within D + 2·travel, and motion beyond travel is clamped.
- * The cap bounds the pair search (and its cost): relative speeds within a cloth above
- * TRAVEL_CAP·D per step (1.5 × 3 cm × 60 Hz ≈ 2.7 m/s for a 32×32 metre sheet) are clamped.
+ * How far particles may travel relative to their cloth's mean motion within one fixed step, in
+ * collision distances D: the step's measured spread of velocities × TRAVEL_GAIN plus TRAVEL_FLOOR.
+ * Pairs are gathered within D + 2·travel. When that travel exceeds TRAVEL_CAP, the step is split
+ * into up to MAX_REBUILDS intervals, each with its own hash and pair list (fast motion costs more
+ * gathers, slow motion one); beyond MAX_REBUILDS × TRAVEL_CAP, relative motion is clamped: at
+ * most 4·D per step, 4 × 1.6 cm × 60 Hz ≈ 3.8 m/s for a 64×64 metre sheet.
  */
 const TRAVEL_GAIN = 1.5
 const TRAVEL_FLOOR = 0.25
-const TRAVEL_CAP = 1.5
+const TRAVEL_CAP = 1
+const MAX_REBUILDS = 4
 /** Inverse-mass scale in particle pairs of a particle resting on a collider (see S_CONTACT_SCALE). */
 const CONTACT_MASS_SCALE = 0.2
 /** Speed, m/s, up to which a pair's push-out becomes velocity (see S_SLOP). */
 const DEPENETRATION_SPEED = 0.5
+/**
+ * Self pairs closer than this × the thickness in the rest shape are never pushed apart: at the
+ * default thickness (the particle spacing) these are the direct and diagonal mesh neighbours,
+ * which the distance constraints already keep apart. Skipping them keeps collisions from fighting
+ * the constraints, and a flat or gently curved cloth from paying for pairs that never touch.
+ */
+export const REST_FILTER = 1.5
 /** Pair list capacity per particle (self pairs; cross-cloth pairs get the same again). */
 const PAIRS_PER_PARTICLE = 48
 
@@ -46,8 +56,12 @@ export interface SelfCollisionState {
   /** Hash table: buckets mask + 1 (a power of two). */
   mask: number
   start: Int32Array
+  /** Per-bucket stamp of the last query that scanned it (plus the running stamp at the end). */
+  visited: Int32Array
   entries: Int32Array
   bucket: Int32Array
+  /** Positions in hash order (xyz), refreshed with the hash each step. */
+  sorted: Float64Array
   /** Self pairs found this step (2 particle indices each). */
   pairs: Int32Array
   capacity: number
@@ -58,7 +72,10 @@ export interface SelfCollisionState {
   crossCount: number
   blocks: Int32Array
   blockCount: number
-  /** Per step: [0] hash cell size, [1] travel, m. */
+  /**
+   * Per step: [0] hash cell size, m; [1] travel per rebuild interval, m; [2] rebuild intervals this
+   * step; [3] travel over the step, m.
+   */
   values: Float64Array
   /** 1 for particles that touched a collider in the last substep (set by the collider kernels). */
   touched: Uint8Array
@@ -126,7 +143,7 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
   spacing = t.stretchCount > 0 ? spacing / t.stretchCount : 2 * c.material.thickness
   const friction = S.friction[eid] >= 0 ? S.friction[eid] : c.material.friction
   let table = 16
-  while (table < 2 * n) table *= 2
+  while (table < 8 * n) table *= 2 // sparse: fewer particles of other cells in a scanned bucket
   const capacity = PAIRS_PER_PARTICLE * n
   const old = c.collision!.self
   const st: SelfCollisionState = {
@@ -135,8 +152,10 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
     staticFriction: S.staticFriction[eid] >= 0 ? S.staticFriction[eid] : friction,
     mask: table - 1,
     start: old && old.start.length === table + 1 ? old.start : new Int32Array(table + 1),
+    visited: old && old.visited.length === table + 1 ? old.visited : new Int32Array(table + 1),
     entries: old && old.entries.length === n ? old.entries : new Int32Array(n),
     bucket: old && old.bucket.length === n ? old.bucket : new Int32Array(n),
+    sorted: old && old.sorted.length === 3 * n ? old.sorted : new Float64Array(3 * n),
     pairs: old && old.capacity === capacity ? old.pairs : new Int32Array(2 * capacity),
     capacity,
     pairCount: 0,
@@ -145,7 +164,7 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
     crossCount: 0,
     blocks: old ? old.blocks : new Int32Array(0),
     blockCount: 0,
-    values: new Float64Array(2),
+    values: new Float64Array(4),
     touched: old && old.touched.length === n ? old.touched : new Uint8Array(n),
   }
   c.collision!.self = st
@@ -177,8 +196,9 @@ export function releaseSelfCollision(state: ClothWorldState, c: ClothState): voi
 
 /**
  * Once per fixed step (after the cloth bounds are measured): picks each self-colliding cloth's
- * travel allowance from the spread of its velocities, builds its spatial hash (cell = collision
- * distance + 2 × travel) and gathers its candidate pairs, then the pairs between overlapping cloths.
+ * travel allowance from the spread of its velocities (and how many times to rebuild its pairs this
+ * step), builds its spatial hash (pair radius = collision distance + 2 × travel, cells twice that)
+ * and gathers its pairs, then the pairs between overlapping cloths.
  */
 export function buildSelfCollisionPairs(state: ClothWorldState): void {
   const cw = state.collision
@@ -190,22 +210,21 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
     const st = c.collision!.self!
     const D = st.thickness
     let travel = TRAVEL_GAIN * c.collision!.bounds[B_MAX_DEV] * dt + TRAVEL_FLOOR * D
-    if (travel > TRAVEL_CAP * D) travel = TRAVEL_CAP * D
-    const cell = D + 2 * travel
-    st.values[0] = cell
-    st.values[1] = travel
-    sp[S_INV_CELL] = 1 / cell
-    buildHash(c.pos, c.count, st.start, st.entries, st.bucket, st.mask, sp)
+    let intervals = Math.ceil(travel / (TRAVEL_CAP * D))
+    const most = c.substeps < MAX_REBUILDS ? c.substeps : MAX_REBUILDS
+    if (intervals > most) intervals = most
+    if (travel > intervals * TRAVEL_CAP * D) travel = intervals * TRAVEL_CAP * D
+    const v = st.values
+    v[1] = travel / intervals
+    v[0] = 2 * (D + 2 * v[1]) // cells twice the pair radius: a query spans 1–2 cells per axis
+    v[2] = intervals
+    v[3] = travel
+    rebuildSelfPairs(c, st, sp)
   }
   for (let a = 0; a < group.length; a++) {
     const A = group[a]
     const ca = A.collision!
     const st = ca.self!
-    const cell = st.values[0]
-    sp[S_RADIUS] = cell
-    sp[S_INV_CELL] = 1 / cell
-    sp[S_DIST] = st.thickness
-    st.pairCount = gatherPairs(A.pos, A.invMass, A.count, A.topology.restPositions, A.pos, A.invMass, st.start, st.entries, st.mask, st.pairs, 0, st.capacity, sp)
     st.crossCount = 0
     st.blockCount = 0
     for (let b = a + 1; b < group.length; b++) {
@@ -216,14 +235,14 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
       const ba = ca.bounds, bb = cb.bounds
       const D = 0.5 * (st.thickness + sb.thickness)
       if (ba[0] > bb[3] + D || bb[0] > ba[3] + D || ba[1] > bb[4] + D || bb[1] > ba[4] + D || ba[2] > bb[5] + D || bb[2] > ba[5] + D) continue
+      // both cloths' travel over the whole step plus their mean motion toward each other
       const vx = ba[B_MEAN_V] - bb[B_MEAN_V], vy = ba[B_MEAN_V + 1] - bb[B_MEAN_V + 1], vz = ba[B_MEAN_V + 2] - bb[B_MEAN_V + 2]
-      let R = D + st.values[1] + sb.values[1] + 1.25 * Math.sqrt(vx * vx + vy * vy + vz * vz) * dt
-      if (R > D + 4 * sb.values[0]) R = D + 4 * sb.values[0]
+      let R = D + st.values[3] + sb.values[3] + 1.25 * Math.sqrt(vx * vx + vy * vy + vz * vz) * dt
+      if (R > D + 2 * sb.values[0]) R = D + 2 * sb.values[0]
       sp[S_RADIUS] = R
       sp[S_INV_CELL] = 1 / sb.values[0]
-      sp[S_DIST] = D
       const first = st.crossCount
-      st.crossCount = gatherPairs(A.pos, A.invMass, A.count, null, B.pos, B.invMass, sb.start, sb.entries, sb.mask, st.cross, first, st.crossCapacity, sp)
+      st.crossCount = gatherPairs(st.sorted, st.entries, A.invMass, A.count, null, sb.sorted, sb.entries, B.invMass, sb.start, sb.mask, sb.visited, st.cross, first, st.crossCapacity, sp)
       if (st.crossCount === first) continue
       const o = 3 * st.blockCount++
       st.blocks[o] = b
@@ -231,6 +250,15 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
       st.blocks[o + 2] = st.crossCount - first
     }
   }
+}
+
+/** Builds a cloth's hash from its current positions and gathers its self pairs. */
+function rebuildSelfPairs(c: ClothState, st: SelfCollisionState, sp: Float64Array): void {
+  sp[S_INV_CELL] = 1 / st.values[0]
+  buildHash(c.pos, c.count, st.start, st.entries, st.bucket, st.sorted, st.mask, sp)
+  sp[S_RADIUS] = st.thickness + 2 * st.values[1]
+  sp[S_REST_FILTER] = REST_FILTER * st.thickness
+  st.pairCount = gatherPairs(st.sorted, st.entries, c.invMass, c.count, c.topology.restPositions, st.sorted, st.entries, c.invMass, st.start, st.mask, st.visited, st.pairs, 0, st.capacity, sp)
 }
 
 /**
@@ -246,8 +274,14 @@ export function solveSelfCollision(state: ClothWorldState): void {
   sp[S_CONTACT_SCALE] = CONTACT_MASS_SCALE
   for (let a = 0; a < group.length; a++) {
     const c = group[a]
-    if (c.subIndex < 0) continue
-    sp[S_LIMIT] = c.collision!.self!.values[1] / c.substeps
+    const k = c.subIndex
+    if (k < 0) continue
+    const st = c.collision!.self!
+    const v = st.values
+    // fast motion: a fresh hash and pair list at each interval of the step
+    const n = c.substeps, intervals = v[2]
+    if (k > 0 && Math.floor((k * intervals) / n) !== Math.floor(((k - 1) * intervals) / n)) rebuildSelfPairs(c, st, sp)
+    sp[S_LIMIT] = v[3] / n
     clampRelativeMotion(c.pos, c.prev, c.invMass, c.count, sp)
   }
   for (let a = 0; a < group.length; a++) {

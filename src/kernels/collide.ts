@@ -424,7 +424,7 @@ export function collideBox(
     const ex = lx < -hx ? lx + hx : lx > hx ? lx - hx : 0
     const ey = ly < -hy ? ly + hy : ly > hy ? ly - hy : 0
     const ez = lz < -hz ? lz + hz : lz > hz ? lz - hz : 0
-    if (ex * ex + ey * ey + ez * ez >= r2) continue
+    if (ex * ex + ey * ey + ez * ez > r2) continue
     s[0] = lx; s[1] = ly; s[2] = lz
     closestPoint(SHAPE_BOX, f, null, 0, s)
     contacts += contactFromLocal(pos, prev, j, f, s, touched)
@@ -456,16 +456,26 @@ export function collideHull(
     const lx = r00 * bx + r10 * by + r20 * bz
     const ly = r01 * bx + r11 * by + r21 * bz
     const lz = r02 * bx + r12 * by + r22 * bz
-    // separated by any face plane (beyond the thickness): no contact; most particles exit early
-    let k = 0
+    // separated by any face plane (beyond the thickness): no contact, and most particles exit
+    // early; otherwise the loop ends with the deepest plane, the contact's normal
+    let best = -Infinity, kb = 0, k = 0
     for (; k < planeCount; k++) {
       const o = 4 * k
-      if (planes[o] * lx + planes[o + 1] * ly + planes[o + 2] * lz - planes[o + 3] >= r) break
+      const dk = planes[o] * lx + planes[o + 1] * ly + planes[o + 2] * lz - planes[o + 3]
+      if (dk >= r) break
+      if (dk > best) {
+        best = dk
+        kb = o
+      }
     }
     if (k < planeCount) continue
-    s[0] = lx; s[1] = ly; s[2] = lz
-    closestPoint(SHAPE_HULL, f, planes, planeCount, s)
-    contacts += contactFromLocal(pos, prev, j, f, s, touched)
+    const nx = planes[kb], ny = planes[kb + 1], nz = planes[kb + 2]
+    s[10] = r00 * nx + r01 * ny + r02 * nz
+    s[11] = r10 * nx + r11 * ny + r12 * nz
+    s[12] = r20 * nx + r21 * ny + r22 * nz
+    s[13] = r - best
+    respond(pos, prev, j, f, s, touched)
+    contacts++
   }
   return contacts
 }

@@ -4,8 +4,8 @@
  * per fixed step, candidate pairs gathered from it once per step within a radius that covers how
  * far particles can travel relative to each other during the step, and those pairs pushed apart
  * every substep. What keeps it stable:
- * - pairs that are closer than the collision distance in the rest shape (mesh neighbours) are
- *   never pushed apart, so collisions do not fight the distance constraints;
+ * - pairs that are close in the rest shape (mesh neighbours, closer than 1.5 × the collision
+ *   distance) are never pushed apart, so collisions do not fight the distance constraints;
  * - each particle's motion relative to its cloth's mean motion is clamped per substep to what the
  *   pair radius assumed, so no pair the hash did not see can come into contact;
  * - friction pulls touching particles toward their common velocity.
@@ -42,6 +42,8 @@ export const S_CONTACT_SCALE = 9
  * turn into velocity (and friction load). Above it an old overlap is resolved without a pop.
  */
 export const S_SLOP = 10
+/** Rest distance, m, below which a self pair is never gathered (mesh neighbours). */
+export const S_REST_FILTER = 11
 export const SELF_PARAM_COUNT = 12
 
 const H1 = 92837111, H2 = 689287499, H3 = 283923481
@@ -53,10 +55,13 @@ export function hashCell(ix: number, iy: number, iz: number, mask: number): numb
 
 /**
  * Counting-sort spatial hash of `count` particles: afterwards the particles of bucket b are
- * entries[start[b] .. start[b + 1]). `start` has mask + 2 slots; `bucket` one per particle.
+ * entries[start[b] .. start[b + 1]) (ascending), and `sorted` holds their positions in that order
+ * (xyz, so the queries read neighbours from contiguous memory). `start` has mask + 2 slots;
+ * `bucket` one per particle.
  */
 export function buildHash(
-  pos: Float64Array, count: number, start: Int32Array, entries: Int32Array, bucket: Int32Array, mask: number, p: Float64Array,
+  pos: Float64Array, count: number, start: Int32Array, entries: Int32Array, bucket: Int32Array, sorted: Float64Array,
+  mask: number, p: Float64Array,
 ): void {
   const inv = p[S_INV_CELL]
   start.fill(0)
@@ -75,46 +80,74 @@ export function buildHash(
   start[mask + 1] = sum
   // placing back to front leaves start[b] at the bucket's first entry, particles ascending
   for (let i = count - 1; i >= 0; i--) entries[--start[bucket[i]]] = i
+  for (let e = 0; e < count; e++) {
+    const j = 3 * entries[e]
+    sorted[3 * e] = pos[j]
+    sorted[3 * e + 1] = pos[j + 1]
+    sorted[3 * e + 2] = pos[j + 2]
+  }
 }
 
 /**
- * Candidate pairs (i in cloth A, j in cloth B) closer than p[S_RADIUS] now, found through B's hash,
- * appended to `pairs` (2 ints each) from `offset`, at most up to `capacity` pairs in total. With
- * `restA` given (self-collision, A = B) only j > i is taken, and pairs closer than p[S_DIST] in
- * the rest shape are skipped. Pairs of two immovable particles are skipped. Returns the new pair count.
+ * Candidate pairs (i of cloth A, k of cloth B) closer than p[S_RADIUS] now, found through B's hash
+ * (`start`, `entriesB`, `sortedB`) and appended to `pairs` (2 particle indices each) from
+ * `offset`, at most up to `capacity` pairs in total. A's particles are visited in its own hash
+ * order (`entriesA`, `sortedA`), so consecutive queries touch the same buckets.
+ *
+ * With `restA` given (self-collision, A = B) each pair is taken once (from the particle earlier in
+ * hash order), and pairs closer than p[S_REST_FILTER] in the rest shape (mesh neighbours, which
+ * the distance constraints keep apart) are skipped. Pairs of two immovable particles are skipped.
+ * `visited` (mask + 2 ints, B's) keeps a bucket from being scanned twice for one particle when two
+ * of its cells share it. Returns the new pair count.
  */
 export function gatherPairs(
-  posA: Float64Array, invMassA: Float64Array, countA: number, restA: Float64Array | null,
-  posB: Float64Array, invMassB: Float64Array, start: Int32Array, entries: Int32Array, mask: number,
+  sortedA: Float64Array, entriesA: Int32Array, invMassA: Float64Array, countA: number, restA: Float64Array | null,
+  sortedB: Float64Array, entriesB: Int32Array, invMassB: Float64Array, start: Int32Array, mask: number, visited: Int32Array,
   pairs: Int32Array, offset: number, capacity: number, p: Float64Array,
 ): number {
   const R = p[S_RADIUS], R2 = R * R, inv = p[S_INV_CELL]
-  const D = p[S_DIST], D2 = D * D
+  const F = p[S_REST_FILTER], F2 = F * F
+  const self = restA !== null
+  // visited[b] = stamp of the last query that scanned bucket b; the running stamp is visited[mask + 1]
+  let stamp = visited[mask + 1]
+  if (stamp > 0x3fffffff - countA) {
+    visited.fill(0)
+    stamp = 0
+  }
   let n = offset
-  for (let i = 0; i < countA; i++) {
-    const ja = 3 * i
-    const x = posA[ja], y = posA[ja + 1], z = posA[ja + 2]
+  for (let si = 0; si < countA; si++) {
+    stamp++
+    const i = entriesA[si]
+    const x = sortedA[3 * si], y = sortedA[3 * si + 1], z = sortedA[3 * si + 2]
     const wa = invMassA[i]
     const x0 = Math.floor((x - R) * inv) | 0, x1 = Math.floor((x + R) * inv) | 0
     const y0 = Math.floor((y - R) * inv) | 0, y1 = Math.floor((y + R) * inv) | 0
     const z0 = Math.floor((z - R) * inv) | 0, z1 = Math.floor((z + R) * inv) | 0
     for (let cx = x0; cx <= x1; cx++) {
+      const hx = Math.imul(cx, H1)
       for (let cy = y0; cy <= y1; cy++) {
+        const hxy = hx ^ Math.imul(cy, H2)
         for (let cz = z0; cz <= z1; cz++) {
-          const b = hashCell(cx, cy, cz, mask)
+          const b = (hxy ^ Math.imul(cz, H3)) & mask
+          if (visited[b] === stamp) continue
+          visited[b] = stamp
           const end = start[b + 1]
-          for (let e = start[b]; e < end; e++) {
-            const k = entries[e]
-            if (restA !== null && k <= i) continue
-            const jb = 3 * k
-            const dx = posB[jb] - x, dy = posB[jb + 1] - y, dz = posB[jb + 2] - z
+          let e = start[b]
+          if (self && e <= si) e = si + 1 // each self pair once: from the earlier particle
+          for (; e < end; e++) {
+            const dx = sortedB[3 * e] - x, dy = sortedB[3 * e + 1] - y, dz = sortedB[3 * e + 2] - z
             if (dx * dx + dy * dy + dz * dz > R2) continue
+            const k = entriesB[e]
             if (wa === 0 && invMassB[k] === 0) continue
-            if (restA !== null) {
+            if (self) {
+              const ja = 3 * i, jb = 3 * k
               const rx = restA[jb] - restA[ja], ry = restA[jb + 1] - restA[ja + 1], rz = restA[jb + 2] - restA[ja + 2]
-              if (rx * rx + ry * ry + rz * rz < D2) continue
+              if (rx * rx + ry * ry + rz * rz < F2) continue
             }
-            if (n >= capacity) return n
+            if (n >= capacity) {
+              visited[mask + 1] = stamp
+              return n
+            }
             pairs[2 * n] = i
             pairs[2 * n + 1] = k
             n++
@@ -123,6 +156,7 @@ export function gatherPairs(
       }
     }
   }
+  visited[mask + 1] = stamp
   return n
 }
 

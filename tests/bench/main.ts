@@ -1,4 +1,5 @@
 import { allocation, sheets, throughput } from './core'
+import { outOfRange, perCollider, selfShare } from './collision'
 
 /** Benchmark suites by name; `npm run bench -- core` runs one. */
 const suites: Record<string, () => void | Promise<void>> = {
@@ -6,6 +7,11 @@ const suites: Record<string, () => void | Promise<void>> = {
     throughput()
     sheets()
     await allocation()
+  },
+  collision: () => {
+    perCollider()
+    selfShare()
+    outOfRange()
   },
 }
 
