@@ -1,3 +1,4 @@
+import { fc, test } from '@fast-check/vitest'
 import { describe, expect, it } from 'vitest'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE } from '../../components/Collider'
 import { buildConvexHull } from '../../src/hull'
@@ -267,4 +268,56 @@ describe('contact response', () => {
     seg([-1, -1, 0], [-0.6, 0, 0])
     expect(segmentHits(SHAPE_BOX, box, null, 0, s)).toBe(0)
   })
+})
+
+describe('properties', () => {
+  const coord = fc.double({ min: -2, max: 2, noNaN: true })
+  const point = fc.tuple(coord, coord, coord)
+
+  test.prop([point, point, fc.double({ min: 0, max: 0.05, noNaN: true })], { numRuns: 300 })(
+    'after a contact pass every particle is at least the thickness outside sphere, capsule and box (exact distances)',
+    (p, motion, r) => {
+      const cases: [number[], (q: ReturnType<typeof particle>, f: Float64Array) => void, (x: number, y: number, z: number) => number][] = [
+        [[0.5], (q, f) => collideSphere(q.pos, q.prev, q.w, 1, f, scratch()), (x, y, z) => Math.hypot(x, y, z) - 0.5],
+        [[0.3, 0.6], (q, f) => collideCapsule(q.pos, q.prev, q.w, 1, f, scratch()), (x, y, z) => Math.hypot(x, y - Math.max(-0.6, Math.min(0.6, y)), z) - 0.3],
+        [[0.7, 0.4, 0.2], (q, f) => collideBox(q.pos, q.prev, q.w, 1, f, scratch()), (x, y, z) => {
+          const qx = Math.abs(x) - 0.7, qy = Math.abs(y) - 0.4, qz = Math.abs(z) - 0.2
+          return Math.hypot(Math.max(qx, 0), Math.max(qy, 0), Math.max(qz, 0)) + Math.min(Math.max(qx, qy, qz), 0)
+        }],
+      ]
+      for (const [size, run, sdf] of cases) {
+        // the particle arrives at p from p − motion/10 (slow: the closest-point path) ...
+        const q = particle(p, [p[0] - motion[0] / 10, p[1] - motion[1] / 10, p[2] - motion[2] / 10])
+        run(q, frame(size, r, [0, 0, 0], [0, 0, 0], 0.5, 0.4))
+        expect(sdf(q.pos[0], q.pos[1], q.pos[2])).toBeGreaterThanOrEqual(r - 1e-9)
+        // ... or from anywhere within 2 m, with every particle swept
+        const s = particle(p, motion)
+        run(s, frame(size, r, [0, 0, 0], [0, 0, 0], 0.5, 0.4, -1, 1))
+        expect(Number.isFinite(s.pos[0] + s.pos[1] + s.pos[2])).toBe(true)
+        expect(sdf(s.pos[0], s.pos[1], s.pos[2])).toBeGreaterThanOrEqual(r - 1e-9)
+      }
+    },
+  )
+
+  test.prop([fc.array(point, { minLength: 4, maxLength: 60 })], { numRuns: 100 })(
+    'a convex hull keeps every input point behind each of its planes, and each plane touches the hull',
+    (pts) => {
+      let hull
+      try {
+        hull = buildConvexHull(pts.flat())
+      } catch {
+        return // coplanar or coincident points: rejected with ClothError, tested elsewhere
+      }
+      for (let k = 0; k < hull.planeCount; k++) {
+        const [nx, ny, nz, d] = [hull.planes[4 * k], hull.planes[4 * k + 1], hull.planes[4 * k + 2], hull.planes[4 * k + 3]]
+        let touching = 0
+        for (const [x, y, z] of pts) {
+          const e = nx * x + ny * y + nz * z - d
+          expect(e).toBeLessThan(1e-7)
+          if (e > -1e-7) touching++
+        }
+        expect(touching).toBeGreaterThanOrEqual(3)
+      }
+    },
+  )
 })
