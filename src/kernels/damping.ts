@@ -5,8 +5,8 @@ import { P_STRETCH_DAMP } from './params'
  * `params[P_STRETCH_DAMP]` of the particles' relative velocity along the pair, split by inverse mass (momentum is
  * unchanged). Only stretching motion is damped; rigid motion, swinging and bending (which do not
  * change the pair's length to first order) are not. The pair direction is normalised by the rest
- * length (`invRest2` = 1/rest²) rather than the current one while the pair is not longer than its
- * rest length (saves a division per pair), by the current one beyond.
+ * length (`invRest2` = 1/rest²) rather than the current one, which differs only at large strain
+ * and saves a division per pair.
  */
 export function dampPairs(
   pos: Float64Array,
@@ -26,11 +26,7 @@ export function dampPairs(
     const a = 3 * i0, b = 3 * i1
     const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
     const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) * invRest2[k]
-    // normalised by the rest length, the removed fraction grows with strain²: past rest length,
-    // normalise by the current length so a strongly stretched pair is never over-damped (which
-    // reverses and amplifies its relative velocity, step after step)
-    const q = (dx * dx + dy * dy + dz * dz) * invRest2[k]
-    const s = (factor * vr) / (q > 1 ? ws * q : ws)
+    const s = (factor * vr) / ws
     const sa = wa * s, sb = wb * s
     vel[a] += sa * dx
     vel[a + 1] += sa * dy
