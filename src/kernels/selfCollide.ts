@@ -184,8 +184,11 @@ export function solvePairs(
     let dx = posB[jb] - posA[ja], dy = posB[jb + 1] - posA[ja + 1], dz = posB[jb + 2] - posA[ja + 2]
     const d2 = dx * dx + dy * dy + dz * dz
     if (d2 >= D2 || d2 < 1e-24) continue
-    const wa = invMassA[i] * (touchedA[i] === 1 ? sa * heavy : sa)
-    const wb = invMassB[k] * (touchedB[k] === 1 ? sb * heavy : sb)
+    // the push treats a particle resting on a collider as heavier; friction uses the true masses,
+    // so it only exchanges momentum between the two (a scaled split here fed a folded sheet energy)
+    const ua = invMassA[i] * sa, ub = invMassB[k] * sb
+    const wa = touchedA[i] === 1 ? ua * heavy : ua
+    const wb = touchedB[k] === 1 ? ub * heavy : ub
     const W = wa + wb
     if (W === 0) continue
     contacts++
@@ -217,8 +220,10 @@ export function solvePairs(
       f = (muK * load) / Math.sqrt(t2)
       if (f > 1) f = 1
     }
-    posA[ja] += dx * f * fa; posA[ja + 1] += dy * f * fa; posA[ja + 2] += dz * f * fa
-    posB[jb] -= dx * f * fb; posB[jb + 1] -= dy * f * fb; posB[jb + 2] -= dz * f * fb
+    const U = ua + ub
+    const ga = (f * ua) / U, gb = (f * ub) / U
+    posA[ja] += dx * ga; posA[ja + 1] += dy * ga; posA[ja + 2] += dz * ga
+    posB[jb] -= dx * gb; posB[jb + 1] -= dy * gb; posB[jb + 2] -= dz * gb
   }
   return contacts
 }
