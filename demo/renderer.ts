@@ -173,6 +173,15 @@ export class Renderer {
     this.drawShape('box', boxMesh, m, color)
   }
 
+  /**
+   * A convex hull (vertices xyz and outward triangles, e.g. from `getColliderHull`) at a pose,
+   * flat-shaded; its mesh is cached under `key`.
+   */
+  convex(key: string, hull: { vertices: ArrayLike<number>; indices: ArrayLike<number> }, center: ArrayLike<number>, rotation: ArrayLike<number>, color: ArrayLike<number>): void {
+    const m = mat4.fromRotationTranslation(this.model, rotation as quat, center as vec3)
+    this.drawShape(`convex:${key}`, () => flatMesh(hull.vertices, hull.indices), m, color)
+  }
+
   /** A solid mesh in world space (e.g. a convex hull), cached under `key`. */
   solid(key: string, build: () => MeshData, color: ArrayLike<number>, model: mat4 = mat4.create()): void {
     this.drawShape(key, build, model, color)
@@ -319,6 +328,25 @@ function boxMesh(): MeshData {
     idx.push(base, base + 1, base + 2, base, base + 2, base + 3)
   }
   return { positions: Float32Array.from(pos), normals: Float32Array.from(nor), indices: Uint32Array.from(idx) }
+}
+
+/** A flat-shaded copy of an indexed triangle mesh: three vertices per triangle, face normals. */
+function flatMesh(vertices: ArrayLike<number>, indices: ArrayLike<number>): MeshData {
+  const pos = new Float32Array(3 * indices.length), nor = new Float32Array(3 * indices.length)
+  for (let t = 0; t < indices.length; t += 3) {
+    const a = 3 * indices[t], b = 3 * indices[t + 1], c = 3 * indices[t + 2]
+    const ux = vertices[b] - vertices[a], uy = vertices[b + 1] - vertices[a + 1], uz = vertices[b + 2] - vertices[a + 2]
+    const vx = vertices[c] - vertices[a], vy = vertices[c + 1] - vertices[a + 1], vz = vertices[c + 2] - vertices[a + 2]
+    let nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx
+    const l = Math.hypot(nx, ny, nz) || 1
+    nx /= l; ny /= l; nz /= l
+    for (let k = 0; k < 3; k++) {
+      const v = 3 * indices[t + k], o = 3 * (t + k)
+      pos[o] = vertices[v]; pos[o + 1] = vertices[v + 1]; pos[o + 2] = vertices[v + 2]
+      nor[o] = nx; nor[o + 1] = ny; nor[o + 2] = nz
+    }
+  }
+  return { positions: pos, normals: nor, indices: Uint32Array.from({ length: indices.length }, (_, i) => i) }
 }
 
 function groundMesh(): MeshData {

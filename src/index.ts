@@ -90,3 +90,27 @@ export {
 export { clothGuard } from '../systems/clothGuard'
 export { checkClothHealth } from './checked'
 export { saveClothState, restoreClothState, type ClothSnapshot } from './snapshot'
+
+// Collisions: colliders, layers, self-collision.
+export {
+  addSphereCollider,
+  addCapsuleCollider,
+  addBoxCollider,
+  addConvexHullCollider,
+  addPlaneCollider,
+  removeCollider,
+  getColliders,
+  getColliderPose,
+  getColliderHull,
+  type ColliderOptions,
+  type SphereColliderOptions,
+  type CapsuleColliderOptions,
+  type BoxColliderOptions,
+  type ConvexHullColliderOptions,
+  type PlaneColliderOptions,
+} from './colliders'
+export { setClothCollision, getCollisionComponents, type ClothCollisionOptions } from './collision'
+export { enableSelfCollision, disableSelfCollision, hasSelfCollision, type SelfCollisionOptions } from './selfCollision'
+export { buildConvexHull, MAX_HULL_PLANES } from './hull'
+export { SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_BOX, SHAPE_HULL, SHAPE_PLANE, type ColliderStore, type ConvexHull } from '../components/Collider'
+export type { SelfCollisionStore } from '../components/SelfCollision'

@@ -12,6 +12,7 @@ import { createTearableStore } from '../components/Tearable'
 import { createWindWorld, installWind } from './wind'
 import { createTearWorld, installTearing } from './tearing'
 import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './guard'
+import { createCollisionWorld, installCollision } from './collision'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -65,6 +66,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     wind,
     tearing: createTearWorld(),
     guard: createGuardWorld(guard),
+    collision: createCollisionWorld(capacity),
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
@@ -97,6 +99,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   })
   installWind(world, state)
   installTearing(world, state)
+  installCollision(world, state)
   return world
 }
 

@@ -1,4 +1,5 @@
 import type { ClothStore } from '../components/Cloth'
+import type { ClothCollision, CollisionWorld } from './collision'
 import type { PinStore } from '../components/Pin'
 import type { TransformStore } from '../components/Transform'
 import type { WindZoneStore } from '../components/WindZone'
@@ -171,6 +172,8 @@ export interface ClothState {
   tear: ClothTear | null
   /** Explosion guard: settings, thresholds, last good pose, rest pose (see `src/guard.ts`). */
   guard: ClothGuardState
+  /** Collision settings and per-step collision state (set when the cloth is created). */
+  collision?: ClothCollision
 }
 
 /** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
@@ -214,6 +217,8 @@ export interface ClothWorldState {
   tearing: TearWorld
   /** Explosion guard defaults, reset events and listeners. */
   guard: GuardWorld
+  /** Colliders and self-collision (see `src/collision.ts`). */
+  collision: CollisionWorld
 }
 
 /** Symbol under which the plugin keeps its state on a world. */

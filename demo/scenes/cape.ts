@@ -2,7 +2,11 @@ import { createCloth, pinRow } from '../../src/index'
 import { Character } from '../character'
 import { addButton, type DemoScene } from '../scene'
 
-/** A cape pinned to a character's shoulders through its Transform; the character walks, runs, turns and jumps. */
+/**
+ * A cape pinned to a character's shoulders through its Transform; the character walks, runs,
+ * turns and jumps. Capsules on its torso, arms and legs and a sphere on its head keep the cape on
+ * its back.
+ */
 export const capeScene: DemoScene = {
   id: 'cape',
   title: 'Cape',
@@ -10,6 +14,7 @@ export const capeScene: DemoScene = {
   camera: { target: [0, 1.1, 0], distance: 5, yaw: 2.6, pitch: 0.25 },
   create({ world, settings, ui }) {
     const hero = new Character(world)
+    hero.addColliders()
     const cape = createCloth(world, {
       width: 0.55,
       height: 1.05,

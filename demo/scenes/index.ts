@@ -1,8 +1,9 @@
 import type { DemoScene } from '../scene'
 import { capeScene } from './cape'
+import { collisionsScene } from './collisions'
 import { sheetScene } from './sheet'
 import { flagScene } from './flag'
 import { curtainScene } from './curtain'
 
 /** Every scene in the menu, in order. */
-export const scenes: DemoScene[] = [capeScene, sheetScene, flagScene, curtainScene]
+export const scenes: DemoScene[] = [capeScene, sheetScene, flagScene, curtainScene, collisionsScene]

@@ -3,6 +3,7 @@ import { allocation, sheets, throughput } from './core'
 import { windCost } from './wind'
 import { tearCost } from './tearing'
 import { guardCost, snapshotCost } from './stability'
+import { outOfRange, perCollider, selfShare } from './collision'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -25,6 +26,14 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
     run: () => {
       guardCost()
       snapshotCost()
+    },
+  },
+  collision: {
+    byDefault: true,
+    run: () => {
+      perCollider()
+      selfShare()
+      outOfRange()
     },
   },
 }

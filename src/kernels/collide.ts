@@ -1,0 +1,557 @@
+import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE } from '../../components/Collider'
+
+/**
+ * Particle–collider contact kernels. One call handles one cloth against one collider for one
+ * substep: every free particle is pushed out to the collider's surface plus the cloth's thickness,
+ * then Coulomb friction acts on its motion relative to the surface.
+ *
+ * Everything a kernel needs about the collider and the contact sits in a `frame` block
+ * (Float64Array, slots below), filled once per cloth–collider pair per substep: the collider's
+ * world pose at the start and at the end of the substep (so its motion is known exactly), the
+ * thickness, the combined friction and the shape's dimensions. Rotations are row-major 3×3
+ * matrices: world = R·local, local = Rᵀ·(world − p).
+ *
+ * Why both poses:
+ * - friction acts on the particle's motion relative to the surface point it touches, so a cape on
+ *   a running character is carried along instead of sliding off;
+ * - the push-out must not turn into velocity beyond what the contact needs. The writeback phase
+ *   computes v = (x − prev)/h; pushing a particle out of a penetration it already had at the start
+ *   of the substep would launch it. The part of the push-out that separates the particle from the
+ *   surface faster than the surface moves is therefore applied to `prev` too (a perfectly inelastic
+ *   contact: no bounce, no pop);
+ * - fast relative motion (a collider at 20 m/s, a falling particle) is handled in the collider's
+ *   frame: a particle that was outside the shape at the start of the substep is kept on the near
+ *   side of the separating plane through its closest point at the start, so it cannot pass through
+ *   the shape whatever the speed. Slow particles (the common case) take the cheaper closest-point test.
+ */
+
+/** Collider position at the start of the substep (3). */
+export const F_PS = 0
+/** Collider rotation at the start (9, row-major). */
+export const F_RS = 3
+/** Collider position at the end of the substep (3). */
+export const F_PE = 12
+/** Collider rotation at the end (9). */
+export const F_RE = 15
+/** Rs·Reᵀ (9): maps a point attached to the collider from its end pose back to its start pose. */
+export const F_M = 24
+/** Cloth thickness (particle radius), m. */
+export const F_RADIUS = 33
+/**
+ * Squared particle displacement (m²) up to which the closest-point test cannot miss the shape this
+ * substep; a particle that moved farther takes the swept test. −1: every particle is swept; Infinity: never.
+ */
+export const F_LIM2 = 34
+/** Static and kinetic friction coefficients of the contact. */
+export const F_MU_S = 35
+export const F_MU_K = 36
+/** Shape dimensions (4): see `ColliderStore.size`. */
+export const F_S0 = 37
+/** Plane colliders: world normal at the end of the substep (3) and plane constant n·x (1). */
+export const F_PN = 41
+export const F_PC = 44
+/** Local bounding sphere of the shape: centre (3) and radius (1). */
+export const F_BC = 45
+export const FRAME_SIZE = 52
+
+/** Length of the scratch block the kernels use. */
+export const COLLIDE_SCRATCH = 32
+// scratch slots: local point (0-2), closest point (3-5), local normal (6-8), signed distance (9),
+// world normal (10-12), push-out depth (13), swept segment start (14-16) and end (17-19),
+// candidates of the capsule segment test (20-26)
+
+/**
+ * Closest point on the shape's surface to the local point s[0..2]: writes the point (s[3..5]), the
+ * outward unit normal (s[6..8]) and the signed distance (s[9], negative inside). For hulls the
+ * distance is the largest face-plane distance (exact inside; outside near an edge it underestimates,
+ * so a particle is pushed to the sharp, plane-offset hull: never less than the thickness away).
+ */
+export function closestPoint(shape: number, f: Float64Array, planes: Float64Array | null, planeCount: number, s: Float64Array): void {
+  const lx = s[0], ly = s[1], lz = s[2]
+  if (shape === SHAPE_SPHERE || shape === SHAPE_CAPSULE) {
+    const R = f[F_S0]
+    let t = 0
+    if (shape === SHAPE_CAPSULE) {
+      const hh = f[F_S0 + 1]
+      t = ly < -hh ? -hh : ly > hh ? hh : ly
+    }
+    const vx = lx, vy = ly - t, vz = lz
+    const len = Math.sqrt(vx * vx + vy * vy + vz * vz)
+    let nx = 0, ny = 1, nz = 0
+    if (len > 1e-12) {
+      nx = vx / len; ny = vy / len; nz = vz / len
+    } else if (shape === SHAPE_CAPSULE) {
+      nx = 1; ny = 0
+    }
+    s[3] = nx * R; s[4] = t + ny * R; s[5] = nz * R
+    s[6] = nx; s[7] = ny; s[8] = nz
+    s[9] = len - R
+    return
+  }
+  if (shape === SHAPE_BOX) {
+    const hx = f[F_S0], hy = f[F_S0 + 1], hz = f[F_S0 + 2]
+    const qx = lx < -hx ? -hx : lx > hx ? hx : lx
+    const qy = ly < -hy ? -hy : ly > hy ? hy : ly
+    const qz = lz < -hz ? -hz : lz > hz ? hz : lz
+    const ex = lx - qx, ey = ly - qy, ez = lz - qz
+    const e2 = ex * ex + ey * ey + ez * ez
+    if (e2 > 0) {
+      const d = Math.sqrt(e2)
+      s[3] = qx; s[4] = qy; s[5] = qz
+      s[6] = ex / d; s[7] = ey / d; s[8] = ez / d
+      s[9] = d
+      return
+    }
+    // inside: the nearest face
+    const dx = hx - Math.abs(lx), dy = hy - Math.abs(ly), dz = hz - Math.abs(lz)
+    s[3] = lx; s[4] = ly; s[5] = lz
+    s[6] = 0; s[7] = 0; s[8] = 0
+    if (dx <= dy && dx <= dz) {
+      const sg = lx < 0 ? -1 : 1
+      s[3] = sg * hx; s[6] = sg; s[9] = -dx
+    } else if (dy <= dz) {
+      const sg = ly < 0 ? -1 : 1
+      s[4] = sg * hy; s[7] = sg; s[9] = -dy
+    } else {
+      const sg = lz < 0 ? -1 : 1
+      s[5] = sg * hz; s[8] = sg; s[9] = -dz
+    }
+    return
+  }
+  let nx = 0, ny = 1, nz = 0, d = 0
+  if (shape === SHAPE_HULL && planes !== null) {
+    d = -Infinity
+    for (let k = 0; k < planeCount; k++) {
+      const o = 4 * k
+      const dk = planes[o] * lx + planes[o + 1] * ly + planes[o + 2] * lz - planes[o + 3]
+      if (dk > d) {
+        d = dk
+        nx = planes[o]; ny = planes[o + 1]; nz = planes[o + 2]
+      }
+    }
+  } else if (shape === SHAPE_PLANE) {
+    nx = f[F_S0]; ny = f[F_S0 + 1]; nz = f[F_S0 + 2]
+    d = nx * lx + ny * ly + nz * lz - f[F_S0 + 3]
+  }
+  s[3] = lx - nx * d; s[4] = ly - ny * d; s[5] = lz - nz * d
+  s[6] = nx; s[7] = ny; s[8] = nz
+  s[9] = d
+}
+
+/**
+ * Contact response for particle j (offset 3·i) pushed along the world normal s[10..12] by s[13]:
+ * moves it out, removes the separating velocity the push would add beyond the contact's needs,
+ * then applies Coulomb friction to its tangential motion relative to the surface (static: the
+ * relative slip is undone when it is within μs × the normal correction; kinetic: reduced by μk ×
+ * the normal correction). Position-based friction after Macklin et al., "Unified particle physics
+ * for real-time applications" (2014), §6.1, measured against the moving surface.
+ */
+export function respond(pos: Float64Array, prev: Float64Array, j: number, f: Float64Array, s: Float64Array, touched: Uint8Array | null): void {
+  if (touched !== null) touched[(j / 3) | 0] = 1
+  const nx = s[10], ny = s[11], nz = s[12], push = s[13]
+  let x = pos[j] + nx * push, y = pos[j + 1] + ny * push, z = pos[j + 2] + nz * push
+  // where the surface point now at x was at the start of the substep
+  const rx = x - f[F_PE], ry = y - f[F_PE + 1], rz = z - f[F_PE + 2]
+  const sx = f[F_PS] + f[F_M] * rx + f[F_M + 1] * ry + f[F_M + 2] * rz
+  const sy = f[F_PS + 1] + f[F_M + 3] * rx + f[F_M + 4] * ry + f[F_M + 5] * rz
+  const sz = f[F_PS + 2] + f[F_M + 6] * rx + f[F_M + 7] * ry + f[F_M + 8] * rz
+  // the particle's motion relative to the surface this substep
+  let dx = sx - prev[j], dy = sy - prev[j + 1], dz = sz - prev[j + 2]
+  const dn = dx * nx + dy * ny + dz * nz
+  // separating faster than the surface: that part came from an old penetration, not from this
+  // substep's approach; move prev along so it does not become velocity
+  const shift = dn > 0 ? (dn < push ? dn : push) : 0
+  prev[j] += nx * shift
+  prev[j + 1] += ny * shift
+  prev[j + 2] += nz * shift
+  dx -= dn * nx
+  dy -= dn * ny
+  dz -= dn * nz
+  const t2 = dx * dx + dy * dy + dz * dz
+  const load = push - shift
+  const ms = f[F_MU_S] * load
+  let k = 1
+  if (t2 > ms * ms) {
+    k = (f[F_MU_K] * load) / Math.sqrt(t2)
+    if (k > 1) k = 1
+  }
+  pos[j] = x - dx * k
+  pos[j + 1] = y - dy * k
+  pos[j + 2] = z - dz * k
+}
+
+/** Contact from the local result in s[6..9] (normal, distance) if closer than the thickness; returns 1 or 0. */
+function contactFromLocal(pos: Float64Array, prev: Float64Array, j: number, f: Float64Array, s: Float64Array, touched: Uint8Array | null): number {
+  const d = s[9], r = f[F_RADIUS]
+  if (d >= r) return 0
+  const nx = s[6], ny = s[7], nz = s[8]
+  s[10] = f[F_RE] * nx + f[F_RE + 1] * ny + f[F_RE + 2] * nz
+  s[11] = f[F_RE + 3] * nx + f[F_RE + 4] * ny + f[F_RE + 5] * nz
+  s[12] = f[F_RE + 6] * nx + f[F_RE + 7] * ny + f[F_RE + 8] * nz
+  s[13] = r - d
+  respond(pos, prev, j, f, s, touched)
+  return 1
+}
+
+/** Writes particle j's current position in the collider's end frame into s[0..2]. */
+function toLocalEnd(pos: Float64Array, j: number, f: Float64Array, s: Float64Array): void {
+  const bx = pos[j] - f[F_PE], by = pos[j + 1] - f[F_PE + 1], bz = pos[j + 2] - f[F_PE + 2]
+  s[0] = f[F_RE] * bx + f[F_RE + 3] * by + f[F_RE + 6] * bz
+  s[1] = f[F_RE + 1] * bx + f[F_RE + 4] * by + f[F_RE + 7] * bz
+  s[2] = f[F_RE + 2] * bx + f[F_RE + 5] * by + f[F_RE + 8] * bz
+}
+
+/**
+ * Swept test for a particle that moved far relative to the collider this substep. In the
+ * collider's frame the particle went from a (its start position in the start pose) to b (now, in
+ * the end pose). If a was outside the shape, the plane through a's closest surface point separates
+ * a from the whole (convex) shape; when b ends near the shape, or the segment a→b passed through
+ * it, b is put back at least the thickness in front of that plane, so the particle stays on the
+ * side it came from however far it moved. If a was already inside, the closest-point test at b is
+ * all there is. Returns 1 for a contact.
+ */
+export function sweptContact(
+  shape: number, pos: Float64Array, prev: Float64Array, j: number, f: Float64Array,
+  planes: Float64Array | null, planeCount: number, s: Float64Array, touched: Uint8Array | null,
+): number {
+  const r = f[F_RADIUS]
+  const px = prev[j] - f[F_PS], py = prev[j + 1] - f[F_PS + 1], pz = prev[j + 2] - f[F_PS + 2]
+  const ax = f[F_RS] * px + f[F_RS + 3] * py + f[F_RS + 6] * pz
+  const ay = f[F_RS + 1] * px + f[F_RS + 4] * py + f[F_RS + 7] * pz
+  const az = f[F_RS + 2] * px + f[F_RS + 5] * py + f[F_RS + 8] * pz
+  toLocalEnd(pos, j, f, s)
+  const bx = s[0], by = s[1], bz = s[2]
+  // nowhere near the shape along the whole path: done
+  const mx = bx - ax, my = by - ay, mz = bz - az
+  const cx = bx - f[F_BC], cy = by - f[F_BC + 1], cz = bz - f[F_BC + 2]
+  const reach = f[F_BC + 3] + r + Math.sqrt(mx * mx + my * my + mz * mz)
+  if (cx * cx + cy * cy + cz * cz > reach * reach) return 0
+  closestPoint(shape, f, planes, planeCount, s)
+  const db = s[9]
+  if (db < r) {
+    s[0] = ax; s[1] = ay; s[2] = az
+    const nx = s[6], ny = s[7], nz = s[8]
+    closestPoint(shape, f, planes, planeCount, s)
+    if (s[9] <= 0) {
+      // started inside: push out where it is now
+      s[6] = nx; s[7] = ny; s[8] = nz; s[9] = db
+      return contactFromLocal(pos, prev, j, f, s, touched)
+    }
+  } else {
+    s[0] = ax; s[1] = ay; s[2] = az
+    closestPoint(shape, f, planes, planeCount, s)
+    if (s[9] <= 0) return 0
+    s[14] = ax; s[15] = ay; s[16] = az; s[17] = bx; s[18] = by; s[19] = bz
+    if (segmentHits(shape, f, planes, planeCount, s) === 0) return 0
+  }
+  // s[3..8]: a's closest point and normal, the separating plane
+  s[9] = (bx - s[3]) * s[6] + (by - s[4]) * s[7] + (bz - s[5]) * s[8]
+  return contactFromLocal(pos, prev, j, f, s, touched)
+}
+
+/**
+ * Whether the local segment s[14..16] → s[17..19] passes within the thickness of the shape
+ * (boxes and hulls with their faces moved out by the thickness, so sharp-cornered: conservative).
+ * Returns 1 or 0.
+ */
+export function segmentHits(shape: number, f: Float64Array, planes: Float64Array | null, planeCount: number, s: Float64Array): number {
+  const ax = s[14], ay = s[15], az = s[16]
+  const mx = s[17] - ax, my = s[18] - ay, mz = s[19] - az
+  const r = f[F_RADIUS]
+  const m2 = mx * mx + my * my + mz * mz
+  if (shape === SHAPE_SPHERE || shape === SHAPE_CAPSULE) {
+    const R = f[F_S0] + r
+    const hh = shape === SHAPE_CAPSULE ? f[F_S0 + 1] : 0
+    // squared distance from a + S·m to the core segment (0, [−hh, hh], 0) is convex and piecewise
+    // quadratic in S: its minimum over [0, 1] is at an end, a piece's stationary point or a breakpoint
+    const mxz = mx * mx + mz * mz
+    s[20] = 0
+    s[21] = 1
+    s[22] = mxz > 1e-24 ? -(ax * mx + az * mz) / mxz : 0
+    s[23] = m2 > 1e-24 ? -(ax * mx + (ay - hh) * my + az * mz) / m2 : 0
+    s[24] = m2 > 1e-24 ? -(ax * mx + (ay + hh) * my + az * mz) / m2 : 0
+    s[25] = my * my > 1e-24 ? (hh - ay) / my : 0
+    s[26] = my * my > 1e-24 ? (-hh - ay) / my : 0
+    let best = Infinity
+    for (let k = 20; k <= 26; k++) {
+      let S = s[k]
+      S = S < 0 ? 0 : S > 1 ? 1 : S
+      const y = ay + my * S
+      const dy = y < -hh ? y + hh : y > hh ? y - hh : 0
+      const dx = ax + mx * S, dz = az + mz * S
+      const d2 = dx * dx + dy * dy + dz * dz
+      if (d2 < best) best = d2
+    }
+    return best < R * R ? 1 : 0
+  }
+  let t0 = 0, t1 = 1
+  if (shape === SHAPE_BOX) {
+    for (let k = 0; k < 3; k++) {
+      const H = f[F_S0 + k] + r
+      const a = s[14 + k], m = s[17 + k] - a
+      if (m * m < 1e-24) {
+        if (a < -H || a > H) return 0
+        continue
+      }
+      let e0 = (-H - a) / m, e1 = (H - a) / m
+      if (e0 > e1) {
+        const tmp = e0
+        e0 = e1
+        e1 = tmp
+      }
+      if (e0 > t0) t0 = e0
+      if (e1 < t1) t1 = e1
+      if (t0 > t1) return 0
+    }
+    return 1
+  }
+  if (shape === SHAPE_HULL && planes !== null) {
+    for (let k = 0; k < planeCount; k++) {
+      const o = 4 * k
+      const da = planes[o] * ax + planes[o + 1] * ay + planes[o + 2] * az - planes[o + 3] - r
+      const db = planes[o] * s[17] + planes[o + 1] * s[18] + planes[o + 2] * s[19] - planes[o + 3] - r
+      if (da > 0 && db > 0) return 0
+      if (da > 0) {
+        const t = da / (da - db)
+        if (t > t0) t0 = t
+      } else if (db > 0) {
+        const t = da / (da - db)
+        if (t < t1) t1 = t
+      }
+      if (t0 > t1) return 0
+    }
+    return 1
+  }
+  return 0
+}
+
+/** Sphere of radius f[F_S0] centred at the collider's position. Returns the number of contacts. */
+export function collideSphere(
+  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  touched: Uint8Array | null = null,
+): number {
+  const cx = f[F_PE], cy = f[F_PE + 1], cz = f[F_PE + 2]
+  const R = f[F_S0] + f[F_RADIUS], R2 = R * R, lim2 = f[F_LIM2]
+  let contacts = 0
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
+    if (mx * mx + my * my + mz * mz > lim2) {
+      contacts += sweptContact(SHAPE_SPHERE, pos, prev, j, f, null, 0, s, touched)
+      continue
+    }
+    const dx = x - cx, dy = y - cy, dz = z - cz
+    const d2 = dx * dx + dy * dy + dz * dz
+    if (d2 >= R2) continue
+    const d = Math.sqrt(d2)
+    if (d > 1e-12) {
+      s[10] = dx / d; s[11] = dy / d; s[12] = dz / d
+    } else {
+      s[10] = f[F_RE + 1]; s[11] = f[F_RE + 4]; s[12] = f[F_RE + 7]
+    }
+    s[13] = R - d
+    respond(pos, prev, j, f, s, touched)
+    contacts++
+  }
+  return contacts
+}
+
+/** Capsule of radius f[F_S0] around the segment ±f[F_S0 + 1] along the collider's local y. */
+export function collideCapsule(
+  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  touched: Uint8Array | null = null,
+): number {
+  const cx = f[F_PE], cy = f[F_PE + 1], cz = f[F_PE + 2]
+  const ax = f[F_RE + 1], ay = f[F_RE + 4], az = f[F_RE + 7]
+  const hh = f[F_S0 + 1]
+  const R = f[F_S0] + f[F_RADIUS], R2 = R * R, lim2 = f[F_LIM2]
+  let contacts = 0
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
+    if (mx * mx + my * my + mz * mz > lim2) {
+      contacts += sweptContact(SHAPE_CAPSULE, pos, prev, j, f, null, 0, s, touched)
+      continue
+    }
+    const dx = x - cx, dy = y - cy, dz = z - cz
+    let t = dx * ax + dy * ay + dz * az
+    t = t < -hh ? -hh : t > hh ? hh : t
+    const vx = dx - ax * t, vy = dy - ay * t, vz = dz - az * t
+    const d2 = vx * vx + vy * vy + vz * vz
+    if (d2 >= R2) continue
+    const d = Math.sqrt(d2)
+    if (d > 1e-12) {
+      s[10] = vx / d; s[11] = vy / d; s[12] = vz / d
+    } else {
+      s[10] = f[F_RE]; s[11] = f[F_RE + 3]; s[12] = f[F_RE + 6]
+    }
+    s[13] = R - d
+    respond(pos, prev, j, f, s, touched)
+    contacts++
+  }
+  return contacts
+}
+
+/** Box with half-extents f[F_S0..F_S0+2] in the collider's local frame. */
+export function collideBox(
+  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  touched: Uint8Array | null = null,
+): number {
+  const px = f[F_PE], py = f[F_PE + 1], pz = f[F_PE + 2]
+  const r00 = f[F_RE], r01 = f[F_RE + 1], r02 = f[F_RE + 2]
+  const r10 = f[F_RE + 3], r11 = f[F_RE + 4], r12 = f[F_RE + 5]
+  const r20 = f[F_RE + 6], r21 = f[F_RE + 7], r22 = f[F_RE + 8]
+  const hx = f[F_S0], hy = f[F_S0 + 1], hz = f[F_S0 + 2]
+  const r = f[F_RADIUS], r2 = r * r, lim2 = f[F_LIM2]
+  let contacts = 0
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
+    if (mx * mx + my * my + mz * mz > lim2) {
+      contacts += sweptContact(SHAPE_BOX, pos, prev, j, f, null, 0, s, touched)
+      continue
+    }
+    const bx = x - px, by = y - py, bz = z - pz
+    const lx = r00 * bx + r10 * by + r20 * bz
+    const ly = r01 * bx + r11 * by + r21 * bz
+    const lz = r02 * bx + r12 * by + r22 * bz
+    const ex = lx < -hx ? lx + hx : lx > hx ? lx - hx : 0
+    const ey = ly < -hy ? ly + hy : ly > hy ? ly - hy : 0
+    const ez = lz < -hz ? lz + hz : lz > hz ? lz - hz : 0
+    if (ex * ex + ey * ey + ez * ez > r2) continue
+    s[0] = lx; s[1] = ly; s[2] = lz
+    closestPoint(SHAPE_BOX, f, null, 0, s)
+    contacts += contactFromLocal(pos, prev, j, f, s, touched)
+  }
+  return contacts
+}
+
+/** Convex hull given by `planeCount` local planes (n·x ≤ d inside, stride 4). */
+export function collideHull(
+  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array,
+  planes: Float64Array, planeCount: number, s: Float64Array, touched: Uint8Array | null = null,
+): number {
+  const px = f[F_PE], py = f[F_PE + 1], pz = f[F_PE + 2]
+  const r00 = f[F_RE], r01 = f[F_RE + 1], r02 = f[F_RE + 2]
+  const r10 = f[F_RE + 3], r11 = f[F_RE + 4], r12 = f[F_RE + 5]
+  const r20 = f[F_RE + 6], r21 = f[F_RE + 7], r22 = f[F_RE + 8]
+  const r = f[F_RADIUS], lim2 = f[F_LIM2]
+  let contacts = 0, hint = 0
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
+    if (mx * mx + my * my + mz * mz > lim2) {
+      contacts += sweptContact(SHAPE_HULL, pos, prev, j, f, planes, planeCount, s, touched)
+      continue
+    }
+    const bx = x - px, by = y - py, bz = z - pz
+    const lx = r00 * bx + r10 * by + r20 * bz
+    const ly = r01 * bx + r11 * by + r21 * bz
+    const lz = r02 * bx + r12 * by + r22 * bz
+    // separated by any face plane (beyond the thickness): no contact. The plane that separated
+    // the previous particle is tried first (neighbours usually share it), so most misses cost one
+    // dot product; otherwise the loop ends with the deepest plane, the contact's normal
+    if (planes[hint] * lx + planes[hint + 1] * ly + planes[hint + 2] * lz - planes[hint + 3] >= r) continue
+    let best = -Infinity, kb = 0, k = 0
+    for (; k < planeCount; k++) {
+      const o = 4 * k
+      const dk = planes[o] * lx + planes[o + 1] * ly + planes[o + 2] * lz - planes[o + 3]
+      if (dk >= r) break
+      if (dk > best) {
+        best = dk
+        kb = o
+      }
+    }
+    if (k < planeCount) {
+      hint = 4 * k
+      continue
+    }
+    const nx = planes[kb], ny = planes[kb + 1], nz = planes[kb + 2]
+    s[10] = r00 * nx + r01 * ny + r02 * nz
+    s[11] = r10 * nx + r11 * ny + r12 * nz
+    s[12] = r20 * nx + r21 * ny + r22 * nz
+    s[13] = r - best
+    respond(pos, prev, j, f, s, touched)
+    contacts++
+  }
+  return contacts
+}
+
+/**
+ * Half-space below a plane (world normal f[F_PN..], n·x ≥ f[F_PC] outside). A half-space has no
+ * far side to tunnel to, so no swept test is needed.
+ */
+export function collidePlane(
+  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  touched: Uint8Array | null = null,
+): number {
+  const nx = f[F_PN], ny = f[F_PN + 1], nz = f[F_PN + 2]
+  const c = f[F_PC] + f[F_RADIUS]
+  let contacts = 0
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    const d = pos[j] * nx + pos[j + 1] * ny + pos[j + 2] * nz - c
+    if (d >= 0) continue
+    s[10] = nx; s[11] = ny; s[12] = nz
+    s[13] = -d
+    respond(pos, prev, j, f, s, touched)
+    contacts++
+  }
+  return contacts
+}
+
+/**
+ * One pass over a cloth's particles for the per-step broadphase: out[0..5] their bounds (min xyz,
+ * max xyz), out[6] the largest squared speed, out[7..9] the mean velocity of the free particles and,
+ * when `deviation` is 1, out[10] the largest |v − mean| of a free particle (m/s; else 0).
+ */
+export function measureCloth(pos: Float64Array, vel: Float64Array, invMass: Float64Array, count: number, deviation: number, out: Float64Array): void {
+  let x0 = Infinity, y0 = Infinity, z0 = Infinity, x1 = -Infinity, y1 = -Infinity, z1 = -Infinity
+  let v2max = 0, mx = 0, my = 0, mz = 0, n = 0
+  for (let i = 0; i < count; i++) {
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    if (x < x0) x0 = x
+    if (x > x1) x1 = x
+    if (y < y0) y0 = y
+    if (y > y1) y1 = y
+    if (z < z0) z0 = z
+    if (z > z1) z1 = z
+    const vx = vel[j], vy = vel[j + 1], vz = vel[j + 2]
+    const v2 = vx * vx + vy * vy + vz * vz
+    if (v2 > v2max) v2max = v2
+    if (invMass[i] === 0) continue
+    mx += vx
+    my += vy
+    mz += vz
+    n++
+  }
+  if (n > 0) {
+    mx /= n
+    my /= n
+    mz /= n
+  }
+  out[0] = x0; out[1] = y0; out[2] = z0; out[3] = x1; out[4] = y1; out[5] = z1
+  out[6] = v2max
+  out[7] = mx; out[8] = my; out[9] = mz
+  let dev2 = 0
+  if (deviation === 1) {
+    for (let i = 0; i < count; i++) {
+      if (invMass[i] === 0) continue
+      const j = 3 * i
+      const dx = vel[j] - mx, dy = vel[j + 1] - my, dz = vel[j + 2] - mz
+      const d2 = dx * dx + dy * dy + dz * dz
+      if (d2 > dev2) dev2 = d2
+    }
+  }
+  out[10] = Math.sqrt(dev2)
+}

@@ -1,0 +1,262 @@
+/**
+ * Particle–particle collision kernels (self-collision and cloth–cloth), after the scheme of
+ * Müller's "Ten Minute Physics" lesson on self-collision: a spatial hash of particles built once
+ * per fixed step, candidate pairs gathered from it once per step within a radius that covers how
+ * far particles can travel relative to each other during the step, and those pairs pushed apart
+ * every substep. What keeps it stable:
+ * - pairs that are close in the rest shape (mesh neighbours, closer than 1.5 × the collision
+ *   distance) are never pushed apart, so collisions do not fight the distance constraints;
+ * - each particle's motion relative to its cloth's mean motion is clamped per substep to what the
+ *   pair radius assumed, so no pair the hash did not see can come into contact;
+ * - friction pulls touching particles toward their common velocity.
+ *
+ * Scalars travel in a parameter block (slots below).
+ */
+
+/** Hash cell size, m, and its inverse. */
+export const S_CELL = 0
+export const S_INV_CELL = 1
+/** Pair search radius, m. */
+export const S_RADIUS = 2
+/** Collision distance between two particles, m. */
+export const S_DIST = 3
+/** Static and kinetic friction between touching particles. */
+export const S_MU_S = 4
+export const S_MU_K = 5
+/** Inverse-mass scale of the first and second cloth (0 while a cloth sits a substep out). */
+export const S_W_A = 6
+export const S_W_B = 7
+/** Largest motion of a particle relative to its cloth's mean per substep, m (the clamp). */
+export const S_LIMIT = 8
+/**
+ * Inverse-mass scale of a particle that touched a collider in the previous substep (0.2: five
+ * times heavier). A cloth lying on the ground then holds up the layers above it instead of being
+ * pushed into the ground and back by every contact, so stacks and folds settle (NvCloth and Unity
+ * call this the collision mass scale).
+ */
+export const S_CONTACT_SCALE = 9
+/**
+ * Separation per substep, m, a pair may gain from the push-out before the rest is taken out of its
+ * velocity (the depenetration speed × h). Below it the push counts as a contact force: a resting
+ * stack is held up by the overlaps the ground correction recreates every substep, and these must
+ * turn into velocity (and friction load). Above it an old overlap is resolved without a pop.
+ */
+export const S_SLOP = 10
+/** Rest distance, m, below which a self pair is never gathered (mesh neighbours). */
+export const S_REST_FILTER = 11
+export const SELF_PARAM_COUNT = 12
+
+const H1 = 92837111, H2 = 689287499, H3 = 283923481
+
+/** Hash bucket of integer cell (ix, iy, iz) in a table of mask + 1 buckets (a power of two). */
+export function hashCell(ix: number, iy: number, iz: number, mask: number): number {
+  return (Math.imul(ix, H1) ^ Math.imul(iy, H2) ^ Math.imul(iz, H3)) & mask
+}
+
+/**
+ * Counting-sort spatial hash of `count` particles: afterwards the particles of bucket b are
+ * entries[start[b] .. start[b + 1]) (ascending), and `sorted` holds their positions in that order
+ * (xyz, so the queries read neighbours from contiguous memory). `start` has mask + 2 slots;
+ * `bucket` one per particle.
+ */
+export function buildHash(
+  pos: Float64Array, count: number, start: Int32Array, entries: Int32Array, bucket: Int32Array, sorted: Float64Array,
+  mask: number, p: Float64Array,
+): void {
+  const inv = p[S_INV_CELL]
+  start.fill(0)
+  for (let i = 0; i < count; i++) {
+    const j = 3 * i
+    const b = hashCell(Math.floor(pos[j] * inv) | 0, Math.floor(pos[j + 1] * inv) | 0, Math.floor(pos[j + 2] * inv) | 0, mask)
+    bucket[i] = b
+    start[b]++
+  }
+  // running sum: start[b] = end of bucket b
+  let sum = 0
+  for (let b = 0; b <= mask; b++) {
+    sum += start[b]
+    start[b] = sum
+  }
+  start[mask + 1] = sum
+  // placing back to front leaves start[b] at the bucket's first entry, particles ascending
+  for (let i = count - 1; i >= 0; i--) entries[--start[bucket[i]]] = i
+  for (let e = 0; e < count; e++) {
+    const j = 3 * entries[e]
+    sorted[3 * e] = pos[j]
+    sorted[3 * e + 1] = pos[j + 1]
+    sorted[3 * e + 2] = pos[j + 2]
+  }
+}
+
+/**
+ * Candidate pairs (i of cloth A, k of cloth B) closer than p[S_RADIUS] now, found through B's hash
+ * (`start`, `entriesB`, `sortedB`) and appended to `pairs` (2 particle indices each) from
+ * `offset`, at most up to `capacity` pairs in total. A's particles are visited in its own hash
+ * order (`entriesA`, `sortedA`), so consecutive queries touch the same buckets.
+ *
+ * With `restA` given (self-collision, A = B) each pair is taken once (from the particle earlier in
+ * hash order), and pairs closer than p[S_REST_FILTER] in the rest shape (mesh neighbours, which
+ * the distance constraints keep apart) are skipped. Pairs of two immovable particles are skipped.
+ * `visited` (mask + 2 ints, B's) keeps a bucket from being scanned twice for one particle when two
+ * of its cells share it. Returns the new pair count.
+ */
+export function gatherPairs(
+  sortedA: Float64Array, entriesA: Int32Array, invMassA: Float64Array, countA: number, restA: Float64Array | null,
+  sortedB: Float64Array, entriesB: Int32Array, invMassB: Float64Array, start: Int32Array, mask: number, visited: Int32Array,
+  pairs: Int32Array, offset: number, capacity: number, p: Float64Array,
+): number {
+  const R = p[S_RADIUS], R2 = R * R, inv = p[S_INV_CELL]
+  const F = p[S_REST_FILTER], F2 = F * F
+  const self = restA !== null
+  // visited[b] = stamp of the last query that scanned bucket b; the running stamp is visited[mask + 1]
+  let stamp = visited[mask + 1]
+  if (stamp > 0x3fffffff - countA) {
+    visited.fill(0)
+    stamp = 0
+  }
+  let n = offset
+  for (let si = 0; si < countA; si++) {
+    stamp++
+    const i = entriesA[si]
+    const x = sortedA[3 * si], y = sortedA[3 * si + 1], z = sortedA[3 * si + 2]
+    const wa = invMassA[i]
+    const x0 = Math.floor((x - R) * inv) | 0, x1 = Math.floor((x + R) * inv) | 0
+    const y0 = Math.floor((y - R) * inv) | 0, y1 = Math.floor((y + R) * inv) | 0
+    const z0 = Math.floor((z - R) * inv) | 0, z1 = Math.floor((z + R) * inv) | 0
+    for (let cx = x0; cx <= x1; cx++) {
+      const hx = Math.imul(cx, H1)
+      for (let cy = y0; cy <= y1; cy++) {
+        const hxy = hx ^ Math.imul(cy, H2)
+        for (let cz = z0; cz <= z1; cz++) {
+          const b = (hxy ^ Math.imul(cz, H3)) & mask
+          if (visited[b] === stamp) continue
+          visited[b] = stamp
+          const end = start[b + 1]
+          let e = start[b]
+          if (self && e <= si) e = si + 1 // each self pair once: from the earlier particle
+          for (; e < end; e++) {
+            const dx = sortedB[3 * e] - x, dy = sortedB[3 * e + 1] - y, dz = sortedB[3 * e + 2] - z
+            if (dx * dx + dy * dy + dz * dz > R2) continue
+            const k = entriesB[e]
+            if (wa === 0 && invMassB[k] === 0) continue
+            if (self) {
+              const ja = 3 * i, jb = 3 * k
+              const rx = restA[jb] - restA[ja], ry = restA[jb + 1] - restA[ja + 1], rz = restA[jb + 2] - restA[ja + 2]
+              if (rx * rx + ry * ry + rz * rz < F2) continue
+            }
+            if (n >= capacity) {
+              visited[mask + 1] = stamp
+              return n
+            }
+            pairs[2 * n] = i
+            pairs[2 * n + 1] = k
+            n++
+          }
+        }
+      }
+    }
+  }
+  visited[mask + 1] = stamp
+  return n
+}
+
+/**
+ * Pushes the particles of each pair (i in A, j in B) apart to at least p[S_DIST], weighted by
+ * inverse mass (scaled by p[S_W_A], p[S_W_B], and by p[S_CONTACT_SCALE] for particles flagged in
+ * `touchedA`/`touchedB`, those resting on a collider). As with colliders, separation beyond the pair's
+ * approach this substep (and beyond p[S_SLOP]) goes into `prev` too (an old overlap resolved
+ * without a pop), and the
+ * tangential relative motion is reduced by Coulomb friction (static: both move with their common,
+ * mass-weighted velocity). Pairs [first, first + count). Returns the number of pairs in contact.
+ */
+export function solvePairs(
+  posA: Float64Array, prevA: Float64Array, invMassA: Float64Array, touchedA: Uint8Array,
+  posB: Float64Array, prevB: Float64Array, invMassB: Float64Array, touchedB: Uint8Array,
+  pairs: Int32Array, first: number, count: number, p: Float64Array,
+): number {
+  const D = p[S_DIST], D2 = D * D, muS = p[S_MU_S], muK = p[S_MU_K], sa = p[S_W_A], sb = p[S_W_B]
+  const heavy = p[S_CONTACT_SCALE], slop = p[S_SLOP]
+  let contacts = 0
+  const end = first + count
+  for (let q = first; q < end; q++) {
+    const i = pairs[2 * q], k = pairs[2 * q + 1]
+    const ja = 3 * i, jb = 3 * k
+    let dx = posB[jb] - posA[ja], dy = posB[jb + 1] - posA[ja + 1], dz = posB[jb + 2] - posA[ja + 2]
+    const d2 = dx * dx + dy * dy + dz * dz
+    if (d2 >= D2 || d2 < 1e-24) continue
+    // the push treats a particle resting on a collider as heavier; friction uses the true masses,
+    // so it only exchanges momentum between the two (a scaled split here fed a folded sheet energy)
+    const ua = invMassA[i] * sa, ub = invMassB[k] * sb
+    const wa = touchedA[i] === 1 ? ua * heavy : ua
+    const wb = touchedB[k] === 1 ? ub * heavy : ub
+    const W = wa + wb
+    if (W === 0) continue
+    contacts++
+    const d = Math.sqrt(d2)
+    const nx = dx / d, ny = dy / d, nz = dz / d
+    const push = D - d
+    const fa = wa / W, fb = wb / W
+    posA[ja] -= nx * push * fa; posA[ja + 1] -= ny * push * fa; posA[ja + 2] -= nz * push * fa
+    posB[jb] += nx * push * fb; posB[jb + 1] += ny * push * fb; posB[jb + 2] += nz * push * fb
+    // relative motion of B's particle with respect to A's this substep
+    dx = posB[jb] - prevB[jb] - (posA[ja] - prevA[ja])
+    dy = posB[jb + 1] - prevB[jb + 1] - (posA[ja + 1] - prevA[ja + 1])
+    dz = posB[jb + 2] - prevB[jb + 2] - (posA[ja + 2] - prevA[ja + 2])
+    const dn = dx * nx + dy * ny + dz * nz
+    const excess = dn - slop
+    const shift = excess > 0 ? (excess < push ? excess : push) : 0
+    if (shift > 0) {
+      prevA[ja] -= nx * shift * fa; prevA[ja + 1] -= ny * shift * fa; prevA[ja + 2] -= nz * shift * fa
+      prevB[jb] += nx * shift * fb; prevB[jb + 1] += ny * shift * fb; prevB[jb + 2] += nz * shift * fb
+    }
+    dx -= dn * nx
+    dy -= dn * ny
+    dz -= dn * nz
+    const t2 = dx * dx + dy * dy + dz * dz
+    const load = push - shift
+    const ms = muS * load
+    let f = 1
+    if (t2 > ms * ms) {
+      f = (muK * load) / Math.sqrt(t2)
+      if (f > 1) f = 1
+    }
+    const U = ua + ub
+    const ga = (f * ua) / U, gb = (f * ub) / U
+    posA[ja] += dx * ga; posA[ja + 1] += dy * ga; posA[ja + 2] += dz * ga
+    posB[jb] -= dx * gb; posB[jb + 1] -= dy * gb; posB[jb + 2] -= dz * gb
+  }
+  return contacts
+}
+
+/**
+ * Clamps each free particle's motion this substep, relative to the mean motion of the cloth's free
+ * particles, to p[S_LIMIT] metres: the speed limit under which the step's pair list stays complete.
+ * A cloth carried along by a running character is not slowed; only fast motion within the cloth is.
+ */
+export function clampRelativeMotion(pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, p: Float64Array): void {
+  let mx = 0, my = 0, mz = 0, n = 0
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    mx += pos[j] - prev[j]
+    my += pos[j + 1] - prev[j + 1]
+    mz += pos[j + 2] - prev[j + 2]
+    n++
+  }
+  if (n === 0) return
+  mx /= n
+  my /= n
+  mz /= n
+  const lim = p[S_LIMIT], lim2 = lim * lim
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    const dx = pos[j] - prev[j] - mx, dy = pos[j + 1] - prev[j + 1] - my, dz = pos[j + 2] - prev[j + 2] - mz
+    const d2 = dx * dx + dy * dy + dz * dz
+    if (d2 <= lim2) continue
+    const f = lim / Math.sqrt(d2)
+    pos[j] = prev[j] + mx + dx * f
+    pos[j + 1] = prev[j + 1] + my + dy * f
+    pos[j + 2] = prev[j + 2] + mz + dz * f
+  }
+}

@@ -1,0 +1,171 @@
+import { addEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  ClothError,
+  addPlaneCollider,
+  createCloth,
+  disableSelfCollision,
+  enableSelfCollision,
+  getClothState,
+  getClothStats,
+  hasSelfCollision,
+  resetClothStats,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
+import { hashBytes, makeWorld } from '../helpers'
+import { flatSheet, maxSpeed } from './scenes'
+
+const COLS = 16, ROWS = 24, LAYERS = 4, WIDTH = 0.6
+const SPACING = WIDTH / (COLS - 1)
+
+/** A world with a ground plane at y = 0. */
+function groundWorld() {
+  const world = makeWorld()
+  const ground = addEntity(world)
+  setTransform(world, ground, [0, 0, 0])
+  addPlaneCollider(world, ground)
+  return world
+}
+
+/**
+ * A sheet folded like an accordion into 4 horizontal layers one particle spacing apart (its rest
+ * shape stays flat), dropped onto the ground from 15 cm.
+ */
+function foldedSheet(world: object, self: boolean) {
+  const cloth = createCloth(world, { width: WIDTH, height: SPACING * (ROWS - 1), resolution: [COLS, ROWS] })
+  const c = getClothState(world, cloth)
+  const per = ROWS / LAYERS
+  for (let r = 0; r < ROWS; r++) {
+    const layer = Math.floor(r / per), k = r % per
+    const z = layer % 2 === 0 ? k * SPACING : (per - 1 - k) * SPACING
+    for (let col = 0; col < COLS; col++) {
+      const i = r * COLS + col
+      c.pos[3 * i] = -WIDTH / 2 + col * SPACING
+      c.pos[3 * i + 1] = 0.15 + layer * SPACING
+      c.pos[3 * i + 2] = z
+    }
+  }
+  c.prev.set(c.pos)
+  if (self) enableSelfCollision(world, cloth) // thickness: the particle spacing
+  return cloth
+}
+
+/**
+ * Smallest distance, over `d`, between two particles that are not mesh neighbours: at least 1.5 × d
+ * apart at rest (d is the particle spacing here, so direct and diagonal neighbours are excluded,
+ * as the solver excludes them).
+ */
+function closestNonNeighbours(world: object, cloth: number, d: number): number {
+  const c = getClothState(world, cloth)
+  const rest = c.topology.restPositions
+  let min = Infinity
+  for (let i = 0; i < c.count; i++) {
+    for (let j = i + 1; j < c.count; j++) {
+      const r = Math.hypot(rest[3 * i] - rest[3 * j], rest[3 * i + 1] - rest[3 * j + 1], rest[3 * i + 2] - rest[3 * j + 2])
+      if (r < 1.5 * d) continue
+      min = Math.min(min, Math.hypot(c.pos[3 * i] - c.pos[3 * j], c.pos[3 * i + 1] - c.pos[3 * j + 1], c.pos[3 * i + 2] - c.pos[3 * j + 2]))
+    }
+  }
+  return min / d
+}
+
+/** Smallest distance between a particle of one cloth and one of another, m. */
+function gapBetween(world: object, a: number, b: number): number {
+  const A = getClothState(world, a), B = getClothState(world, b)
+  let min = Infinity
+  for (let i = 0; i < A.count; i++) {
+    for (let j = 0; j < B.count; j++) {
+      min = Math.min(min, Math.hypot(A.pos[3 * i] - B.pos[3 * j], A.pos[3 * i + 1] - B.pos[3 * j + 1], A.pos[3 * i + 2] - B.pos[3 * j + 2]))
+    }
+  }
+  return min
+}
+
+function meanY(world: object, cloth: number): number {
+  const c = getClothState(world, cloth)
+  let y = 0
+  for (let i = 0; i < c.count; i++) y += c.pos[3 * i + 1]
+  return y / c.count
+}
+
+describe('self-collision', () => {
+  it('a sheet dropped in folds onto the ground ends with no two non-neighbouring particles closer than 0.9 × thickness', () => {
+    const world = groundWorld()
+    const cloth = foldedSheet(world, true)
+    for (let f = 0; f < 180; f++) stepCloth(world, 1 / 60)
+    expect(closestNonNeighbours(world, cloth, SPACING)).toBeGreaterThanOrEqual(0.9)
+    expect(maxSpeed(world, cloth)).toBeLessThan(0.05) // and it has settled
+    expect(getClothStats(world).selfCollisionTests).toBeGreaterThan(0)
+  })
+
+  it('without self-collision the same folds pass through each other', () => {
+    const world = groundWorld()
+    const cloth = foldedSheet(world, false)
+    for (let f = 0; f < 180; f++) stepCloth(world, 1 / 60)
+    expect(closestNonNeighbours(world, cloth, SPACING)).toBeLessThan(0.3)
+    expect(getClothStats(world).selfCollisionTests).toBe(0)
+  })
+
+  it('two cloths that both opt in stack; if only one does, they pass through each other', () => {
+    const drop = (second: boolean) => {
+      const world = groundWorld()
+      const a = flatSheet(world, 0, 0.05, 0, 0.6, 16)
+      const b = flatSheet(world, 0.05, 0.15, 0.03, 0.6, 16)
+      enableSelfCollision(world, a) // thickness: the particle spacing, 4 cm
+      if (second) enableSelfCollision(world, b)
+      for (let f = 0; f < 120; f++) stepCloth(world, 1 / 60)
+      return { gap: gapBetween(world, a, b), lift: meanY(world, b) - meanY(world, a) }
+    }
+    const both = drop(true)
+    expect(both.gap).toBeGreaterThanOrEqual(0.9 * 0.04)
+    // lying on the other one (its particles settle into the other's grid cells: ≈ 2.8 cm up)
+    expect(both.lift).toBeGreaterThan(0.015)
+    expect(drop(false).lift).toBeLessThan(0.002) // both flat on the ground, through each other
+  })
+
+  it('never pushes apart particles that are close in the rest shape', () => {
+    // thickness 1.5 × spacing: every direct and diagonal neighbour is within it at rest. A flat
+    // sheet at rest on the ground must not move at all.
+    const run = (self: boolean) => {
+      const world = groundWorld()
+      const cloth = flatSheet(world, 0, 0.0051, 0, 0.6, 16)
+      if (self) enableSelfCollision(world, cloth, { thickness: 1.5 * 0.04 })
+      for (let f = 0; f < 60; f++) stepCloth(world, 1 / 60)
+      return hashBytes(getClothState(world, cloth).pos)
+    }
+    // without the filter its neighbours, 4 cm apart, would be pushed to 6 cm
+    expect(run(true)).toBe(run(false))
+  })
+
+  it('can be turned off again, and then costs nothing', () => {
+    const world = groundWorld()
+    const cloth = foldedSheet(world, true)
+    expect(hasSelfCollision(world, cloth)).toBe(true)
+    stepCloth(world, 1 / 60)
+    disableSelfCollision(world, cloth)
+    expect(hasSelfCollision(world, cloth)).toBe(false)
+    resetClothStats(world)
+    for (let f = 0; f < 10; f++) stepCloth(world, 1 / 60)
+    expect(getClothStats(world).selfCollisionTests).toBe(0)
+  })
+
+  it('is deterministic: the same folds give the same bytes', () => {
+    const run = () => {
+      const world = groundWorld()
+      const cloth = foldedSheet(world, true)
+      for (let f = 0; f < 60; f++) stepCloth(world, 1 / 60)
+      return hashBytes(getClothState(world, cloth).pos)
+    }
+    expect(run()).toBe(run())
+  })
+
+  it('rejects bad input with ClothError', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 4 })
+    expect(() => enableSelfCollision(world, cloth, { thickness: 0 })).toThrow(ClothError)
+    expect(() => enableSelfCollision(world, cloth, { thickness: NaN })).toThrow(ClothError)
+    expect(() => enableSelfCollision(world, cloth, { friction: -1 })).toThrow(ClothError)
+    expect(() => enableSelfCollision(world, 999, {})).toThrow(ClothError)
+  })
+})
