@@ -32,6 +32,7 @@ import {
   type ClothTopology,
   type ShearModel,
 } from './topology'
+import { createClothSleep, wakeClothState } from './sleep'
 
 /** Long-range attachment settings. */
 export interface TetherOptions {
@@ -302,6 +303,9 @@ function spawnCloth(
     wind: null,
     tear: null,
     guard: createClothGuard(topology, pos, o.guard),
+    sleeping: false,
+    sleep: createClothSleep(state.sleep.defaults),
+    sleepBounds: new Float64Array(6),
   }
   state.components.Cloth.state[eid] = c
   state.cloths.push(c)
@@ -373,11 +377,13 @@ export function setClothQuality(world: object, cloth: number, quality: { substep
     c.h = state.fixedTimeStep / c.substeps
   }
   if (quality.iterations !== undefined) c.iterations = checkInteger('quality.iterations', quality.iterations, 1, 256)
+  wakeClothState(state, c)
 }
 
 /** Changes a cloth's tether settings (`false` turns tethers off); they are rebuilt at the next step. */
 export function setClothTethers(world: object, cloth: number, tethers: boolean | TetherOptions): void {
-  const c = getCloth(getClothWorld(world), cloth)
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
   if (typeof tethers !== 'boolean') checkObject('tethers', tethers)
   const current: TetherOptions = { enabled: c.useTethers, mode: c.tetherMode, slack: c.tetherSlack, perParticle: c.tethersPerParticle }
   const t = checkTetherOptions(typeof tethers === 'boolean' ? { ...current, enabled: tethers } : { ...current, ...tethers }, 'tethers')
@@ -386,6 +392,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
   c.tetherSlack = t.slack
   c.tethersPerParticle = t.perParticle
   c.tethersDirty = true
+  wakeClothState(state, c)
 }
 
 /**

@@ -8,6 +8,7 @@ import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0 }
 import { interpolatePose, readPoseInto, trackEntity, untrackEntity } from './kinematics'
 import { getClothWorld, type ClothWorldState } from './state'
 import { checkEntity } from './transform'
+import { wakeAroundCollider } from './sleep'
 
 /** Options every collider takes. */
 export interface ColliderOptions {
@@ -125,6 +126,8 @@ function spawnCollider(
   cw.colliders.push(eid)
   reserveActiveColliders(state)
   addComponent(world as never, eid, C)
+  sweepColliderBounds(state, eid)
+  wakeAroundCollider(state, eid) // a collider appearing on a sleeping cloth wakes it
   return eid
 }
 
@@ -235,6 +238,7 @@ export function releaseCollider(state: ClothWorldState, eid: number): void {
   const cw = state.collision
   const k = cw.colliders.indexOf(eid)
   if (k < 0) return
+  wakeAroundCollider(state, eid) // a cloth sleeping on it must fall
   cw.colliders.splice(k, 1)
   const C = cw.Collider
   if (C.slot[eid] >= 0) untrackEntity(state, C.body[eid])

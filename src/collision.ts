@@ -21,6 +21,7 @@ import { SELF_PARAM_COUNT } from './kernels/selfCollide'
 import { getCloth } from './pins'
 import { ensureStoreCapacity } from './store'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
+import { wakeClothState } from './sleep'
 
 /**
  * Per-world collision state: the Collider and SelfCollision stores, colliders and self-colliding
@@ -186,6 +187,7 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   cc.thickness = thickness
   cc.friction = friction
   cc.staticFriction = staticFriction
+  wakeClothState(state, c)
 }
 
 /** A cloth's collision thickness (particle radius), m. */
@@ -194,23 +196,56 @@ export function clothThickness(c: ClothState): number {
   return t > 0 ? t : c.material.thickness
 }
 
-/** Whether a cloth with `cc` and collider `eid` may touch (each one's layer is in the other's mask). */
-function layersMatch(C: ColliderStore, eid: number, cc: ClothCollision): boolean {
+/**
+ * Once per fixed step (the sync phase): each collider's bounds swept over the step, from its
+ * body's pose at the step's start and end (read by the broadphase and by the sleep test).
+ */
+export function sweepColliders(state: ClothWorldState): void {
+  const colliders = state.collision.colliders
+  for (let k = 0; k < colliders.length; k++) sweepColliderBounds(state, colliders[k])
+}
+
+/**
+ * Whether collider `e`'s swept bounds come within the cloth's thickness of the box `b` (min xyz,
+ * max xyz); a plane, whether the box's lowest point along the normal, at the step's start or end
+ * pose, is nearer than the thickness.
+ */
+export function colliderReaches(C: ColliderStore, e: number, b: Float64Array, c: ClothState): boolean {
+  const cc = c.collision!
+  const r = cc.thickness > 0 ? cc.thickness : c.material.thickness
+  const o = 8 * e
+  const sw = C.swept
+  if (C.shape[e] === SHAPE_PLANE) {
+    const cx = 0.5 * (b[0] + b[3]), cy = 0.5 * (b[1] + b[4]), cz = 0.5 * (b[2] + b[5])
+    const ex = 0.5 * (b[3] - b[0]), ey = 0.5 * (b[4] - b[1]), ez = 0.5 * (b[5] - b[2])
+    const d0 = sw[o] * cx + sw[o + 1] * cy + sw[o + 2] * cz - Math.abs(sw[o]) * ex - Math.abs(sw[o + 1]) * ey - Math.abs(sw[o + 2]) * ez - sw[o + 3]
+    const d1 = sw[o + 4] * cx + sw[o + 5] * cy + sw[o + 6] * cz - Math.abs(sw[o + 4]) * ex - Math.abs(sw[o + 5]) * ey - Math.abs(sw[o + 6]) * ez - sw[o + 7]
+    return d0 < r || d1 < r
+  }
+  return !(
+    sw[o] > b[3] + r || sw[o + 3] < b[0] - r ||
+    sw[o + 1] > b[4] + r || sw[o + 4] < b[1] - r ||
+    sw[o + 2] > b[5] + r || sw[o + 5] < b[2] - r
+  )
+}
+
+/** Whether cloth `cc` and collider `eid` may touch (each one's layer is in the other's mask). */
+export function colliderLayersMatch(C: ColliderStore, eid: number, cc: ClothCollision): boolean {
   return (C.layer[eid] & cc.mask) !== 0 && (C.mask[eid] & cc.layer) !== 0
 }
 
 /**
- * Once per fixed step (the collide phase's first substep): each collider's bounds swept over the
- * step; for each cloth that could touch a collider (layers) or collides with itself, its particle
- * bounds grown by how far particles can travel in the step, and the list of colliders whose
- * swept bounds reach them; then the self-collision hashes and pair lists. A cloth far from every
- * collider gets an empty list and costs nothing per particle in the substeps.
+ * Once per fixed step (the collide phase's first substep): for each running cloth that could
+ * touch a collider (layers) or collides with itself, its particle bounds grown by how far
+ * particles can travel in the step, and the list of colliders whose swept bounds (see
+ * `sweepColliders`) reach them; then the self-collision hashes and pair lists. A cloth far from
+ * every collider gets an empty list and costs nothing per particle in the substeps; a sleeping
+ * cloth keeps the bounds it fell asleep with.
  */
 export function beginCollisionStep(state: ClothWorldState): void {
   const cw = state.collision
   const C = cw.Collider
   const colliders = cw.colliders
-  for (let k = 0; k < colliders.length; k++) sweepColliderBounds(state, colliders[k])
   const dt = state.fixedTimeStep
   const g = state.gravity
   const gdt2 = Math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * dt * dt
@@ -220,9 +255,10 @@ export function beginCollisionStep(state: ClothWorldState): void {
     const c = cloths[ci]
     const cc = c.collision!
     cc.activeCount = 0
+    if (c.sleeping) continue
     let candidates = false
     for (let k = 0; k < colliders.length; k++) {
-      if (layersMatch(C, colliders[k], cc)) {
+      if (colliderLayersMatch(C, colliders[k], cc)) {
         candidates = true
         break
       }
@@ -239,27 +275,9 @@ export function beginCollisionStep(state: ClothWorldState): void {
     }
     b[B_MAX_DEV] = m[10]
     if (!candidates) continue
-    const r = cc.thickness > 0 ? cc.thickness : c.material.thickness
     for (let k = 0; k < colliders.length; k++) {
       const e = colliders[k]
-      if (!layersMatch(C, e, cc)) continue
-      const o = 8 * e
-      const sw = C.swept
-      if (C.shape[e] === SHAPE_PLANE) {
-        // lowest point of the box along the plane normal, at the step's start and end poses
-        const cx = 0.5 * (b[0] + b[3]), cy = 0.5 * (b[1] + b[4]), cz = 0.5 * (b[2] + b[5])
-        const ex = 0.5 * (b[3] - b[0]), ey = 0.5 * (b[4] - b[1]), ez = 0.5 * (b[5] - b[2])
-        const d0 = sw[o] * cx + sw[o + 1] * cy + sw[o + 2] * cz - Math.abs(sw[o]) * ex - Math.abs(sw[o + 1]) * ey - Math.abs(sw[o + 2]) * ez - sw[o + 3]
-        const d1 = sw[o + 4] * cx + sw[o + 5] * cy + sw[o + 6] * cz - Math.abs(sw[o + 4]) * ex - Math.abs(sw[o + 5]) * ey - Math.abs(sw[o + 6]) * ez - sw[o + 7]
-        if (d0 >= r && d1 >= r) continue
-      } else if (
-        sw[o] > b[3] + r || sw[o + 3] < b[0] - r ||
-        sw[o + 1] > b[4] + r || sw[o + 4] < b[1] - r ||
-        sw[o + 2] > b[5] + r || sw[o + 5] < b[2] - r
-      ) {
-        continue
-      }
-      cc.active[cc.activeCount++] = e
+      if (colliderLayersMatch(C, e, cc) && colliderReaches(C, e, b, c)) cc.active[cc.activeCount++] = e
     }
   }
   if (cw.selfCloths.length > 0) buildSelfCollisionPairs(state)

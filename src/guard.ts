@@ -19,6 +19,7 @@ import {
 } from './kernels/guard'
 import { getCloth } from './pins'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
+import { SL_STILL } from './sleep'
 import type { ClothTopology } from './topology'
 
 /** Guard settings, per world (defaults for new cloths) or per cloth. */
@@ -339,6 +340,7 @@ export function resetCloth(state: ClothWorldState, c: ClothState, reason: number
   g.sinceSafe = 0
   c.version++
   state.stats.guardResets++
+  c.sleep[SL_STILL] = 0 // a cloth that keeps failing is not at rest, however still it is after each reset
 
   const w = state.guard
   const slot = (w.evHead + w.evCount) % EVENT_CAPACITY

@@ -91,6 +91,9 @@ export { clothGuard } from '../systems/clothGuard'
 export { checkClothHealth } from './checked'
 export { saveClothState, restoreClothState, type ClothSnapshot } from './snapshot'
 
+// Sleeping: still cloths cost nothing until disturbed.
+export { setClothSleep, wakeCloth, isClothSleeping, type ClothSleepOptions } from './sleep'
+
 // Collisions: colliders, layers, self-collision.
 export {
   addSphereCollider,

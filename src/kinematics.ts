@@ -32,6 +32,8 @@ export interface Kinematics {
   stepTo: Float64Array
   /** 1 when the entity jumped (teleported) at the current frame sample. */
   jumped: Uint8Array
+  /** 1 when the entity's pose changes during the current fixed step (or it jumped): wakes sleepers. */
+  moved: Uint8Array
   /** 1 to treat the next sample as a jump whatever its distance (set by teleportCloth). */
   forceJump: Uint8Array
   /** The jump as a rigid transform: pivot xyz, rotation xyzw, translation xyz (stride 10). */
@@ -64,6 +66,7 @@ export function createKinematics(): Kinematics {
     stepFrom: new Float64Array(0),
     stepTo: new Float64Array(0),
     jumped: new Uint8Array(0),
+    moved: new Uint8Array(0),
     forceJump: new Uint8Array(0),
     jump: new Float64Array(0),
     time: Float64Array.from([0, 1]),
@@ -98,6 +101,7 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
   k.eid[slot] = eid
   k.refs[slot] = 1
   k.jumped[slot] = 0
+  k.moved[slot] = 0
   k.forceJump[slot] = 0
   readPoseInto(state, eid, pose)
   const o = 7 * slot
@@ -135,6 +139,7 @@ function growSlots(k: Kinematics, n: number): void {
   k.stepFrom = grow(k.stepFrom, 7)
   k.stepTo = grow(k.stepTo, 7)
   k.jumped = grow(k.jumped, 1)
+  k.moved = grow(k.moved, 1)
   k.forceJump = grow(k.forceJump, 1)
   k.jump = grow(k.jump, 10)
 }
@@ -233,7 +238,7 @@ function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: numbe
 /**
  * Start of a fixed step: every tracked entity's step pose moves on to its pose at the step's end
  * (`time[K_STEP_FRACTION]` of the way from the previous frame sample to the current one; the
- * current sample itself when an engine runs steps directly).
+ * current sample itself when an engine runs steps directly), and records whether it moved.
  */
 export function beginKinematicStep(k: Kinematics): void {
   if (!k.framed) k.time[K_STEP_FRACTION] = 1
@@ -242,6 +247,9 @@ export function beginKinematicStep(k: Kinematics): void {
     const o = 7 * slot
     for (let c = 0; c < 7; c++) k.stepFrom[o + c] = k.stepTo[o + c]
     interpolatePose(k.sampleFrom, k.sampleTo, o, k.time, K_STEP_FRACTION, k.stepTo, o)
+    let moved = k.jumped[slot]
+    for (let c = 0; c < 7 && moved === 0; c++) if (k.stepFrom[o + c] !== k.stepTo[o + c]) moved = 1
+    k.moved[slot] = moved
   }
 }
 

@@ -7,6 +7,7 @@ import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import { checkEntity, readScale } from './transform'
 import { interpolatePose, trackEntity, untrackEntity } from './kinematics'
 import { growStores } from './plugin'
+import { wakeClothState } from './sleep'
 
 /** Options of `pinParticle`. */
 export interface PinOptions {
@@ -81,6 +82,7 @@ export function pinParticle(
 
   addComponent(world as never, pin, P)
   c.pins.push(pin)
+  wakeClothState(state, c)
   if (c.pinCount[index]++ === 0) {
     c.invMass[index] = 0
     c.tethersDirty = true
@@ -126,6 +128,7 @@ export function releasePin(state: ClothWorldState, pin: number): void {
   const k = c.pins.indexOf(pin)
   if (k < 0) return
   c.pins.splice(k, 1)
+  wakeClothState(state, c)
   if (P.slot[pin] >= 0) untrackEntity(state, P.target[pin])
   P.slot[pin] = -1
   const i = P.particle[pin]
@@ -337,4 +340,5 @@ export function teleportCloth(
   for (const pin of c.pins) if (P.slot[pin] >= 0) k.forceJump[P.slot[pin]] = 1
   c.skipTeleport = true
   state.stats.teleports++
+  wakeClothState(state, c)
 }

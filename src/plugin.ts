@@ -13,6 +13,7 @@ import { createWindWorld, installWind } from './wind'
 import { createTearWorld, installTearing } from './tearing'
 import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './guard'
 import { createCollisionWorld, installCollision } from './collision'
+import { DEFAULT_SLEEP, createSleepWorld, resolveSleepOptions } from './sleep'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -40,6 +41,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   const capacity = options.capacity === undefined ? 1024 : checkInteger('options.capacity', options.capacity, 1, 1 << 26)
   if (options.transforms !== undefined) validateTransformSource(options.transforms)
   const guard = resolveGuardOptions(options.guard, defaultGuardSettings(maxSpeed), 'options.guard')
+  const sleep = resolveSleepOptions(options.sleep, DEFAULT_SLEEP, 'options.sleep')
 
   const Transform = createTransformStore(capacity)
   const Cloth = createClothStore()
@@ -67,6 +69,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     tearing: createTearWorld(),
     guard: createGuardWorld(guard),
     collision: createCollisionWorld(capacity),
+    sleep: createSleepWorld(sleep),
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
@@ -94,6 +97,10 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
       if (entityExists(w, pin)) removeEntity(w, pin)
     }
     Cloth.state[eid] = undefined
+    if (cloth.sleeping) {
+      cloth.sleeping = false
+      state.sleep.count--
+    }
     const i = state.cloths.indexOf(cloth)
     if (i >= 0) state.cloths.splice(i, 1)
   })

@@ -20,6 +20,7 @@ import {
 } from './kernels/selfCollide'
 import { getCloth } from './pins'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
+import { wakeClothState } from './sleep'
 
 /**
  * How far particles may travel relative to their cloth's mean motion within one fixed step, in
@@ -133,6 +134,7 @@ export function hasSelfCollision(world: object, cloth: number): boolean {
 
 /** Called when a SelfCollision component is added (or its settings change): sizes the hash and pair lists. */
 export function allocateSelfCollision(state: ClothWorldState, c: ClothState): void {
+  wakeClothState(state, c)
   const cw = state.collision
   const S = cw.SelfCollision
   const eid = c.eid
@@ -190,6 +192,7 @@ export function releaseSelfCollision(state: ClothWorldState, c: ClothState): voi
   const cw = state.collision
   const k = cw.selfCloths.indexOf(c)
   if (k >= 0) cw.selfCloths.splice(k, 1)
+  wakeClothState(state, c)
   if (c.collision) c.collision.self = null
   for (let q = 0; q < cw.selfCloths.length; q++) cw.selfCloths[q].collision!.self!.blockCount = 0
 }
@@ -198,7 +201,8 @@ export function releaseSelfCollision(state: ClothWorldState, c: ClothState): voi
  * Once per fixed step (after the cloth bounds are measured): picks each self-colliding cloth's
  * travel allowance from the spread of its velocities (and how many times to rebuild its pairs this
  * step), builds its spatial hash (pair radius = collision distance + 2 × travel, cells twice that)
- * and gathers its pairs, then the pairs between overlapping cloths.
+ * and gathers its pairs, then the pairs between overlapping cloths. A sleeping cloth keeps its
+ * hash; next to an awake one it is an immovable obstacle until the sync phase wakes it.
  */
 export function buildSelfCollisionPairs(state: ClothWorldState): void {
   const cw = state.collision
@@ -207,6 +211,7 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
   const group = cw.selfCloths
   for (let a = 0; a < group.length; a++) {
     const c = group[a]
+    if (c.sleeping) continue // keeps the hash it fell asleep with (it has not moved since)
     const st = c.collision!.self!
     const D = st.thickness
     let travel = TRAVEL_GAIN * c.collision!.bounds[B_MAX_DEV] * dt + TRAVEL_FLOOR * D
@@ -229,6 +234,7 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
     st.blockCount = 0
     for (let b = a + 1; b < group.length; b++) {
       const B = group[b]
+      if (A.sleeping && B.sleeping) continue
       const cb = B.collision!
       if ((ca.layer & cb.mask) === 0 || (cb.layer & ca.mask) === 0) continue
       const sb = cb.self!

@@ -7,7 +7,7 @@
  * pins (particle, target, offset, blend progress) in order; the motion history of the pins' target
  * entities (their frame samples and step poses, as interpolated between frames); the cloth's
  * quality and tether settings and its current tethers; its explosion-guard state (last good pose,
- * counters); and the world's step accumulator and frame timing. XPBD multipliers are not saved:
+ * counters); whether it sleeps; and the world's step accumulator and frame timing. XPBD multipliers are not saved:
  * they start from zero every substep.
  *
  * Not in a snapshot: the Transform of target entities (the host owns them: restore those too, or
@@ -20,6 +20,7 @@ import { K_SINCE_SAMPLE, K_STEP_FRACTION } from './kinematics'
 import { getCloth, pinParticle } from './pins'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import type { TetherMode, TetherSet } from './tethers'
+import { SL_STILL } from './sleep'
 
 /** A saved cloth state (see `saveClothState`). Plain data: structured-clone it, keep it, reuse it. */
 export interface ClothSnapshot {
@@ -50,6 +51,8 @@ export interface ClothSnapshot {
   guardSafe: Float64Array
   guardCounters: Float64Array
   guardSettings: GuardSettings
+  /** Sleep: asleep (1/0), stillness timer, bounds it sleeps in (6). Absent: awake. */
+  sleep?: Float64Array
 }
 
 const PIN_DATA = 8
@@ -156,6 +159,10 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   s.guardCounters[2] = g.failStreak
   w.guardSettings = s.guardSettings ?? { ...g.settings }
   copySettings(g.settings, s.guardSettings)
+  const sl = (w.sleep = fit64(s.sleep, 8))
+  sl[0] = c.sleeping ? 1 : 0
+  sl[1] = c.sleep[SL_STILL]
+  for (let j = 0; j < 6; j++) sl[2 + j] = c.sleepBounds[j]
   return s
 }
 
@@ -237,6 +244,14 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   g.failStreak = s.guardCounters[2] | 0
   copySettings(s.guardSettings, g.settings)
   applyGuardSettings(g)
+  const sl = s.sleep
+  const asleep = sl !== undefined && sl[0] === 1
+  if (asleep !== c.sleeping) {
+    c.sleeping = asleep
+    state.sleep.count += asleep ? 1 : -1
+  }
+  c.sleep[SL_STILL] = sl !== undefined ? sl[1] : 0
+  if (sl !== undefined) for (let j = 0; j < 6; j++) c.sleepBounds[j] = sl[2 + j]
   c.version++
 }
 
@@ -297,7 +312,8 @@ function checkSnapshot(s: unknown, arg: string): void {
   }
   if (
     !allFinite(x.pos) || !allFinite(x.prev) || !allFinite(x.vel) || !allFinite(x.invMass) || !allFinite(x.pinData) ||
-    !allFinite(x.targetData) || !allFinite(x.settings) || !allFinite(x.world) || !(x.guardSafe instanceof Float64Array) || !allFinite(x.guardSafe)
+    !allFinite(x.targetData) || !allFinite(x.settings) || !allFinite(x.world) || !(x.guardSafe instanceof Float64Array) || !allFinite(x.guardSafe) ||
+    (x.sleep !== undefined && (!(x.sleep instanceof Float64Array) || x.sleep.length !== 8 || !allFinite(x.sleep)))
   ) {
     throw new ClothError(arg, s, 'holds a non-finite number')
   }

@@ -11,6 +11,7 @@ import type { ClothMaterialSpec } from './materials'
 import type { TetherMode, TetherSet } from './tethers'
 import type { ClothTopology } from './topology'
 import type { ClothWind, WindWorld } from './wind'
+import type { ClothSleepOptions, SleepWorld } from './sleep'
 import type { ClothTear, TearWorld } from './tearing'
 
 /**
@@ -60,6 +61,11 @@ export interface ClothPluginOptions {
    * off. Default on: finite, bounds 2 × the cloth's size, speed half of `maxSpeed`.
    */
   guard?: boolean | ClothGuardOptions
+  /**
+   * Sleeping defaults for the cloths of this world (see `ClothSleepOptions`); false turns it off.
+   * Default on: a cloth whose particles all stay below 1 cm/s for 1 s sleeps until disturbed.
+   */
+  sleep?: boolean | ClothSleepOptions
 }
 
 /** Counters of the work each phase did, accumulated since install (or the last reset). */
@@ -98,6 +104,10 @@ export interface ClothStats {
   guardChecks: number
   /** Cloths reset by the explosion guard. */
   guardResets: number
+  /** Steps cloths spent asleep (one per sleeping cloth per step). */
+  sleepingSteps: number
+  /** Sleeping cloths woken. */
+  wakes: number
 }
 
 /** Everything one cloth instance owns: particle state in flat typed arrays plus shared rest data. */
@@ -174,6 +184,12 @@ export interface ClothState {
   guard: ClothGuardState
   /** Collision settings and per-step collision state (set when the cloth is created). */
   collision?: ClothCollision
+  /** Asleep: every phase skips the cloth until something wakes it (see `src/sleep.ts`). */
+  sleeping: boolean
+  /** Stillness timer and sleep settings (slots in `src/sleep.ts`). */
+  sleep: Float64Array
+  /** Particle bounds when it fell asleep (min xyz, max xyz), for the wake tests. */
+  sleepBounds: Float64Array
 }
 
 /** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
@@ -219,6 +235,8 @@ export interface ClothWorldState {
   guard: GuardWorld
   /** Colliders and self-collision (see `src/collision.ts`). */
   collision: CollisionWorld
+  /** Sleep defaults and bookkeeping (see `src/sleep.ts`). */
+  sleep: SleepWorld
 }
 
 /** Symbol under which the plugin keeps its state on a world. */
@@ -255,6 +273,8 @@ export function createStats(): ClothStats {
     tears: 0,
     guardChecks: 0,
     guardResets: 0,
+    sleepingSteps: 0,
+    wakes: 0,
   }
 }
 

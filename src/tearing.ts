@@ -7,6 +7,7 @@ import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import type { TetherSet } from './tethers'
 import type { ClothTopology } from './topology'
 import { ensureClothWind, refreshClothWind } from './wind'
+import { wakeClothState } from './sleep'
 
 /**
  * Tearing by vertex splitting.
@@ -252,6 +253,7 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
     tw.pending = grown
   }
   if (c.wind !== null) ensureClothWind(c)
+  wakeClothState(state, c)
 }
 
 /**

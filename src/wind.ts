@@ -391,6 +391,36 @@ export function applyWind(state: ClothWorldState, c: ClothState): void {
   state.stats.windTriangles += t.triangleCount
 }
 
+/**
+ * Whether some blowing wind zone reaches the box `b` (min xyz, max xyz): a global zone always; a
+ * box or sphere zone when its bounds overlap the box (the forces phase's rule). A calm zone (no
+ * speed, no turbulence, no gust this step) does not count: this is the sleep test.
+ */
+export function windReaches(state: ClothWorldState, b: Float64Array): boolean {
+  const wind = state.wind
+  const nz = wind.zones.length
+  if (nz === 0) return false
+  if (!wind.compiled) compileZones(state)
+  const P = wind.params
+  for (let k = 0; k < nz; k++) {
+    const o = k * ZONE_STRIDE
+    if (P[o + Z_VX] === 0 && P[o + Z_VY] === 0 && P[o + Z_VZ] === 0 && P[o + Z_TURB] === 0) continue
+    if (P[o + Z_SHAPE] === 0) return true
+    if (b[3] < P[o + Z_MIN] || b[0] > P[o + Z_MAX] || b[4] < P[o + Z_MIN + 1] || b[1] > P[o + Z_MAX + 1] ||
+        b[5] < P[o + Z_MIN + 2] || b[2] > P[o + Z_MAX + 2]) continue
+    if (P[o + Z_SHAPE] === 2) {
+      const cx = P[o + Z_CX], cy = P[o + Z_CY], cz = P[o + Z_CZ]
+      const dx = cx < b[0] ? b[0] - cx : cx > b[3] ? cx - b[3] : 0
+      const dy = cy < b[1] ? b[1] - cy : cy > b[4] ? cy - b[4] : 0
+      const dz = cz < b[2] ? b[2] - cz : cz > b[5] ? cz - b[5] : 0
+      const r = P[o + Z_HX] + P[o + Z_FALLOFF]
+      if (dx * dx + dy * dy + dz * dz > r * r) continue
+    }
+    return true
+  }
+  return false
+}
+
 function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind): void {
   const wind = state.wind
   if (!wind.compiled) compileZones(state)

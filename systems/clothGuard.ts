@@ -7,7 +7,7 @@ import { getClothWorld } from '../src/state'
  * within reach of its pins, no runaway speed; one pass over its particles) and puts a failing
  * cloth back into a safe pose with its velocities cleared, raising a reset event. Good steps copy
  * the pose as the next safe one. Listeners (`onClothReset`) are called at the end, after every
- * cloth was checked. A cloth whose guard is off costs nothing here.
+ * cloth was checked. A cloth whose guard is off, or that sleeps, costs nothing here.
  */
 export function clothGuard<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -15,7 +15,7 @@ export function clothGuard<W extends object>(world: W): W {
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const g = c.guard
-    if (!guardActive(g)) continue
+    if (!guardActive(g) || c.subIndex < 0) continue // off, or asleep this step (a cloth that fell asleep in it still counts)
     state.stats.guardChecks++
     const health = checkClothHealth(c.pos, c.vel, c.invMass, c.count, g.params)
     if (health === HEALTH_OK) keepSafePose(c)

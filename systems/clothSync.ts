@@ -3,12 +3,16 @@ import { beginKinematicStep, sampleFrame } from '../src/kinematics'
 import { followTargetJumps } from '../src/pins'
 import { getClothWorld } from '../src/state'
 import { advanceWind } from '../src/wind'
+import { sweepColliders } from '../src/collision'
+import { wakeSleepers } from '../src/sleep'
 
 /**
- * Sync phase, once per fixed step before the substeps: picks the step's substep count, advances
- * the tracked transforms (pin targets) to this step's time slice, taking a new frame sample on a
- * frame's first step and carrying cloths along when their targets jumped, and rebuilds tethers of
- * cloths whose pins changed. This is the only phase that reads transforms.
+ * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
+ * targets, collider bodies) to this step's time slice, taking a new frame sample on a frame's
+ * first step, sweeps the colliders' bounds over the step and advances the wind; then wakes the
+ * sleeping cloths that any of this disturbs, carries cloths along when their targets jumped,
+ * rebuilds tethers of cloths whose pins changed and picks the step's substep count (the most of
+ * any awake cloth). This is the only phase that reads transforms.
  */
 export function clothSync<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -19,10 +23,18 @@ export function clothSync<W extends object>(world: W): W {
     k.newFrame = false
   }
   beginKinematicStep(k)
+  if (state.collision.colliders.length > 0) sweepColliders(state)
+  advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
+  wakeSleepers(state) // nothing while no cloth sleeps
   let total = 0
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
+    if (c.sleeping) {
+      c.subIndex = -1 // sits the whole step out (read by the guard, which runs after the substeps)
+      state.stats.sleepingSteps++
+      continue
+    }
     if (c.substeps > total) total = c.substeps
     if (frameStart) followTargetJumps(state, c)
     if (c.tethersDirty) rebuildTethers(state, c)
@@ -30,6 +42,5 @@ export function clothSync<W extends object>(world: W): W {
   state.substepCount = total
   state.substep = 0
   state.stats.steps++
-  advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   return world
 }

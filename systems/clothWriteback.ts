@@ -2,12 +2,13 @@ import { updateVelocities } from '../src/kernels/integrate'
 import { dampPairs } from '../src/kernels/damping'
 import { P_STRETCH_DAMP } from '../src/kernels/params'
 import { getClothWorld } from '../src/state'
+import { updateSleep } from '../src/sleep'
 
 /**
  * Writeback phase, every substep: reads velocities back from the substep's motion (v = Δx/h,
  * clamped to the world's speed limit). After a cloth's last substep of the step it damps stretch
- * vibration along structural edges (the material's `stretchDamping`) and marks the render mesh
- * stale.
+ * vibration along structural edges (the material's `stretchDamping`), advances the sleep timer
+ * (a cloth still long enough falls asleep) and marks the render mesh stale.
  */
 export function clothWriteback<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -25,6 +26,7 @@ export function clothWriteback<W extends object>(world: W): W {
       c.params[P_STRETCH_DAMP] = 1 - Math.exp(-c.stretchDamping * state.fixedTimeStep)
       dampPairs(c.pos, c.vel, c.invMass, t.stretchIds, t.stretchCount, c.params)
     }
+    updateSleep(state, c)
     c.version++
   }
   return world

@@ -13,14 +13,16 @@ import { clothEvents } from './clothEvents'
 /**
  * The phase order, written once. Per fixed step:
  *
- *   sync                      read pin targets once, so every substep sees one consistent motion
+ *   sync                      read pin targets and colliders once, so every substep sees one
+ *                             consistent motion; wake sleeping cloths that this motion disturbs
  *   for each substep:
  *     forces                  external accelerations first: predict integrates them
  *     predict                 x* = x + v·h + a·h², pinned particles placed on their (interpolated) targets
  *     solve                   constraints project x*; pins are fixed points (inverse mass 0)
  *     collide                 after the solve, so no constraint pushes a particle back into a collider
  *     tear                    after collide, on the last substep, so strain is measured on the final pose
- *     writeback               last: velocities from the motion, including collision and tear changes
+ *     writeback               last: velocities from the motion, including collision and tear changes;
+ *                             after a cloth's last substep, the sleep test (on the final velocities)
  *   guard                     once, after the last substep: a cloth that went non-finite, out of
  *                             reach of its pins or into runaway speed goes back to a safe pose
  *                             before the renderer, the listeners or the next step read it

@@ -1,4 +1,4 @@
-import { P_DAMP, P_GX, P_GY, P_GZ, P_H, P_INV_H, P_MAX_SPEED } from './params'
+import { P_DAMP, P_GX, P_GY, P_GZ, P_H, P_INV_H, P_MAX_SPEED, P_MAX_V2 } from './params'
 
 /**
  * Predict step of position-based dynamics (symplectic Euler on velocities, Verlet-style on
@@ -47,7 +47,8 @@ export function predictPositions(
  * Reads velocities back from the motion of the substep: v = (x − prev)/h. A speed above the
  * limit (`params[P_MAX_SPEED]`, m/s) is scaled down to it: a last line of defence against runaway
  * energy. Positions are left where the solve put them, so a cloth can follow a pin that jumps
- * (a runaway position is the explosion guard's job, once per step).
+ * (a runaway position is the explosion guard's job, once per step). The largest squared speed
+ * before the limit goes to `params[P_MAX_V2]` (the sleep test reads it).
  */
 export function updateVelocities(
   pos: Float64Array,
@@ -59,12 +60,14 @@ export function updateVelocities(
   const invH = params[P_INV_H]
   const maxSpeed = params[P_MAX_SPEED]
   const max2 = maxSpeed * maxSpeed
+  let top = 0
   for (let i = 0; i < count; i++) {
     const j = 3 * i
     let vx = (pos[j] - prev[j]) * invH
     let vy = (pos[j + 1] - prev[j + 1]) * invH
     let vz = (pos[j + 2] - prev[j + 2]) * invH
     const s2 = vx * vx + vy * vy + vz * vz
+    if (!(s2 <= top)) top = s2 // NaN sticks: a broken cloth never counts as still
     if (s2 > max2) {
       const f = maxSpeed / Math.sqrt(s2)
       vx *= f
@@ -75,4 +78,5 @@ export function updateVelocities(
     vel[j + 1] = vy
     vel[j + 2] = vz
   }
+  params[P_MAX_V2] = top
 }

@@ -22,7 +22,9 @@ export const P_MAX_SPEED = 7
 export const P_STRETCH_DAMP = 8
 /** Fraction of the fixed step reached at the end of the current substep, (k + 1)/n (pins). */
 export const P_STEP_FRACTION = 9
-export const PARAM_COUNT = 10
+/** Output of `updateVelocities`: the largest squared particle speed of the substep, m²/s² (sleep test). */
+export const P_MAX_V2 = 10
+export const PARAM_COUNT = 11
 
 /** A zeroed parameter block. */
 export function createKernelParams(): Float64Array {

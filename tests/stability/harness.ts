@@ -33,6 +33,7 @@ import {
   installClothPlugin,
   pinRow,
   stepCloth,
+  wakeCloth,
   type ClothPluginOptions,
   type CreateClothOptions,
 } from '../../src/index'
@@ -142,6 +143,8 @@ export function runTorture<P extends SceneParts>(tc: TortureCase<P>): TortureRes
   const every = tc.checkEvery ?? 1
   for (let f = 0; f < spec.frames; f++) {
     const dt = tc.abuse?.(scene, f)
+    // abuse writes the cloths' arrays directly, which a sleeping cloth would not notice
+    if (tc.abuse) for (const cl of scene.cloths) wakeCloth(world, cl)
     stepCloth(world, typeof dt === 'number' ? dt : 1 / 60)
     if (f % every === 0 || f === spec.frames - 1) check(f)
   }

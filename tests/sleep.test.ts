@@ -1,0 +1,287 @@
+import { addEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  ClothError,
+  addBoxCollider,
+  addSphereCollider,
+  createCloth,
+  createWindZone,
+  enableSelfCollision,
+  getClothMesh,
+  getClothState,
+  getClothStats,
+  isClothSleeping,
+  pinParticle,
+  pinRow,
+  removeCloth,
+  removeCollider,
+  resetClothStats,
+  restoreClothState,
+  saveClothState,
+  setClothQuality,
+  setClothSleep,
+  setTransform,
+  stepCloth,
+  teleportCloth,
+  unpin,
+  wakeCloth,
+} from '../src/index'
+import { getClothWorld } from '../src/state'
+import { hashBytes, lowestY, makeWorld } from './helpers'
+
+const DT = 1 / 60
+
+/** A 1 m sheet hanging from its top row, pinned to an anchor entity; stepped until asleep. */
+function hangingSheet(options: Parameters<typeof makeWorld>[0] = {}, horizontal = false) {
+  const world = makeWorld(options)
+  const anchor = addEntity(world)
+  setTransform(world, anchor, [0, 2, 0])
+  const rotation = horizontal ? [-Math.SQRT1_2, 0, 0, Math.SQRT1_2] : undefined
+  const cloth = createCloth(world, { width: 1, height: 1, resolution: 12, position: [0, 2, 0], rotation })
+  pinRow(world, cloth, 0, anchor)
+  return { world, anchor, cloth, c: getClothState(world, cloth) }
+}
+
+/** Steps until the cloth sleeps; returns the steps it took (fails after `limit`). */
+function stepUntilAsleep(world: object, cloth: number, limit = 900): number {
+  for (let f = 0; f < limit; f++) {
+    stepCloth(world, DT)
+    if (isClothSleeping(world, cloth)) return f + 1
+  }
+  throw new Error(`cloth still awake after ${limit} steps`)
+}
+
+function maxSpeed(c: { vel: Float64Array; count: number }): number {
+  let m = 0
+  for (let i = 0; i < c.count; i++) m = Math.max(m, Math.hypot(c.vel[3 * i], c.vel[3 * i + 1], c.vel[3 * i + 2]))
+  return m
+}
+
+describe('sleeping', () => {
+  it('a still cloth falls asleep after the delay; asleep it is not integrated, solved, guarded or re-rendered', () => {
+    const { world, cloth, c } = hangingSheet({}, true) // starts level: it swings down first
+    const steps = stepUntilAsleep(world, cloth)
+    // it must first settle (speeds under 1 cm/s), then stay still for the 1 s delay
+    expect(steps).toBeGreaterThan(120)
+    expect(maxSpeed(c)).toBe(0)
+    expect(c.vel.every((v) => v === 0)).toBe(true)
+    const pose = hashBytes(c.pos)
+    const version = c.version
+    getClothMesh(world, cloth)
+    resetClothStats(world)
+    for (let f = 0; f < 120; f++) stepCloth(world, DT)
+    const s = getClothStats(world)
+    expect(s.steps).toBe(120)
+    expect(s.sleepingSteps).toBe(120)
+    expect(s.particlesIntegrated).toBe(0)
+    expect(s.distanceProjections + s.lineProjections + s.tetherProjections).toBe(0)
+    expect(s.pinUpdates).toBe(0)
+    expect(s.guardChecks).toBe(0)
+    expect(s.substeps).toBe(0)
+    expect(hashBytes(c.pos)).toBe(pose)
+    expect(c.version).toBe(version) // the render mesh is not rebuilt
+  })
+
+  it('it wakes when its pin target moves, follows it without a pop, and falls asleep again once still', () => {
+    const { world, anchor, cloth, c } = hangingSheet()
+    stepUntilAsleep(world, cloth)
+    const before = Float64Array.from(c.pos)
+    resetClothStats(world)
+    setTransform(world, anchor, [0.01, 2, 0]) // 1 cm
+    stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    expect(getClothStats(world).wakes).toBe(1)
+    expect(getClothStats(world).particlesIntegrated).toBe(c.count * c.substeps)
+    // the pinned row is on the target; nothing else moved more than the target did
+    for (let col = 0; col < 12; col++) expect(c.pos[3 * col]).toBeCloseTo(before[3 * col] + 0.01, 12)
+    for (let i = 0; i < c.count; i++) {
+      const d = Math.hypot(c.pos[3 * i] - before[3 * i], c.pos[3 * i + 1] - before[3 * i + 1], c.pos[3 * i + 2] - before[3 * i + 2])
+      expect(d).toBeLessThan(0.0101)
+    }
+    stepUntilAsleep(world, cloth)
+  })
+
+  it('a target that stays put, a collider moving far away and a zone elsewhere do not wake it', () => {
+    const { world, anchor, cloth } = hangingSheet()
+    const ball = addEntity(world)
+    setTransform(world, ball, [5, 1, 0])
+    addSphereCollider(world, ball, { radius: 0.2 })
+    createWindZone(world, { shape: 'box', position: [20, 0, 0], size: [2, 2, 2], direction: [1, 0, 0], strength: 10 })
+    stepUntilAsleep(world, cloth)
+    resetClothStats(world)
+    for (let f = 0; f < 60; f++) {
+      setTransform(world, anchor, [0, 2, 0]) // rewritten, unchanged
+      setTransform(world, ball, [5, 1, f * 0.01])
+      stepCloth(world, DT)
+    }
+    expect(isClothSleeping(world, cloth)).toBe(true)
+    expect(getClothStats(world).wakes).toBe(0)
+    expect(getClothStats(world).colliderTests).toBe(0)
+  })
+
+  it('a collider moving into it wakes it, and the cloth is pushed out of the collider', () => {
+    const { world, cloth } = hangingSheet()
+    const ball = addEntity(world)
+    setTransform(world, ball, [0, 1.5, 1])
+    addSphereCollider(world, ball, { radius: 0.2 })
+    stepUntilAsleep(world, cloth)
+    let woke = -1
+    for (let f = 0; f < 60 && woke < 0; f++) {
+      setTransform(world, ball, [0, 1.5, 1 - 0.02 * (f + 1)]) // 1.2 m/s toward the sheet
+      stepCloth(world, DT)
+      if (!isClothSleeping(world, cloth)) woke = f
+    }
+    // the ball's surface reaches the sheet (z = 0) after about 40 steps; it wakes before
+    expect(woke).toBeGreaterThan(20)
+    expect(woke).toBeLessThan(42)
+    for (let f = 0; f < 30; f++) {
+      setTransform(world, ball, [0, 1.5, 0.1])
+      stepCloth(world, DT)
+    }
+    const c = getClothState(world, cloth)
+    let inside = 0
+    for (let i = 0; i < c.count; i++) {
+      if (Math.hypot(c.pos[3 * i], c.pos[3 * i + 1] - 1.5, c.pos[3 * i + 2] - 0.1) < 0.2) inside++
+    }
+    expect(inside).toBe(0)
+  })
+
+  it('a cloth asleep on a box falls when the box is removed; a static box under it does not wake it', () => {
+    const world = makeWorld()
+    const box = addEntity(world)
+    setTransform(world, box, [0, 0, 0])
+    addBoxCollider(world, box, { halfExtents: [1, 0.1, 1] })
+    const cloth = createCloth(world, { width: 0.6, height: 0.6, resolution: 8, position: [0, 0.3, 0], rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2] })
+    stepUntilAsleep(world, cloth)
+    const rest = lowestY(world, cloth)
+    expect(rest).toBeGreaterThan(0.1)
+    for (let f = 0; f < 60; f++) stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(true)
+    removeCollider(world, box)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    for (let f = 0; f < 30; f++) stepCloth(world, DT)
+    expect(lowestY(world, cloth)).toBeLessThan(rest - 0.5)
+  })
+
+  it('a wind zone reaching it wakes it; a cloth in the wind does not fall asleep', () => {
+    const { world, cloth } = hangingSheet()
+    stepUntilAsleep(world, cloth)
+    createWindZone(world, { shape: 'sphere', position: [0, 1.5, 0.5], size: 1, direction: [0, 0, 1], strength: 4 })
+    stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    for (let f = 0; f < 600; f++) stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    expect(getClothStats(world).windTriangles).toBeGreaterThan(0)
+  })
+
+  it('a calm zone (no speed, no turbulence) lets it sleep', () => {
+    const { world, cloth } = hangingSheet()
+    createWindZone(world, { direction: [1, 0, 0], strength: 0 })
+    stepUntilAsleep(world, cloth)
+  })
+
+  it('a self-colliding cloth falling onto a sleeping one wakes it', () => {
+    const world = makeWorld()
+    const floor = addEntity(world)
+    setTransform(world, floor, [0, 0, 0])
+    addBoxCollider(world, floor, { halfExtents: [2, 0.1, 2] })
+    const flat = [-Math.SQRT1_2, 0, 0, Math.SQRT1_2]
+    const lower = createCloth(world, { width: 1, height: 1, resolution: 10, position: [0, 0.15, 0], rotation: flat })
+    enableSelfCollision(world, lower)
+    stepUntilAsleep(world, lower)
+    const upper = createCloth(world, { width: 0.5, height: 0.5, resolution: 6, position: [0, 0.6, 0], rotation: flat })
+    enableSelfCollision(world, upper)
+    let woke = false
+    for (let f = 0; f < 60 && !woke; f++) {
+      stepCloth(world, DT)
+      woke = !isClothSleeping(world, lower)
+    }
+    expect(woke).toBe(true)
+    for (let f = 0; f < 60; f++) stepCloth(world, DT)
+    // the upper sheet lies on the lower one, not through it
+    expect(lowestY(world, upper)).toBeGreaterThan(lowestY(world, lower) + 0.005)
+  })
+
+  it('a change of gravity wakes every sleeper', () => {
+    const { world, cloth } = hangingSheet()
+    stepUntilAsleep(world, cloth)
+    getClothWorld(world).gravity[0] = 3
+    stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+  })
+
+  it('the API wakes what it changes: quality, pins, unpin, teleport, wakeCloth', () => {
+    const { world, cloth, c } = hangingSheet()
+    const changes: Array<() => void> = [
+      () => setClothQuality(world, cloth, { iterations: 3 }),
+      () => pinParticle(world, cloth, c.count - 1),
+      () => unpin(world, getClothState(world, cloth).pins[0]),
+      () => teleportCloth(world, cloth, [0, 0, 0.001]),
+      () => wakeCloth(world, cloth),
+    ]
+    for (const change of changes) {
+      stepUntilAsleep(world, cloth)
+      change()
+      expect(isClothSleeping(world, cloth)).toBe(false)
+    }
+  })
+
+  it('sleep can be turned off per world and per cloth, and its settings are checked', () => {
+    const off = hangingSheet({ sleep: false })
+    for (let f = 0; f < 600; f++) stepCloth(off.world, DT)
+    expect(isClothSleeping(off.world, off.cloth)).toBe(false)
+    expect(getClothStats(off.world).sleepingSteps).toBe(0)
+
+    const { world, cloth } = hangingSheet()
+    stepUntilAsleep(world, cloth)
+    setClothSleep(world, cloth, false)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    for (let f = 0; f < 300; f++) stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    setClothSleep(world, cloth, { enabled: true, delay: 0.25 })
+    expect(stepUntilAsleep(world, cloth)).toBeLessThan(20)
+
+    expect(() => setClothSleep(world, cloth, { speed: -1 })).toThrow(ClothError)
+    expect(() => setClothSleep(world, cloth, { speed: NaN })).toThrow(/options\.speed/)
+    expect(() => setClothSleep(world, cloth, { delay: Infinity })).toThrow(/options\.delay/)
+    expect(() => setClothSleep(world, cloth, 'yes' as never)).toThrow(ClothError)
+    expect(() => makeWorld({ sleep: { speed: 0 } })).toThrow(/options\.sleep\.speed/)
+  })
+
+  it('a snapshot keeps the sleep state: restoring and stepping on reproduces the run byte for byte', () => {
+    const run = (restore: boolean) => {
+      const { world, anchor, cloth, c } = hangingSheet()
+      for (let f = 0; f < 200; f++) stepCloth(world, DT) // asleep by now
+      expect(isClothSleeping(world, cloth)).toBe(true)
+      const saved = saveClothState(world, cloth)
+      if (restore) {
+        setTransform(world, anchor, [0.3, 2, 0])
+        for (let f = 0; f < 20; f++) stepCloth(world, DT)
+        setTransform(world, anchor, [0, 2, 0])
+        restoreClothState(world, cloth, saved)
+        expect(isClothSleeping(world, cloth)).toBe(true)
+      }
+      const trace: string[] = []
+      for (let f = 0; f < 40; f++) {
+        setTransform(world, anchor, [f > 10 ? 0.1 : 0, 2, 0])
+        stepCloth(world, DT)
+        trace.push(hashBytes(c.pos))
+      }
+      return trace.join()
+    }
+    expect(run(true)).toBe(run(false))
+  })
+
+  it('a removed sleeping cloth leaves the bookkeeping straight', () => {
+    const { world, cloth } = hangingSheet()
+    const other = createCloth(world, { width: 0.5, height: 0.5, resolution: 6, position: [3, 2, 0] })
+    pinRow(world, other, 0)
+    stepUntilAsleep(world, cloth)
+    stepUntilAsleep(world, other)
+    expect(getClothWorld(world).sleep.count).toBe(2)
+    removeCloth(world, other)
+    expect(getClothWorld(world).sleep.count).toBe(1)
+    wakeCloth(world, cloth)
+    expect(getClothWorld(world).sleep.count).toBe(0)
+  })
+})
