@@ -33,6 +33,7 @@ import {
   type ShearModel,
 } from './topology'
 import { createClothSleep, wakeClothState } from './sleep'
+import { createClothLod, setWantedQuality } from './budget'
 
 /** Long-range attachment settings. */
 export interface TetherOptions {
@@ -306,6 +307,8 @@ function spawnCloth(
     sleeping: false,
     sleep: createClothSleep(state.sleep.defaults),
     sleepBounds: new Float64Array(6),
+    idle: false,
+    lod: createClothLod(o.substeps, o.iterations),
   }
   state.components.Cloth.state[eid] = c
   state.cloths.push(c)
@@ -367,16 +370,17 @@ export function getCloths(world: object): number[] {
   return getClothWorld(world).cloths.map((c) => c.eid)
 }
 
-/** Changes a cloth's substeps and/or iterations per substep. */
+/**
+ * Changes a cloth's substeps and/or iterations per substep. With a world budget (`setClothBudget`)
+ * these are the most it runs; a quality target (`setClothQualityTarget`) moves them from here.
+ */
 export function setClothQuality(world: object, cloth: number, quality: { substeps?: number; iterations?: number }): void {
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
   checkObject('quality', quality)
-  if (quality.substeps !== undefined) {
-    c.substeps = checkInteger('quality.substeps', quality.substeps, 1, 256)
-    c.h = state.fixedTimeStep / c.substeps
-  }
-  if (quality.iterations !== undefined) c.iterations = checkInteger('quality.iterations', quality.iterations, 1, 256)
+  const substeps = quality.substeps === undefined ? c.lod.wantSubsteps : checkInteger('quality.substeps', quality.substeps, 1, 256)
+  const iterations = quality.iterations === undefined ? c.lod.wantIterations : checkInteger('quality.iterations', quality.iterations, 1, 256)
+  setWantedQuality(state, c, substeps, iterations)
   wakeClothState(state, c)
 }
 

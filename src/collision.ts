@@ -239,23 +239,22 @@ export function colliderLayersMatch(C: ColliderStore, eid: number, cc: ClothColl
  * touch a collider (layers) or collides with itself, its particle bounds grown by how far
  * particles can travel in the step, and the list of colliders whose swept bounds (see
  * `sweepColliders`) reach them; then the self-collision hashes and pair lists. A cloth far from
- * every collider gets an empty list and costs nothing per particle in the substeps; a sleeping
- * cloth keeps the bounds it fell asleep with.
+ * every collider gets an empty list and costs nothing per particle in the substeps; an idle
+ * cloth (asleep, frozen) keeps its last bounds.
  */
 export function beginCollisionStep(state: ClothWorldState): void {
   const cw = state.collision
   const C = cw.Collider
   const colliders = cw.colliders
-  const dt = state.fixedTimeStep
   const g = state.gravity
-  const gdt2 = Math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * dt * dt
+  const gravity = Math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
   const m = cw.measure
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const cc = c.collision!
     cc.activeCount = 0
-    if (c.sleeping) continue
+    if (c.idle) continue
     let candidates = false
     for (let k = 0; k < colliders.length; k++) {
       if (colliderLayersMatch(C, colliders[k], cc)) {
@@ -266,7 +265,8 @@ export function beginCollisionStep(state: ClothWorldState): void {
     if (!candidates && cc.self === null) continue
     measureCloth(c.pos, c.vel, c.invMass, c.count, cc.self !== null ? 1 : 0, m)
     // how far a particle can get this step: its speed now, gravity, and room for acceleration
-    const travel = 1.5 * (Math.sqrt(m[6]) * dt + gdt2) + 0.01
+    const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
+    const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt) + 0.01
     const b = cc.bounds
     for (let a = 0; a < 3; a++) {
       b[a] = m[a] - travel

@@ -94,6 +94,20 @@ export { saveClothState, restoreClothState, type ClothSnapshot } from './snapsho
 // Sleeping: still cloths cost nothing until disturbed.
 export { setClothSleep, wakeCloth, isClothSleeping, type ClothSleepOptions } from './sleep'
 
+// Quality targets, the world budget and level of detail.
+export {
+  setClothQualityTarget,
+  setClothBudget,
+  setClothVisible,
+  getClothLod,
+  calibrateClothCost,
+  SUBSTEP_LADDER,
+  type ClothQualityTarget,
+  type ClothBudgetOptions,
+  type ClothLodInfo,
+  type ClothCostCalibration,
+} from './budget'
+
 // Collisions: colliders, layers, self-collision.
 export {
   addSphereCollider,

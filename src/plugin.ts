@@ -14,6 +14,7 @@ import { createTearWorld, installTearing } from './tearing'
 import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './guard'
 import { createCollisionWorld, installCollision } from './collision'
 import { DEFAULT_SLEEP, createSleepWorld, resolveSleepOptions } from './sleep'
+import { createQualityWorld, installQuality } from './budget'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -70,6 +71,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     guard: createGuardWorld(guard),
     collision: createCollisionWorld(capacity),
     sleep: createSleepWorld(sleep),
+    quality: createQualityWorld(),
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
@@ -101,12 +103,17 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
       cloth.sleeping = false
       state.sleep.count--
     }
+    if (cloth.lod.hasTarget) {
+      cloth.lod.hasTarget = false
+      state.quality.targets--
+    }
     const i = state.cloths.indexOf(cloth)
     if (i >= 0) state.cloths.splice(i, 1)
   })
   installWind(world, state)
   installTearing(world, state)
   installCollision(world, state)
+  installQuality(world, state)
   return world
 }
 

@@ -201,8 +201,9 @@ export function releaseSelfCollision(state: ClothWorldState, c: ClothState): voi
  * Once per fixed step (after the cloth bounds are measured): picks each self-colliding cloth's
  * travel allowance from the spread of its velocities (and how many times to rebuild its pairs this
  * step), builds its spatial hash (pair radius = collision distance + 2 × travel, cells twice that)
- * and gathers its pairs, then the pairs between overlapping cloths. A sleeping cloth keeps its
- * hash; next to an awake one it is an immovable obstacle until the sync phase wakes it.
+ * and gathers its pairs, then the pairs between overlapping cloths. An idle cloth (asleep,
+ * frozen) keeps its hash; next to a running one it is an immovable obstacle (a sleeper until the
+ * sync phase wakes it).
  */
 export function buildSelfCollisionPairs(state: ClothWorldState): void {
   const cw = state.collision
@@ -211,7 +212,7 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
   const group = cw.selfCloths
   for (let a = 0; a < group.length; a++) {
     const c = group[a]
-    if (c.sleeping) continue // keeps the hash it fell asleep with (it has not moved since)
+    if (c.idle) continue // keeps its last hash (it has not moved since)
     const st = c.collision!.self!
     const D = st.thickness
     let travel = TRAVEL_GAIN * c.collision!.bounds[B_MAX_DEV] * dt + TRAVEL_FLOOR * D
@@ -234,7 +235,7 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
     st.blockCount = 0
     for (let b = a + 1; b < group.length; b++) {
       const B = group[b]
-      if (A.sleeping && B.sleeping) continue
+      if (A.idle && B.idle) continue
       const cb = B.collision!
       if ((ca.layer & cb.mask) === 0 || (cb.layer & ca.mask) === 0) continue
       const sb = cb.self!

@@ -132,7 +132,7 @@ export function updateSleep(state: ClothWorldState, c: ClothState): void {
     s[SL_STILL] = 0
     return
   }
-  s[SL_STILL] += state.fixedTimeStep
+  s[SL_STILL] += c.h * c.substeps // the cloth's step (longer when it steps every n-th)
   if (s[SL_STILL] < s[SL_DELAY]) return
   s[SL_STILL] = 0
   // the box it would sleep in (what the wake tests look at)
@@ -204,7 +204,7 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
     const ca = c.collision!
     for (let q = 0; q < group.length; q++) {
       const o = group[q]
-      if (o === c || o.sleeping) continue
+      if (o === c || o.sleeping || o.lod.frozen) continue
       const cb = o.collision!
       if ((ca.layer & cb.mask) === 0 || (cb.layer & ca.mask) === 0) continue
       const ob = cb.bounds

@@ -205,6 +205,10 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   // the field into a boxed number for every cloth
   c.substeps = s.settings[0] | 0
   c.iterations = s.settings[1] | 0
+  if (state.quality.budget === null) {
+    c.lod.wantSubsteps = c.substeps
+    c.lod.wantIterations = c.iterations
+  }
   c.h = s.settings[2]
   c.damping = s.settings[3]
   c.stretchDamping = s.settings[4]

@@ -12,6 +12,7 @@ import type { TetherMode, TetherSet } from './tethers'
 import type { ClothTopology } from './topology'
 import type { ClothWind, WindWorld } from './wind'
 import type { ClothSleepOptions, SleepWorld } from './sleep'
+import type { ClothLod, QualityWorld } from './budget'
 import type { ClothTear, TearWorld } from './tearing'
 
 /**
@@ -108,6 +109,8 @@ export interface ClothStats {
   sleepingSteps: number
   /** Sleeping cloths woken. */
   wakes: number
+  /** Steps cloths sat out by level of detail (frozen, or between the steps of a cloth stepping every n-th). */
+  lodSkippedSteps: number
 }
 
 /** Everything one cloth instance owns: particle state in flat typed arrays plus shared rest data. */
@@ -190,6 +193,10 @@ export interface ClothState {
   sleep: Float64Array
   /** Particle bounds when it fell asleep (min xyz, max xyz), for the wake tests. */
   sleepBounds: Float64Array
+  /** Sits this fixed step out: asleep, frozen, or between the steps of a cloth stepping every n-th. */
+  idle: boolean
+  /** Level of detail: wanted quality, quality target, stepping rate, freezing (see `src/budget.ts`). */
+  lod: ClothLod
 }
 
 /** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
@@ -237,6 +244,8 @@ export interface ClothWorldState {
   collision: CollisionWorld
   /** Sleep defaults and bookkeeping (see `src/sleep.ts`). */
   sleep: SleepWorld
+  /** Quality targets and the world budget (see `src/budget.ts`). */
+  quality: QualityWorld
 }
 
 /** Symbol under which the plugin keeps its state on a world. */
@@ -275,6 +284,7 @@ export function createStats(): ClothStats {
     guardResets: 0,
     sleepingSteps: 0,
     wakes: 0,
+    lodSkippedSteps: 0,
   }
 }
 

@@ -5,14 +5,16 @@ import { getClothWorld } from '../src/state'
 import { advanceWind } from '../src/wind'
 import { sweepColliders } from '../src/collision'
 import { wakeSleepers } from '../src/sleep'
+import { updateQuality } from '../src/budget'
 
 /**
  * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
  * targets, collider bodies) to this step's time slice, taking a new frame sample on a frame's
  * first step, sweeps the colliders' bounds over the step and advances the wind; then wakes the
  * sleeping cloths that any of this disturbs, carries cloths along when their targets jumped,
- * rebuilds tethers of cloths whose pins changed and picks the step's substep count (the most of
- * any awake cloth). This is the only phase that reads transforms.
+ * applies quality targets and the world budget, rebuilds tethers of cloths whose pins changed and
+ * picks the step's substep count (the most of any running cloth). This is the only phase that
+ * reads transforms.
  */
 export function clothSync<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -26,13 +28,23 @@ export function clothSync<W extends object>(world: W): W {
   if (state.collision.colliders.length > 0) sweepColliders(state)
   advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   wakeSleepers(state) // nothing while no cloth sleeps
+  updateQuality(state) // quality targets and the world budget (nothing without them)
   let total = 0
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
-    if (c.sleeping) {
+    const lod = c.lod
+    let idle = c.sleeping || lod.frozen
+    if (!idle && lod.stepEvery > 1) {
+      // a far cloth runs one step of stepEvery × the fixed step, then sits the others out
+      if (++lod.phase < lod.stepEvery) idle = true
+      else lod.phase = 0
+    }
+    c.idle = idle
+    if (idle) {
       c.subIndex = -1 // sits the whole step out (read by the guard, which runs after the substeps)
-      state.stats.sleepingSteps++
+      if (c.sleeping) state.stats.sleepingSteps++
+      else state.stats.lodSkippedSteps++
       continue
     }
     if (c.substeps > total) total = c.substeps

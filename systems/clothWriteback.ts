@@ -23,7 +23,7 @@ export function clothWriteback<W extends object>(world: W): W {
     // a pass per substep (which needed only 30/s)
     if (c.stretchDamping > 0) {
       const t = c.topology
-      c.params[P_STRETCH_DAMP] = 1 - Math.exp(-c.stretchDamping * state.fixedTimeStep)
+      c.params[P_STRETCH_DAMP] = 1 - Math.exp(-c.stretchDamping * c.h * c.substeps) // the cloth's step (longer when it steps every n-th)
       dampPairs(c.pos, c.vel, c.invMass, t.stretchIds, t.stretchCount, c.params)
     }
     updateSleep(state, c)

@@ -74,3 +74,21 @@ export function measureStretch(
   out.max = max
   return out
 }
+
+/**
+ * Largest edge strain max(0, |d|/rest − 1) over the given edges, written to out[o] (a double
+ * returned from a function that is not inlined would be boxed; a slot is not). Rest lengths ≤ 0
+ * are skipped.
+ */
+export function maxEdgeStrain(pos: Float64Array, edges: Int32Array, edgeRest: Float64Array, edgeCount: number, out: Float64Array, o: number): void {
+  let max2 = 0
+  for (let e = 0; e < edgeCount; e++) {
+    const r = edgeRest[e]
+    if (!(r > 0)) continue
+    const a = 3 * edges[2 * e], b = 3 * edges[2 * e + 1]
+    const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
+    const s2 = (dx * dx + dy * dy + dz * dz) / (r * r) // squared length ratio: one sqrt at the end
+    if (s2 > max2) max2 = s2
+  }
+  out[o] = max2 > 1 ? Math.sqrt(max2) - 1 : 0
+}

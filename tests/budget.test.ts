@@ -1,0 +1,268 @@
+import { addEntity, removeEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  ClothError,
+  SUBSTEP_LADDER,
+  createCloth,
+  enableSelfCollision,
+  getClothLod,
+  getClothState,
+  getClothStats,
+  getClothStretch,
+  pinParticle,
+  pinRow,
+  resetClothStats,
+  setClothBudget,
+  setClothQuality,
+  setClothQualityTarget,
+  setClothVisible,
+  setTransform,
+  stepCloth,
+  type ClothCostCalibration,
+} from '../src/index'
+import { hashBytes, makeWorld } from './helpers'
+
+const DT = 1 / 60
+/** Fixed cost-model numbers: the levels these tests expect do not depend on the machine. */
+const CAL: ClothCostCalibration = { nsPerParticle: 20, nsPerProjection: 12, nsPerColliderTest: 5, nsPerClothSubstep: 500 }
+
+/** A 1 m sheet of n×n hanging from its two top corners at x (or pinned along the top row to `anchor`). */
+function sheet(world: object, x: number, n = 12, options: { substeps?: number; iterations?: number; anchor?: number } = {}) {
+  const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [x, 2, 0], substeps: options.substeps, iterations: options.iterations })
+  if (options.anchor !== undefined) pinRow(world, cloth, 0, options.anchor)
+  else {
+    pinParticle(world, cloth, 0)
+    pinParticle(world, cloth, n - 1)
+  }
+  return cloth
+}
+
+function steps(world: object, n: number): void {
+  for (let f = 0; f < n; f++) stepCloth(world, DT)
+}
+
+describe('quality targets', () => {
+  it('a stretch target raises the substeps until the stretch is under it, and lowers them when far under', () => {
+    const world = makeWorld({ sleep: false })
+    const loose = sheet(world, 0, 24, { substeps: 1 })
+    steps(world, 120)
+    const before = getClothStretch(world, loose).max
+    expect(before).toBeGreaterThan(0.02) // one substep: the corners pull the sheet far out (2.9 %)
+    setClothQualityTarget(world, loose, { maxStretch: 0.01 })
+    steps(world, 240)
+    const lod = getClothLod(world, loose)
+    expect(lod.substeps).toBeGreaterThan(1)
+    expect(SUBSTEP_LADDER).toContain(lod.substeps)
+    expect(getClothStretch(world, loose).max).toBeLessThan(0.01)
+
+    const stiff = sheet(world, 3, 16, { substeps: 32 })
+    setClothQualityTarget(world, stiff, { maxStretch: 0.05 })
+    steps(world, 600)
+    const down = getClothLod(world, stiff)
+    expect(down.substeps).toBeLessThan(32)
+    expect(getClothStretch(world, stiff).max).toBeLessThan(0.05)
+  })
+
+  it('a time target picks the most substeps the cost model allows; the bounds hold', () => {
+    const world = makeWorld({ sleep: false })
+    const cloth = sheet(world, 0, 16)
+    setClothQualityTarget(world, cloth, { msPerStep: 0.1, calibration: CAL })
+    steps(world, 2)
+    const lod = getClothLod(world, cloth)
+    expect(lod.predictedMs).toBeLessThanOrEqual(0.1)
+    // the next rung up would not fit
+    const next = SUBSTEP_LADDER[SUBSTEP_LADDER.indexOf(lod.substeps) + 1]
+    expect(lod.predictedMs * (next / lod.substeps)).toBeGreaterThan(0.1)
+    setClothQualityTarget(world, cloth, { msPerStep: 100, maxSubsteps: 6, calibration: CAL })
+    steps(world, 16)
+    expect(getClothLod(world, cloth).substeps).toBe(6)
+    setClothQualityTarget(world, cloth, { msPerStep: 1e-6, minSubsteps: 2, calibration: CAL })
+    steps(world, 16)
+    expect(getClothLod(world, cloth).substeps).toBe(2)
+    setClothQualityTarget(world, cloth, null)
+    setClothQuality(world, cloth, { substeps: 5 })
+    steps(world, 16)
+    expect(getClothLod(world, cloth).substeps).toBe(5)
+  })
+
+  it('bad targets are rejected at the API edge', () => {
+    const world = makeWorld()
+    const cloth = sheet(world, 0)
+    expect(() => setClothQualityTarget(world, cloth, {})).toThrow(ClothError)
+    expect(() => setClothQualityTarget(world, cloth, { maxStretch: -0.1 })).toThrow(/target\.maxStretch/)
+    expect(() => setClothQualityTarget(world, cloth, { msPerStep: NaN })).toThrow(/target\.msPerStep/)
+    expect(() => setClothQualityTarget(world, cloth, { maxStretch: 0.01, minSubsteps: 8, maxSubsteps: 4 })).toThrow(/target\.maxSubsteps/)
+    expect(() => setClothQualityTarget(world, cloth, { msPerStep: 1, calibration: { ...CAL, nsPerProjection: 0 } })).toThrow(/nsPerProjection/)
+    expect(() => setClothQualityTarget(world, 12345, { maxStretch: 0.01 })).toThrow(ClothError)
+  })
+})
+
+describe('world budget and level of detail', () => {
+  /** Cloths at 2, 8, 20, 60 and 200 m from a viewer at the origin. */
+  function row(options: Parameters<typeof setClothBudget>[1]) {
+    const world = makeWorld({ sleep: false })
+    const viewer = addEntity(world)
+    setTransform(world, viewer, [0, 2, 0])
+    const cloths = [2, 8, 20, 60, 200].map((x) => sheet(world, x, 10, { substeps: 8, iterations: 2 }))
+    setClothBudget(world, { viewer, near: 5, far: 50, cull: 150, calibration: CAL, farStepEvery: 2, ...options })
+    return { world, viewer, cloths }
+  }
+
+  it('near cloths keep their quality, farther ones run fewer substeps, the farthest step every other step, beyond the cull they freeze', () => {
+    const { world, cloths } = row({})
+    steps(world, 2)
+    const lods = cloths.map((c) => getClothLod(world, c))
+    expect(lods[0]).toMatchObject({ substeps: 8, iterations: 2, stepEvery: 1, frozen: false })
+    expect(lods[1].substeps).toBeLessThan(8)
+    expect(lods[1].substeps).toBeGreaterThanOrEqual(4) // about 8 × 5/8.5
+    expect(lods[2].substeps).toBeLessThan(lods[1].substeps)
+    expect(lods[3]).toMatchObject({ substeps: 1, iterations: 1, stepEvery: 2, frozen: false })
+    expect(lods[4].frozen).toBe(true)
+    for (const l of lods) expect(l).toMatchObject({ wantSubsteps: 8, wantIterations: 2 })
+    // the work follows: the frozen cloth is not integrated, the far one every other step
+    const n = getClothState(world, cloths[0]).count
+    resetClothStats(world)
+    steps(world, 10)
+    const perStep = n * (8 + lods[1].substeps + lods[2].substeps) + (n * 1) / 2
+    expect(getClothStats(world).particlesIntegrated).toBe(10 * perStep)
+    expect(getClothStats(world).lodSkippedSteps).toBe(10 + 5) // the frozen one every step, the far one every other
+  })
+
+  it('a time budget lowers the farthest cloths first and fits the prediction under it', () => {
+    const world = makeWorld({ sleep: false })
+    const viewer = addEntity(world)
+    setTransform(world, viewer, [0, 2, 0])
+    const cloths = [1, 3, 5, 7, 9, 11, 13, 15].map((x) => sheet(world, x, 16, { substeps: 16 }))
+    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CAL })
+    steps(world, 2)
+    const unlimited = cloths.reduce((s, c) => s + getClothLod(world, c).predictedMs, 0)
+    const budget = unlimited / 4
+    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CAL, msPerFrame: budget })
+    steps(world, 2)
+    const lods = cloths.map((c) => getClothLod(world, c))
+    const total = lods.reduce((s, l) => s + l.predictedMs, 0)
+    expect(total).toBeLessThanOrEqual(budget)
+    expect(total).toBeGreaterThan(0.6 * budget) // and uses most of it
+    for (let k = 1; k < lods.length; k++) {
+      expect(lods[k].substeps / lods[k].stepEvery).toBeLessThanOrEqual(lods[k - 1].substeps / lods[k - 1].stepEvery)
+    }
+    expect(lods[0].substeps).toBeGreaterThan(lods[lods.length - 1].substeps / lods[lods.length - 1].stepEvery)
+    // removing the budget gives every cloth its own quality back
+    setClothBudget(world, null)
+    for (const c of cloths) expect(getClothLod(world, c)).toMatchObject({ substeps: 16, stepEvery: 1, frozen: false })
+  })
+
+  it('a self-colliding cloth is never stepped every other step', () => {
+    const { world, cloths } = row({})
+    enableSelfCollision(world, cloths[3])
+    steps(world, 16)
+    expect(getClothLod(world, cloths[3])).toMatchObject({ substeps: 1, stepEvery: 1 })
+  })
+
+  it('changing level causes no pop: a cape on a running character, the viewer walking away and cutting back', () => {
+    // the largest change of any particle's velocity in one step, beyond the first half second
+    const run = (budget: boolean) => {
+      const world = makeWorld({ sleep: false })
+      const viewer = addEntity(world)
+      setTransform(world, viewer, [0, 2, 0])
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 1.6, 0])
+      const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 12, position: [0, 1.6, -0.15], substeps: 16 })
+      pinRow(world, cape, 0, hero)
+      if (budget) setClothBudget(world, { viewer, near: 3, far: 20, interval: 5, calibration: CAL })
+      const c = getClothState(world, cape)
+      let prev = Float64Array.from(c.vel)
+      let worst = 0
+      const levels = new Set<number>()
+      for (let f = 0; f < 480; f++) {
+        const d = f < 240 ? f / 6 : 0 // 40 m away over 4 s, then a camera cut back
+        setTransform(world, viewer, [d, 2, 0])
+        setTransform(world, hero, [Math.sin(f / 30), 1.6, 0]) // running back and forth, up to 2 m/s
+        stepCloth(world, DT)
+        levels.add(getClothLod(world, cape).substeps)
+        for (let i = 0; i < c.count && f > 30; i++) {
+          worst = Math.max(worst, Math.hypot(c.vel[3 * i] - prev[3 * i], c.vel[3 * i + 1] - prev[3 * i + 1], c.vel[3 * i + 2] - prev[3 * i + 2]))
+        }
+        prev = Float64Array.from(c.vel)
+      }
+      return { worst, levels: levels.size, stretch: getClothStretch(world, cape).max }
+    }
+    const fixed = run(false), lod = run(true)
+    expect(lod.levels).toBeGreaterThanOrEqual(8) // 16 → 1 substep and back up, every rung
+    expect(fixed.worst).toBeGreaterThan(0.5) // the running itself
+    expect(lod.worst).toBeLessThan(1.2 * fixed.worst)
+    expect(lod.stretch).toBeLessThan(0.01)
+  })
+
+  it('an invisible cape freezes, and thaws carried along with the character that walked on', () => {
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [0, 1.6, -0.15] })
+    pinRow(world, cape, 0, hero)
+    setClothBudget(world, { calibration: CAL, interval: 1 })
+    steps(world, 60)
+    const c = getClothState(world, cape)
+    const before = Float64Array.from(c.pos)
+    setClothVisible(world, cape, false)
+    steps(world, 1)
+    expect(getClothLod(world, cape).frozen).toBe(true)
+    const frozen = Float64Array.from(c.pos)
+    resetClothStats(world)
+    const q = [0, Math.sin(Math.PI / 4), 0, Math.cos(Math.PI / 4)] // turned 90° about y
+    for (let f = 0; f < 60; f++) {
+      setTransform(world, hero, [f * 0.1, 1.6, 0], q)
+      stepCloth(world, DT)
+    }
+    expect(getClothStats(world).particlesIntegrated).toBe(0)
+    expect(hashBytes(c.pos)).toBe(hashBytes(frozen))
+    setClothVisible(world, cape, true)
+    stepCloth(world, DT)
+    expect(getClothLod(world, cape).frozen).toBe(false)
+    // every particle where the cape was relative to the hero: hero moved 5.9 m and turned a quarter
+    let worst = 0
+    for (let i = 0; i < c.count; i++) {
+      const lx = before[3 * i], ly = before[3 * i + 1] - 1.6, lz = before[3 * i + 2]
+      // rotate (lx, lz) by 90° about y: x' = z, z' = −x
+      const wx = 5.9 + lz, wy = 1.6 + ly, wz = -lx
+      worst = Math.max(worst, Math.hypot(c.pos[3 * i] - wx, c.pos[3 * i + 1] - wy, c.pos[3 * i + 2] - wz))
+    }
+    expect(worst).toBeLessThan(0.05)
+    expect(getClothStretch(world, cape).max).toBeLessThan(0.05)
+  })
+
+  it('with fixed cost numbers the levels, and so the run, are deterministic', () => {
+    const run = () => {
+      const { world, viewer, cloths } = row({ msPerFrame: 0.05 })
+      for (let f = 0; f < 120; f++) {
+        setTransform(world, viewer, [f * 0.3, 2, 0])
+        stepCloth(world, DT)
+      }
+      return cloths.map((c) => hashBytes(getClothState(world, c).pos)).join()
+    }
+    expect(run()).toBe(run())
+  })
+
+  it('bad budgets are rejected at the API edge; a removed viewer means no distances', () => {
+    const world = makeWorld()
+    const cloth = sheet(world, 0)
+    const notTransformed = addEntity(world)
+    expect(() => setClothBudget(world, { msPerFrame: -1 })).toThrow(/options\.msPerFrame/)
+    expect(() => setClothBudget(world, { viewer: notTransformed })).toThrow(/options\.viewer/)
+    expect(() => setClothBudget(world, { viewer: 99999 })).toThrow(ClothError)
+    expect(() => setClothBudget(world, { near: 10, far: 5 })).toThrow(/options\.far/)
+    expect(() => setClothBudget(world, { interval: 0 })).toThrow(/options\.interval/)
+    expect(() => setClothBudget(world, { freezeInvisible: 'no' as never })).toThrow(/freezeInvisible/)
+    expect(() => setClothVisible(world, cloth, 1 as never)).toThrow(/visible/)
+    const viewer = addEntity(world)
+    setTransform(world, viewer, [100, 0, 0])
+    setClothBudget(world, { viewer, near: 1, far: 2, calibration: CAL })
+    steps(world, 2)
+    expect(getClothLod(world, cloth)).toMatchObject({ substeps: 1, iterations: 1 })
+    expect(getClothLod(world, cloth).distance).toBeGreaterThan(99)
+    removeEntity(world, viewer)
+    steps(world, 16)
+    expect(getClothLod(world, cloth)).toMatchObject({ substeps: 2, distance: 0 }) // back up, a rung per allocation
+    expect(() => setClothBudget(world, { farStepEvery: 3 as never })).toThrow(/options\.farStepEvery/)
+  })
+})
