@@ -95,6 +95,23 @@ export interface ClothBudgetOptions {
   interval?: number
   /** Cost model numbers; default a calibration run once per process. */
   calibration?: ClothCostCalibration
+  /**
+   * Correct the cost model by the measured time of the cloth work (one fixed step is timed before
+   * each allocation; the ratio to the prediction is smoothed). It catches what small calibration
+   * scenes miss (cache misses of many cloths, a busy core), and makes the chosen levels depend on
+   * timing: turn it off, with a fixed `calibration`, for machines in lockstep. Default true.
+   */
+  adapt?: boolean
+}
+
+/** The budget's view of the last allocation (`getClothBudgetStats`). */
+export interface ClothBudgetStats {
+  /** Predicted time of all cloths per fixed step at the chosen levels, ms (corrected). */
+  predictedMs: number
+  /** Measured time of the last timed fixed step, ms (0 before the first). */
+  measuredMs: number
+  /** Measured / modelled time, smoothed (1 until measured, or with `adapt` off). */
+  correction: number
 }
 
 /** Level of detail of one cloth (`getClothLod`). */
@@ -110,7 +127,7 @@ export interface ClothLodInfo {
   wantIterations: number
   /** Distance from the viewer at the last allocation, m (0 without a viewer). */
   distance: number
-  /** Predicted cost per fixed step at the current level, ms. */
+  /** Predicted cost per fixed step at the current level, ms (the cost model, times the budget's correction). */
   predictedMs: number
 }
 
@@ -151,6 +168,7 @@ export interface ClothLod {
 
 interface BudgetSettings {
   msPerFrame: number
+  adapt: boolean
   farStepEvery: number
   viewer: number
   near: number
@@ -172,10 +190,28 @@ export interface QualityWorld {
   /** Viewer pose scratch, level configuration scratch (s, i, e, cost, logq). */
   pose: Float64Array
   cfg: Float64Array
+  /** Time the next fixed step (set by the sync phase, read by `clothFixedStep`). */
+  timeNext: boolean
+  /** Timing: [Q_T0] start of the timed step, [Q_MEASURED] its ms, [Q_PREDICTED] the model's ns per step, [Q_FACTOR] correction. */
+  timing: Float64Array
 }
 
+export const Q_T0 = 0
+export const Q_MEASURED = 1
+export const Q_PREDICTED = 2
+export const Q_FACTOR = 3
+
 export function createQualityWorld(): QualityWorld {
-  return { budget: null, targets: 0, countdown: 0, calibration: null, pose: new Float64Array(7), cfg: new Float64Array(5) }
+  return {
+    budget: null,
+    targets: 0,
+    countdown: 0,
+    calibration: null,
+    pose: new Float64Array(7),
+    cfg: new Float64Array(5),
+    timeNext: false,
+    timing: Float64Array.from([0, 0, 0, 1]),
+  }
 }
 
 export function createClothLod(substeps: number, iterations: number): ClothLod {
@@ -220,9 +256,10 @@ function measureCalibration(): Float64Array {
     const cloth = api.createCloth(world, { width: 1, height: 1, resolution: res, position: [0, 2, 0], substeps: 4, iterations })
     api.pinRow(world, cloth, 0)
     if (colliders) {
+      // two balls the sheet drapes over (contacts, as on a character), not ones it never nears
       for (let k = 0; k < 2; k++) {
         const e = api.addEntity(world)
-        api.setTransform(world, e, [0, 1.5 - 0.4 * k, 0.3])
+        api.setTransform(world, e, [0.25 - 0.5 * k, 1.6 - 0.3 * k, 0.12])
         api.addSphereCollider(world, e, { radius: 0.2 })
       }
     }
@@ -350,11 +387,15 @@ export function setClothBudget(world: object, options: ClothBudgetOptions | null
     throw new ClothError('options.freezeInvisible', options.freezeInvisible, 'must be a boolean')
   }
   const interval = options.interval === undefined ? 15 : checkInteger('options.interval', options.interval, 1, 100000)
+  if (options.adapt !== undefined && typeof options.adapt !== 'boolean') throw new ClothError('options.adapt', options.adapt, 'must be a boolean')
+  const adapt = options.adapt ?? true
   const farStepEvery = options.farStepEvery === undefined ? 1 : options.farStepEvery
   if (farStepEvery !== 1 && farStepEvery !== 2 && farStepEvery !== 4) throw new ClothError('options.farStepEvery', farStepEvery, 'must be 1, 2 or 4')
   if (options.calibration !== undefined) q.calibration = checkCalibration(options.calibration, 'options.calibration')
   else if (msPerFrame > 0) calibration(q)
-  q.budget = { msPerFrame, farStepEvery, viewer, near, far, cull, freezeInvisible: options.freezeInvisible ?? true, interval }
+  q.timing[Q_FACTOR] = 1
+  q.timing[Q_MEASURED] = 0
+  q.budget = { msPerFrame, adapt, farStepEvery, viewer, near, far, cull, freezeInvisible: options.freezeInvisible ?? true, interval }
   q.countdown = 0
 }
 
@@ -380,7 +421,7 @@ export function getClothLod(world: object, cloth: number): ClothLodInfo {
   let predictedMs = 0
   if (cal !== null) {
     configCost(c, c.substeps, c.iterations, lod.stepEvery, cal, state.quality.cfg)
-    predictedMs = state.quality.cfg[3] * 1e-6
+    predictedMs = state.quality.cfg[3] * state.quality.timing[Q_FACTOR] * 1e-6
   }
   return {
     substeps: c.substeps,
@@ -427,7 +468,34 @@ export function updateQuality(state: ClothWorldState): void {
     }
     return
   }
+  const t = q.timing
+  if (b.adapt && b.msPerFrame > 0 && t[Q_MEASURED] > 0 && t[Q_PREDICTED] > 0) {
+    // the measured step against the model (clamped: one noisy sample moves it at most 2×)
+    let r = (t[Q_MEASURED] * 1e6) / (t[Q_PREDICTED] * t[Q_FACTOR])
+    r = r < 0.5 ? 0.5 : r > 2 ? 2 : r
+    t[Q_FACTOR] *= 1 + 0.3 * (r - 1)
+  }
   allocate(state, b)
+}
+
+/**
+ * Sync phase, every step after `updateQuality`: whether `clothFixedStep` should time this step
+ * (the step before an allocation, when a time budget adapts).
+ */
+export function wantStepTiming(state: ClothWorldState): void {
+  const q = state.quality
+  const b = q.budget
+  q.timeNext = b !== null && b.adapt && b.msPerFrame > 0 && q.countdown === 1
+}
+
+/**
+ * The world budget's last allocation: predicted and measured time per fixed step, and the
+ * correction applied to the cost model.
+ */
+export function getClothBudgetStats(world: object): ClothBudgetStats {
+  const q = getClothWorld(world).quality
+  const t = q.timing
+  return { predictedMs: t[Q_PREDICTED] * t[Q_FACTOR] * 1e-6, measuredMs: t[Q_MEASURED], correction: t[Q_FACTOR] }
 }
 
 /** The quality target's controller: moves the wanted substeps along the ladder. */
@@ -605,6 +673,18 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
     levelConfig(c, lod.level, cfg)
     applyConfig(state, c, cfg[0], cfg[1], cfg[2])
   }
+  // the model's time per step at these levels, for the timing correction and the stats
+  const cal = q.calibration
+  let total = 0
+  if (cal !== null) {
+    for (let ci = 0; ci < cloths.length; ci++) {
+      const c = cloths[ci]
+      if (c.lod.frozen || c.sleeping) continue
+      configCost(c, c.substeps, c.iterations, c.lod.stepEvery, cal, cfg)
+      total += cfg[3]
+    }
+  }
+  q.timing[Q_PREDICTED] = total
 }
 
 /** The lowest level that still runs one substep at full iterations. */
@@ -618,7 +698,7 @@ function halvingsTop(c: ClothState): number {
  * per nanosecond saved. Frozen and sleeping cloths cost nothing.
  */
 function fitBudget(state: ClothWorldState, b: BudgetSettings): void {
-  const budget = b.msPerFrame * 1e6
+  const budget = (b.msPerFrame * 1e6) / state.quality.timing[Q_FACTOR] // in model nanoseconds
   const q = state.quality
   const cal = calibration(q)
   const cfg = q.cfg

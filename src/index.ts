@@ -100,11 +100,13 @@ export {
   setClothBudget,
   setClothVisible,
   getClothLod,
+  getClothBudgetStats,
   calibrateClothCost,
   SUBSTEP_LADDER,
   type ClothQualityTarget,
   type ClothBudgetOptions,
   type ClothLodInfo,
+  type ClothBudgetStats,
   type ClothCostCalibration,
 } from './budget'
 

@@ -5,7 +5,7 @@ import { getClothWorld } from '../src/state'
 import { advanceWind } from '../src/wind'
 import { sweepColliders } from '../src/collision'
 import { wakeSleepers } from '../src/sleep'
-import { updateQuality } from '../src/budget'
+import { updateQuality, wantStepTiming } from '../src/budget'
 
 /**
  * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
@@ -29,6 +29,7 @@ export function clothSync<W extends object>(world: W): W {
   advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   wakeSleepers(state) // nothing while no cloth sleeps
   updateQuality(state) // quality targets and the world budget (nothing without them)
+  wantStepTiming(state)
   let total = 0
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {

@@ -9,6 +9,7 @@ import { clothSync } from './clothSync'
 import { clothTear } from './clothTear'
 import { clothWriteback } from './clothWriteback'
 import { clothEvents } from './clothEvents'
+import { Q_MEASURED, Q_T0 } from '../src/budget'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -38,7 +39,11 @@ export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide,
 /** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
 export function clothFixedStep<W extends object>(world: W): W {
   const state = getClothWorld(world)
+  const timing = state.quality.timing
   clothSync(world)
+  // a time budget that adapts times one step before each allocation (from here: sync decides)
+  const timed = state.quality.timeNext
+  if (timed) timing[Q_T0] = performance.now()
   for (let s = 0; s < state.substepCount; s++) {
     state.substep = s
     clothForces(world)
@@ -49,6 +54,7 @@ export function clothFixedStep<W extends object>(world: W): W {
     clothWriteback(world)
   }
   clothGuard(world)
+  if (timed) timing[Q_MEASURED] = performance.now() - timing[Q_T0]
   state.stats.substeps += state.substepCount
   clothEvents(world)
   return world

@@ -5,6 +5,7 @@ import {
   SUBSTEP_LADDER,
   createCloth,
   enableSelfCollision,
+  getClothBudgetStats,
   getClothLod,
   getClothState,
   getClothStats,
@@ -137,7 +138,7 @@ describe('world budget and level of detail', () => {
     steps(world, 2)
     const unlimited = cloths.reduce((s, c) => s + getClothLod(world, c).predictedMs, 0)
     const budget = unlimited / 4
-    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CAL, msPerFrame: budget })
+    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CAL, msPerFrame: budget, adapt: false })
     steps(world, 2)
     const lods = cloths.map((c) => getClothLod(world, c))
     const total = lods.reduce((s, l) => s + l.predictedMs, 0)
@@ -150,6 +151,26 @@ describe('world budget and level of detail', () => {
     // removing the budget gives every cloth its own quality back
     setClothBudget(world, null)
     for (const c of cloths) expect(getClothLod(world, c)).toMatchObject({ substeps: 16, stepEvery: 1, frozen: false })
+  })
+
+  it('a time budget corrects a wrong cost model by the measured time, and then fits the measured time', () => {
+    const world = makeWorld({ sleep: false })
+    const cloths = [0, 2, 4, 6].map((x) => sheet(world, x, 16, { substeps: 16 }))
+    // a model 100 times too cheap: everything seems to fit at first
+    const cheap = { nsPerParticle: 0.2, nsPerProjection: 0.12, nsPerColliderTest: 0.05, nsPerClothSubstep: 5 }
+    steps(world, 30)
+    const t0 = performance.now()
+    steps(world, 30)
+    const full = (performance.now() - t0) / 30 // ms per step at 16 substeps
+    setClothBudget(world, { msPerFrame: full / 3, calibration: cheap, interval: 5 })
+    steps(world, 2)
+    expect(getClothLod(world, cloths[0]).substeps).toBe(16) // the model says it fits
+    steps(world, 200)
+    const stats = getClothBudgetStats(world)
+    expect(stats.correction).toBeGreaterThan(10)
+    expect(stats.measuredMs).toBeGreaterThan(0)
+    expect(stats.predictedMs).toBeLessThanOrEqual(full / 3 + 1e-9)
+    expect(cloths.every((c) => getClothLod(world, c).substeps < 16)).toBe(true)
   })
 
   it('a self-colliding cloth is never stepped every other step', () => {
@@ -233,7 +254,7 @@ describe('world budget and level of detail', () => {
 
   it('with fixed cost numbers the levels, and so the run, are deterministic', () => {
     const run = () => {
-      const { world, viewer, cloths } = row({ msPerFrame: 0.05 })
+      const { world, viewer, cloths } = row({ msPerFrame: 0.05, adapt: false })
       for (let f = 0; f < 120; f++) {
         setTransform(world, viewer, [f * 0.3, 2, 0])
         stepCloth(world, DT)

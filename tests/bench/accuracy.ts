@@ -44,7 +44,7 @@ interface Row extends Config {
 }
 
 function build(scene: SceneId, c: Config, swing = false) {
-  const world = installClothPlugin(createWorld())
+  const world = installClothPlugin(createWorld(), { sleep: false })
   const hero = addEntity(world)
   setTransform(world, hero, [0, 1.6, 0])
   const lying = swing ? quat.setAxisAngle(quat.create(), [1, 0, 0], -Math.PI / 2) : quat.create()

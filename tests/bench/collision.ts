@@ -78,7 +78,7 @@ export function perCollider(): void {
     return { tests, ms: median(times) }
   }
   for (const [name, add] of shapes) {
-    const world = installClothPlugin(createWorld())
+    const world = installClothPlugin(createWorld(), { sleep: false })
     const e = addEntity(world)
     setTransform(world, e, [0, 0.5, 0])
     add(world, e)
@@ -86,7 +86,7 @@ export function perCollider(): void {
     for (let f = 0; f < 120; f++) stepCloth(world, 1 / 60)
     const draped = measure(world)
     // beside a hanging sheet: in its bounds, 2 cm or more from every particle
-    const near = installClothPlugin(createWorld())
+    const near = installClothPlugin(createWorld(), { sleep: false })
     const cloth = createCloth(near, { width: 1, height: 1, resolution: 64, position: [0, 1.5, 0] })
     pinRow(near, cloth, 0)
     const f = addEntity(near)
@@ -126,7 +126,7 @@ export function selfShare(): void {
   const rows: Record<string, string | number>[] = []
   for (const n of [32, 64]) {
     const make = (self: boolean) => {
-      const world = installClothPlugin(createWorld())
+      const world = installClothPlugin(createWorld(), { sleep: false })
       const ground = addEntity(world)
       setTransform(world, ground, [0, 0, 0])
       addPlaneCollider(world, ground)
@@ -184,7 +184,7 @@ export function selfShare(): void {
  */
 export function outOfRange(): void {
   const make = (colliders: boolean) => {
-    const world = installClothPlugin(createWorld())
+    const world = installClothPlugin(createWorld(), { sleep: false })
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 64 })
     pinParticle(world, cloth, 0)
     pinParticle(world, cloth, 63)

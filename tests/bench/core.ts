@@ -5,7 +5,7 @@ import { fmt, saveJson, table, timeIt } from './harness'
 
 /** A 1 m sheet of n×n particles hanging from its two top corners (or its top row). */
 function sheet(n: number, substeps: number, iterations: number, pins: 'corners' | 'row' = 'corners', tethers = true, bending: 'line' | 'distance' = 'line') {
-  const world = installClothPlugin(createWorld())
+  const world = installClothPlugin(createWorld(), { sleep: false })
   const cloth = createCloth(world, { width: 1, height: 1, resolution: n, substeps, iterations, tethers, bending, material: 'cotton' })
   if (pins === 'row') pinRow(world, cloth, 0)
   else {
@@ -75,7 +75,7 @@ export function throughput(): void {
 export async function allocation(): Promise<void> {
   const rows: Record<string, string | number>[] = []
   for (const scene of ['sheet', 'cape'] as const) {
-    const world = installClothPlugin(createWorld())
+    const world = installClothPlugin(createWorld(), { sleep: false })
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 32, substeps: 4 })
     const { Transform } = getClothComponents(world)
     const hero = addEntity(world)

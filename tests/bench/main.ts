@@ -4,6 +4,7 @@ import { windCost } from './wind'
 import { tearCost } from './tearing'
 import { guardCost, snapshotCost } from './stability'
 import { outOfRange, perCollider, selfShare } from './collision'
+import { capes, payForUse, sleepingCost } from './budget'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -26,6 +27,14 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
     run: () => {
       guardCost()
       snapshotCost()
+    },
+  },
+  budget: {
+    byDefault: true,
+    run: () => {
+      payForUse()
+      sleepingCost()
+      capes()
     },
   },
   collision: {

@@ -3,7 +3,7 @@ import { createCloth, getClothStats, installClothPlugin, makeTearable, pinPartic
 import { fmt, saveJson, table, timeIt } from './harness'
 
 function sheet(n: number, mode: 'plain' | 'tearable' | 'tearable elsewhere') {
-  const world = installClothPlugin(createWorld())
+  const world = installClothPlugin(createWorld(), { sleep: false })
   const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 2, 0], substeps: 4 })
   pinParticle(world, cloth, 0)
   pinParticle(world, cloth, n - 1)
@@ -51,7 +51,7 @@ export function tearCost(): void {
   table('Tearing: detection cost on a hanging sheet that does not tear (4 substeps, min of 3 rounds)', rows)
 
   // steps with tears: a 32×32 sheet pulled apart by its side pins
-  const world = installClothPlugin(createWorld())
+  const world = installClothPlugin(createWorld(), { sleep: false })
   const n = 32
   const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 2, 0], substeps: 4 })
   const left = addEntity(world), right = addEntity(world)

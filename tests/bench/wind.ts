@@ -4,7 +4,7 @@ import { fmt, saveJson, table, timeIt } from './harness'
 
 /** A flag of n×(2n/3) particles pinned along its hoist, optionally in a wind zone. */
 function flag(n: number, wind: 'none' | 'steady' | 'turbulent' | 'elsewhere') {
-  const world = installClothPlugin(createWorld())
+  const world = installClothPlugin(createWorld(), { sleep: false })
   const rows = Math.round((2 * n) / 3)
   const cloth = createCloth(world, { width: 1.5, height: 1, resolution: [n, rows], position: [0.75, 3, 0], material: 'nylon', substeps: 8 })
   for (let r = 0; r < rows; r++) pinParticle(world, cloth, r * n)

@@ -1,0 +1,249 @@
+import { addEntity, createWorld } from 'bitecs'
+import {
+  addCapsuleCollider,
+  addPlaneCollider,
+  addSphereCollider,
+  calibrateClothCost,
+  createCloth,
+  createWindZone,
+  getClothLod,
+  getClothState,
+  getClothStats,
+  getClothStretch,
+  installClothPlugin,
+  isClothSleeping,
+  makeTearable,
+  pinParticle,
+  pinRow,
+  resetClothStats,
+  setClothBudget,
+  setClothSleep,
+  setTransform,
+  stepCloth,
+  type ClothState,
+} from '../../src/index'
+import { predictPositions, updateVelocities } from '../../src/kernels/integrate'
+import { solveLineBending } from '../../src/kernels/bending'
+import { solveDistances } from '../../src/kernels/distance'
+import { solveTethers } from '../../src/kernels/tether'
+import { dampPairs } from '../../src/kernels/damping'
+import { P_STRETCH_DAMP, createKernelParams, setSubstepParams } from '../../src/kernels/params'
+import { fmt, saveJson, table } from './harness'
+
+const DT = 1 / 60
+const N = 32 // the plain sheet: 32×32 particles, 8 substeps × 1 iteration (the defaults)
+
+/** A 1 m sheet hanging from its two top corners at x (world pins). */
+function hangingSheet(world: object, x: number, n = N): number {
+  const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [x, 2, 0], material: 'cotton' })
+  pinParticle(world, cloth, 0)
+  pinParticle(world, cloth, n - 1)
+  return cloth
+}
+
+/**
+ * The bare solver on a copy of a cloth's state: exactly the kernels the plugin runs for a plain
+ * sheet (predict, line bending, distances, tethers, velocities; stretch damping once per step),
+ * called in a loop with no world, systems, pins, guard or bookkeeping around them.
+ */
+function bareSolver(c: ClothState): () => void {
+  const t = c.topology
+  const pos = Float64Array.from(c.pos), prev = Float64Array.from(c.prev), vel = Float64Array.from(c.vel)
+  const invMass = Float64Array.from(c.invMass)
+  const p = createKernelParams()
+  const n = c.substeps, h = DT / n
+  const tethers = c.tethers
+  const gravity = [0, -9.81, 0]
+  return () => {
+    for (let s = 0; s < n; s++) {
+      setSubstepParams(p, h, c.damping, gravity, 250)
+      predictPositions(pos, prev, vel, invMass, null, p, c.count)
+      solveLineBending(pos, invMass, t.lineIds, t.lineRest, t.lineCompliance, null, p, 0, t.lineCount)
+      solveDistances(pos, invMass, t.distIds, t.distRest, t.distCompliance, p, 0, t.distCount)
+      solveTethers(pos, invMass, tethers.particle, tethers.anchor, tethers.rest, tethers.count)
+      updateVelocities(pos, prev, vel, p, c.count)
+    }
+    p[P_STRETCH_DAMP] = 1 - Math.exp(-c.stretchDamping * DT)
+    dampPairs(pos, vel, invMass, t.stretchIds, t.stretchCount, p)
+  }
+}
+
+/** ms per call of each function, interleaved over rounds; the median of the rounds per function. */
+function interleaved(fns: (() => void)[], rounds = 15, calls = 100): number[] {
+  for (const f of fns) for (let i = 0; i < 50; i++) f()
+  const samples: number[][] = fns.map(() => [])
+  for (let r = 0; r < rounds; r++) {
+    fns.forEach((f, k) => {
+      const t0 = performance.now()
+      for (let i = 0; i < calls; i++) f()
+      samples[k].push((performance.now() - t0) / calls)
+    })
+  }
+  return samples.map((s) => s.sort((a, b) => a - b)[s.length >> 1])
+}
+
+/** Things elsewhere in the world that must cost the sheet nothing: wind, colliders, a tearable cloth. */
+function addExtras(world: object): void {
+  createWindZone(world, { shape: 'box', position: [40, 2, 0], size: [4, 4, 4], direction: [1, 0, 0], strength: 8, turbulence: 0.3 })
+  createWindZone(world, { shape: 'sphere', position: [-40, 2, 0], size: 3, direction: [0, 0, 1], strength: 5 })
+  for (let k = 0; k < 4; k++) {
+    const e = addEntity(world)
+    setTransform(world, e, [30 + 2 * k, 1, 5])
+    if (k % 2 === 0) addSphereCollider(world, e, { radius: 0.5 })
+    else addCapsuleCollider(world, e, { radius: 0.3, halfHeight: 0.5 })
+  }
+  const ground = addEntity(world)
+  setTransform(world, ground, [0, -20, 0])
+  addPlaneCollider(world, ground)
+  const tearable = hangingSheet(world, 20, 12)
+  makeTearable(world, tearable)
+}
+
+/**
+ * "Simulate only what the scene calls for": a plain hanging sheet in the full plugin against the
+ * bare kernels on the same sheet; then the same sheet in a world that also holds wind zones,
+ * colliders and a tearable cloth, none of them touching it. The sheet's cost there is the world's
+ * time minus the time of the same world without the sheet (interleaved, medians of 15 rounds).
+ */
+export function payForUse(): void {
+  const plain = installClothPlugin(createWorld(), { sleep: false })
+  const sheet = hangingSheet(plain, 0)
+  const busy = installClothPlugin(createWorld(), { sleep: false })
+  addExtras(busy)
+  hangingSheet(busy, 0)
+  const extrasOnly = installClothPlugin(createWorld(), { sleep: false })
+  addExtras(extrasOnly)
+  for (const w of [plain, busy, extrasOnly]) for (let f = 0; f < 120; f++) stepCloth(w, DT)
+  const bare = bareSolver(getClothState(plain, sheet))
+  const [tBare, tPlugin, tBusy, tExtras] = interleaved([
+    bare,
+    () => stepCloth(plain, DT),
+    () => stepCloth(busy, DT),
+    () => stepCloth(extrasOnly, DT),
+  ])
+  resetClothStats(busy)
+  stepCloth(busy, DT)
+  const s = getClothStats(busy)
+  const rows = [
+    { run: 'bare kernels, no world', 'ms/step': fmt(tBare, 3), 'vs bare': '1.000', goal: '' },
+    { run: 'full plugin, sheet alone', 'ms/step': fmt(tPlugin, 3), 'vs bare': fmt(tPlugin / tBare, 3), goal: '≤ 1.03' },
+    { run: 'full plugin, with wind, colliders, tearable elsewhere (sheet share)', 'ms/step': fmt(tBusy - tExtras, 3), 'vs bare': fmt((tBusy - tExtras) / tBare, 3), goal: '≤ 1.05' },
+    { run: '  (that world, whole step)', 'ms/step': fmt(tBusy, 3), 'vs bare': '', goal: '' },
+    { run: '  (that world without the sheet)', 'ms/step': fmt(tExtras, 3), 'vs bare': '', goal: '' },
+  ]
+  table(`Pay for use: a ${N}×${N} cotton sheet hanging from two corners, 8 substeps × 1 iteration (median of 15 interleaved rounds of 100 steps)`, rows)
+  console.log(`  in the busy world, one step: ${s.windTriangles} wind triangles, ${s.colliderTests} particle–collider tests, ${s.strainChecks} strain checks (the tearable cloth's own)`)
+  saveJson('budget-pay-for-use', { tBare, tPlugin, tBusy, tExtras })
+}
+
+/** A sleeping cloth against an awake one: 16 sleeping sheets added to a world with one awake sheet. */
+export function sleepingCost(): void {
+  const alone = installClothPlugin(createWorld())
+  const awake = hangingSheet(alone, 0)
+  setClothSleep(alone, awake, false)
+  const crowd = installClothPlugin(createWorld())
+  const awake2 = hangingSheet(crowd, 0)
+  setClothSleep(crowd, awake2, false)
+  const sleepers: number[] = []
+  for (let k = 0; k < 16; k++) {
+    // hanging straight down from their top row: still from the start, asleep after the 1 s delay
+    const cloth = createCloth(crowd, { width: 1, height: 1, resolution: N, position: [3 + 2 * k, 2, 0] })
+    pinRow(crowd, cloth, 0)
+    sleepers.push(cloth)
+  }
+  // something for the wake tests to look at every step: a moving collider and a zone, both far away
+  const ball = addEntity(crowd)
+  setTransform(crowd, ball, [0, 2, 30])
+  addSphereCollider(crowd, ball, { radius: 0.3 })
+  createWindZone(crowd, { shape: 'box', position: [0, 2, -30], size: 2, direction: [1, 0, 0], strength: 5 })
+  for (let f = 0; f < 150; f++) stepCloth(crowd, DT)
+  for (let f = 0; f < 150; f++) stepCloth(alone, DT)
+  const asleep = sleepers.filter((c) => isClothSleeping(crowd, c)).length
+  let frame = 0
+  const [tAlone, tCrowd] = interleaved([
+    () => stepCloth(alone, DT),
+    () => {
+      setTransform(crowd, ball, [Math.sin(++frame * 0.1), 2, 30])
+      stepCloth(crowd, DT)
+    },
+  ])
+  const perSleeper = (tCrowd - tAlone) / sleepers.length
+  const rows = [
+    { run: 'one awake sheet', 'ms/step': fmt(tAlone, 4) },
+    { run: `the same plus ${sleepers.length} sleeping sheets (${asleep} asleep), a moving collider and a wind zone far away`, 'ms/step': fmt(tCrowd, 4) },
+    { run: 'one sleeping sheet (difference / 16)', 'ms/step': fmt(perSleeper, 5) },
+    { run: 'sleeping / awake', 'ms/step': `${fmt((100 * perSleeper) / tAlone, 3)} % (goal < 1 %)` },
+  ]
+  table(`Sleeping: ${N}×${N} sheets, 8 substeps (median of 15 interleaved rounds of 100 steps)`, rows)
+  saveJson('budget-sleeping', { tAlone, tCrowd, perSleeper, asleep })
+}
+
+/**
+ * 64 capes of 24×24 particles on characters running in circles, each with a torso and two leg
+ * capsules, tethers on; a camera at one corner of the crowd. ms per 60 Hz frame (one fixed step)
+ * with no budget, and with the budget system (distance LOD and an 8 ms time budget).
+ */
+export function capes(): void {
+  const build = () => {
+    const world = installClothPlugin(createWorld(), { sleep: false })
+    const camera = addEntity(world)
+    setTransform(world, camera, [-3, 1.7, -3])
+    const heroes: { eid: number; x: number; z: number; phase: number }[] = []
+    const capes: number[] = []
+    for (let i = 0; i < 64; i++) {
+      const x = (i % 8) * 3, z = Math.floor(i / 8) * 3
+      const hero = addEntity(world)
+      setTransform(world, hero, [x, 1.6, z])
+      const legs = [addEntity(world), addEntity(world)]
+      addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0, -0.25, 0], radius: 0.17, halfHeight: 0.25 })
+      addCapsuleCollider(world, legs[0], { body: hero, offset: [-0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
+      addCapsuleCollider(world, legs[1], { body: hero, offset: [0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
+      const cape = createCloth(world, { width: 0.6, height: 1, resolution: 24, position: [x, 1.62, z - 0.2], material: 'cotton' })
+      pinRow(world, cape, 0, hero)
+      heroes.push({ eid: hero, x, z, phase: i * 0.7 })
+      capes.push(cape)
+    }
+    let frame = 0
+    const step = () => {
+      frame++
+      for (const h of heroes) {
+        // running in a circle of 1 m at 3 m/s, facing the way it runs (the cape trails behind)
+        const a = frame * DT * 3 + h.phase
+        const yaw = -a // tangent direction
+        setTransform(world, h.eid, [h.x + Math.cos(a), 1.6, h.z + Math.sin(a)], [0, Math.sin(yaw / 2), 0, Math.cos(yaw / 2)])
+      }
+      stepCloth(world, DT)
+    }
+    return { world, camera, capes, step }
+  }
+  const off = build()
+  for (let f = 0; f < 120; f++) off.step()
+  // calibrate once the kernels are warm (the first call in a cold process measures cold code)
+  const cal = calibrateClothCost(true)
+  const on = build()
+  setClothBudget(on.world, { msPerFrame: 8, viewer: on.camera, near: 6, far: 25, calibration: cal })
+  for (let f = 0; f < 120; f++) on.step()
+  const [tOff, tOn] = interleaved([off.step, on.step], 7, 30)
+  const predicted = on.capes.reduce((s, c) => s + getClothLod(on.world, c).predictedMs, 0)
+  const histogram = new Map<number, number>()
+  for (const c of on.capes) {
+    const s = getClothLod(on.world, c).substeps
+    histogram.set(s, (histogram.get(s) ?? 0) + 1)
+  }
+  const stretch = (w: object, list: number[]) => Math.max(...list.map((c) => getClothStretch(w, c).max))
+  const nearOn = on.capes.filter((c) => getClothLod(on.world, c).distance < 6)
+  const nearOff = off.capes.filter((_, i) => nearOn.includes(on.capes[i]))
+  const rows = [
+    { budget: 'off (8 substeps each)', 'ms/frame': fmt(tOff, 2), 'predicted ms': '', 'substeps: capes': '8: 64', 'max stretch near / all %': `${fmt(100 * stretch(off.world, nearOff), 2)} / ${fmt(100 * stretch(off.world, off.capes), 2)}` },
+    {
+      budget: 'on (8 ms, near 6 m, far 25 m)',
+      'ms/frame': fmt(tOn, 2),
+      'predicted ms': fmt(predicted, 2),
+      'substeps: capes': [...histogram].sort((a, b) => b[0] - a[0]).map(([s, n]) => `${s}: ${n}`).join(', '),
+      'max stretch near / all %': `${fmt(100 * stretch(on.world, nearOn), 2)} / ${fmt(100 * stretch(on.world, on.capes), 2)}`,
+    },
+  ]
+  table('64 capes of 24×24 on running characters, 3 capsules each, tethers on: ms per 60 Hz frame on one core (goal ≤ 8 ms with the budget on; median of 7 interleaved rounds of 30 frames)', rows)
+  console.log(`  calibration: ${fmt(cal.nsPerParticle, 1)} ns/particle, ${fmt(cal.nsPerProjection, 1)} ns/projection, ${fmt(cal.nsPerColliderTest, 1)} ns/collider test, ${fmt(cal.nsPerClothSubstep, 0)} ns/cloth·substep`)
+  saveJson('budget-capes', { tOff, tOn, predicted, histogram: Object.fromEntries(histogram), calibration: cal })
+}
