@@ -300,15 +300,20 @@ function drawLabels(labels: readonly SceneLabel[]): void {
 
 let lastStats = { particles: 0, constraints: 0, maxStretch: 0 }
 const panel = $('panel')
+let lastRender = performance.now()
 function render(): void {
   // centre the scene in the canvas right of the panel (when the window is wide enough to have room)
   const free = canvas.clientWidth - panel.getBoundingClientRect().right
   renderer.camera.shiftX = free > 500 ? (canvas.clientWidth - free) / canvas.clientWidth : 0
+  const now = performance.now()
   const follow = instance.follow?.()
   if (follow) {
+    // ease toward the followed point with a 0.12 s time constant, whatever the frame rate
     const t = renderer.camera.target
-    for (let k = 0; k < 3; k++) t[k] += (follow[k] - t[k]) * 0.1
+    const a = 1 - Math.exp(-Math.min(0.1, (now - lastRender) / 1000) / 0.12)
+    for (let k = 0; k < 3; k++) t[k] += (follow[k] - t[k]) * a
   }
+  lastRender = now
   renderer.begin()
   instance.draw?.(renderer)
   let particles = 0, constraints = 0, maxStretch = 0

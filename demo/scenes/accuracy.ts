@@ -46,7 +46,7 @@ export const accuracyScene: DemoScene = {
     addPlaneCollider(world, ground)
     // A breeze whose eddies (20 m) are much larger than the scene, so both sides feel the same
     // air at the same time: the comparison is of the solver, not of the weather.
-    let breeze = 1.5
+    let breeze = 0.8
     const wind = createWindZone(world, { direction: [0.3, 0, -1], strength: breeze, turbulence: 0.35, turbulenceScale: 20, turbulencePeriod: 1.5, seed: 3 })
 
     const make = (side: -1 | 1) => {
@@ -96,11 +96,11 @@ export const accuracyScene: DemoScene = {
     const bySubsteps = addButton(row, 'Substeps', () => setMode('substeps'), 'compare-substeps')
     byIterations.classList.toggle('active', mode === 'iterations')
     bySubsteps.classList.toggle('active', mode === 'substeps')
-    addSlider(ui, 'Breeze m/s', 0, 12, 0.5, breeze, (v) => {
+    addSlider(ui, 'Breeze m/s', 0, 8, 0.1, breeze, (v) => {
       breeze = v
       setWindZone(world, wind, { strength: breeze })
     }, 'breeze')
-    addButton(ui, 'Gust', () => gustWind(world, wind, { strength: 4, duration: 2 }), 'gust')
+    addButton(ui, 'Gust', () => gustWind(world, wind, { strength: 3, duration: 2 }), 'gust')
 
     const stretch = (cloths: number[]) => {
       let mean = 0, max = 0
@@ -114,10 +114,10 @@ export const accuracyScene: DemoScene = {
     const pct = (v: number) => `${(100 * v).toFixed(v < 0.1 ? 1 : 0)} %`
     const plural = (n: number, word: string) => `${n} ${word}${n === 1 ? '' : 's'}`
     const labels: SceneLabel[] = [
-      { text: '', at: [-SIDE_X, 0.3, 0.4], className: 'title' },
-      { text: '', at: [SIDE_X, 0.3, 0.4], className: 'title' },
-      { text: '', at: [-SIDE_X, 0.1, 0.4], className: 'dim' },
-      { text: '', at: [SIDE_X, 0.1, 0.4], className: 'dim' },
+      { text: '', at: [-SIDE_X, 0.2, 0.5], className: 'title' },
+      { text: '', at: [SIDE_X, 0.2, 0.5], className: 'title' },
+      { text: '', at: [-SIDE_X, 0.02, 0.5], className: 'dim' },
+      { text: '', at: [SIDE_X, 0.02, 0.5], className: 'dim' },
     ]
     let shownAt = -1
     let time = 0

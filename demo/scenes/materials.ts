@@ -30,7 +30,7 @@ export const materialsScene: DemoScene = {
   title: 'Materials',
   // tethers off: rubber's stretch is part of the comparison
   defaults: { substeps: 8, iterations: 1, tethers: false },
-  camera: { target: [0, 1.55, -0.2], distance: 4.6, yaw: 0.3, pitch: 0.16 },
+  camera: { target: [0.3, 1.5, -0.2], distance: 4.9, yaw: 0.25, pitch: 0.16 },
   create({ world, settings, ui }) {
     const ground = addEntity(world as never)
     setTransform(world, ground, [0, 0, 0])
