@@ -4,6 +4,7 @@ import { windCost } from './wind'
 import { tearCost } from './tearing'
 import { guardCost, snapshotCost } from './stability'
 import { outOfRange, perCollider, selfShare } from './collision'
+import { demoScenes } from './demo'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -36,6 +37,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
       outOfRange()
     },
   },
+  demo: { byDefault: false, run: () => demoScenes() },
 }
 
 const wanted = process.argv.slice(2)
