@@ -5,6 +5,7 @@ import {
   getClothMesh,
   getClothState,
   getClothStretch,
+  getClothTearCount,
   installClothPlugin,
   pinParticle,
   setClothQuality,
@@ -14,7 +15,7 @@ import {
   unpin,
 } from '../src/index'
 import { Renderer } from './renderer'
-import type { DemoScene, DemoSettings, SceneInstance } from './scene'
+import type { DemoScene, DemoSettings, SceneInstance, SceneLabel } from './scene'
 import { scenes } from './scenes/index'
 
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T
@@ -51,6 +52,11 @@ function showSettings(): void {
   tethers.checked = settings.tethers
   $('substeps-value').textContent = String(settings.substeps)
   $('iterations-value').textContent = String(settings.iterations)
+  const locked = instance?.locked?.() ?? []
+  materialSelect.disabled = locked.includes('material')
+  substeps.disabled = locked.includes('substeps')
+  iterations.disabled = locked.includes('iterations')
+  tethers.disabled = locked.includes('tethers')
 }
 
 function applySettings(): void {
@@ -102,9 +108,11 @@ function loadScene(id: string, useDefaults = true): void {
   world = installClothPlugin(createWorld())
   const ui = $('extra')
   ui.replaceChildren()
-  instance = scene.create({ world, settings, ui })
+  labelLayer.replaceChildren()
+  instance = scene.create({ world, settings, ui, refresh: applySettings })
   simTime = 0
   drag = null
+  $('hint').textContent = scene.hint ?? DEFAULT_HINT
   const cam = scene.camera ?? { target: [0, 1, 0], distance: 4 }
   vec3.set(renderer.camera.target, ...cam.target)
   renderer.camera.distance = cam.distance
@@ -115,6 +123,8 @@ function loadScene(id: string, useDefaults = true): void {
   url.searchParams.set('scene', scene.id)
   history.replaceState(null, '', url)
 }
+
+const DEFAULT_HINT = 'drag cloth with the mouse · right-drag or shift-drag to orbit · wheel to zoom'
 
 const keys = new Map<number, object>()
 /** Renderer buffers are keyed per cloth entity of the current world. */
@@ -164,6 +174,8 @@ function stretchColors(cloth: number, base: ArrayLike<number>): Float32Array {
 
 let drag: { cloth: number; pin: number; target: number; depth: number } | null = null
 let orbit: { x: number; y: number } | null = null
+/** Where and when the left button went down: a release close by is a click. */
+let press: { x: number; y: number; time: number } | null = null
 const rayO = vec3.create(), rayD = vec3.create()
 
 function ndc(e: PointerEvent): [number, number] {
@@ -174,10 +186,12 @@ function ndc(e: PointerEvent): [number, number] {
 canvas.addEventListener('contextmenu', (e) => e.preventDefault())
 canvas.addEventListener('pointerdown', (e) => {
   canvas.setPointerCapture(e.pointerId)
+  press = null
   if (e.button !== 0 || e.shiftKey) {
     orbit = { x: e.clientX, y: e.clientY }
     return
   }
+  press = { x: e.clientX, y: e.clientY, time: performance.now() }
   const [x, y] = ndc(e)
   renderer.camera.ray(x, y, rayO, rayD)
   let best = { d: 0.08, cloth: -1, index: -1, t: 0 }
@@ -218,8 +232,20 @@ const endDrag = () => {
   removeEntity(world as never, drag.target)
   drag = null
 }
-canvas.addEventListener('pointerup', endDrag)
-canvas.addEventListener('pointercancel', endDrag)
+canvas.addEventListener('pointerup', (e) => {
+  endDrag()
+  const p = press
+  press = null
+  if (!p || !instance.click) return
+  if (Math.hypot(e.clientX - p.x, e.clientY - p.y) > 5 || performance.now() - p.time > 400) return
+  const [x, y] = ndc(e)
+  renderer.camera.ray(x, y, rayO, rayD)
+  instance.click(rayO, rayD)
+})
+canvas.addEventListener('pointercancel', () => {
+  press = null
+  endDrag()
+})
 canvas.addEventListener('wheel', (e) => {
   e.preventDefault()
   renderer.camera.distance = Math.max(0.5, Math.min(40, renderer.camera.distance * Math.exp(e.deltaY * 0.001)))
@@ -248,13 +274,46 @@ function tick(now: number): void {
   requestAnimationFrame(tick)
 }
 
+// ------------------------------------------------------------------------------------------
+// Labels: HTML text over the canvas at projected world points
+
+const labelLayer = $('labels')
+const clip = new Float32Array(4)
+function drawLabels(labels: readonly SceneLabel[]): void {
+  while (labelLayer.children.length > labels.length) labelLayer.lastElementChild!.remove()
+  while (labelLayer.children.length < labels.length) labelLayer.appendChild(document.createElement('div'))
+  const m = renderer.camera.viewProj
+  const w = canvas.clientWidth, h = canvas.clientHeight
+  for (let i = 0; i < labels.length; i++) {
+    const { text, at, className } = labels[i]
+    const el = labelLayer.children[i] as HTMLDivElement
+    if (el.textContent !== text) el.textContent = text
+    const cls = `label ${className ?? ''}`
+    if (el.className !== cls) el.className = cls
+    for (let r = 0; r < 4; r++) clip[r] = m[r] * at[0] + m[4 + r] * at[1] + m[8 + r] * at[2] + m[12 + r]
+    const visible = clip[3] > 0.05
+    el.style.display = visible ? '' : 'none'
+    if (!visible) continue
+    el.style.transform = `translate(${((clip[0] / clip[3] + 1) / 2) * w}px, ${((1 - clip[1] / clip[3]) / 2) * h}px) translate(-50%, -100%)`
+  }
+}
+
 let lastStats = { particles: 0, constraints: 0, maxStretch: 0 }
+const panel = $('panel')
+let lastRender = performance.now()
 function render(): void {
+  // centre the scene in the canvas right of the panel (when the window is wide enough to have room)
+  const free = canvas.clientWidth - panel.getBoundingClientRect().right
+  renderer.camera.shiftX = free > 500 ? (canvas.clientWidth - free) / canvas.clientWidth : 0
+  const now = performance.now()
   const follow = instance.follow?.()
   if (follow) {
+    // ease toward the followed point with a 0.12 s time constant, whatever the frame rate
     const t = renderer.camera.target
-    for (let k = 0; k < 3; k++) t[k] += (follow[k] - t[k]) * 0.1
+    const a = 1 - Math.exp(-Math.min(0.1, (now - lastRender) / 1000) / 0.12)
+    for (let k = 0; k < 3; k++) t[k] += (follow[k] - t[k]) * a
   }
+  lastRender = now
   renderer.begin()
   instance.draw?.(renderer)
   let particles = 0, constraints = 0, maxStretch = 0
@@ -267,6 +326,7 @@ function render(): void {
     maxStretch = Math.max(maxStretch, getClothStretch(world, cloth).max)
   }
   lastStats = { particles, constraints, maxStretch }
+  drawLabels(instance.labels?.() ?? [])
   $('stats').textContent = [
     `ms/step    ${stepMs.toFixed(3)}`,
     `particles  ${particles}`,
@@ -301,10 +361,21 @@ function positions(index = 0): number[] {
   return Array.from(c.pos.subarray(0, 3 * c.count))
 }
 
+/** Where a world point appears on the page, in CSS pixels (for tests that click on things). */
+function screenPoint(p: ArrayLike<number>): [number, number] {
+  const m = renderer.camera.viewProj
+  const r = canvas.getBoundingClientRect()
+  const x = m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12]
+  const y = m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13]
+  const w = m[3] * p[0] + m[7] * p[1] + m[11] * p[2] + m[15]
+  return [r.left + ((x / w + 1) / 2) * r.width, r.top + ((1 - y / w) / 2) * r.height]
+}
+
 /** Hook for browser tests. */
 ;(window as unknown as { __demo: unknown }).__demo = {
   snapshot,
   positions,
+  screenPoint,
   get ready() {
     return frame > 2
   },
@@ -322,6 +393,16 @@ function positions(index = 0): number[] {
   },
   get cloths() {
     return instance.cloths
+  },
+  /** The current scene's own actions and readouts (e.g. `throw()` in the curtain scene). */
+  get api() {
+    return instance.api ?? {}
+  },
+  /** Tears so far, summed over the scene's cloths. */
+  tearCount() {
+    let n = 0
+    for (const cloth of instance.cloths) n += getClothTearCount(world, cloth)
+    return n
   },
   scenes: scenes.map((s) => s.id),
   loadScene,

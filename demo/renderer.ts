@@ -63,6 +63,11 @@ export class OrbitCamera {
   yaw = 0.6
   pitch = 0.35
   distance = 4
+  /**
+   * Moves the picture sideways by this much of the viewport's half-width (NDC units), e.g. to
+   * centre the scene in the part of the canvas that an overlay panel leaves free.
+   */
+  shiftX = 0
   readonly target = vec3.fromValues(0, 1, 0)
   readonly eye = vec3.create()
   readonly view = mat4.create()
@@ -75,6 +80,7 @@ export class OrbitCamera {
     vec3.scaleAndAdd(this.eye, this.target, this.eye, this.distance)
     mat4.lookAt(this.view, this.eye, this.target, [0, 1, 0])
     mat4.perspective(this.proj, (50 * Math.PI) / 180, aspect, 0.05, 200)
+    this.proj[8] = -this.shiftX // x_ndc += shiftX (clip w = −z_view)
     mat4.multiply(this.viewProj, this.proj, this.view)
   }
 
@@ -97,7 +103,7 @@ export class Renderer {
   private readonly shapes = new Map<string, GpuMesh>()
   private readonly dynamic = new Map<object, GpuMesh>()
   private readonly model = mat4.create()
-  private readonly light = vec3.normalize(vec3.create(), [0.4, 0.9, 0.3])
+  private readonly light = vec3.normalize(vec3.create(), [0.35, 0.75, 0.6])
 
   constructor(readonly canvas: HTMLCanvasElement) {
     const gl = canvas.getContext('webgl2', { antialias: true })

@@ -14,6 +14,16 @@ export interface SceneContext {
   settings: DemoSettings
   /** Container for the scene's own controls (buttons, sliders). */
   ui: HTMLElement
+  /** Re-applies `settings` (after the scene changed them) and shows them in the panel. */
+  refresh(): void
+}
+
+/** A text label drawn over the canvas at a world point (an HTML overlay). */
+export interface SceneLabel {
+  text: string
+  at: ArrayLike<number>
+  /** Extra CSS class (e.g. 'title' for a larger heading). */
+  className?: string
 }
 
 /** A live scene. */
@@ -32,6 +42,17 @@ export interface SceneInstance {
   stats?(): string[]
   /** A point the camera keeps looking at (e.g. a moving character). */
   follow?(): ArrayLike<number>
+  /**
+   * A left click on the canvas (press and release without dragging), with the world-space ray
+   * through the clicked point. Pressing and moving still drags cloth or orbits.
+   */
+  click?(origin: ArrayLike<number>, direction: ArrayLike<number>): void
+  /** Labels to draw over the canvas this frame (the same array each call is fine). */
+  labels?(): readonly SceneLabel[]
+  /** Panel settings the scene does not take from the panel (shown disabled). */
+  locked?(): readonly (keyof DemoSettings)[]
+  /** Actions and readouts for scripts and browser tests, exposed as `window.__demo.api`. */
+  api?: Record<string, (...args: never[]) => unknown>
 }
 
 /** A scene in the menu. Scenes use only the public API of bitecs-cloth. */
@@ -41,6 +62,8 @@ export interface DemoScene {
   /** Settings this scene starts with (the panel shows them). */
   defaults?: Partial<DemoSettings>
   camera?: { target: [number, number, number]; distance: number; yaw?: number; pitch?: number }
+  /** What the mouse does in this scene (shown at the bottom of the page). */
+  hint?: string
   create(ctx: SceneContext): SceneInstance
 }
 

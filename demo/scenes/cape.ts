@@ -11,7 +11,7 @@ export const capeScene: DemoScene = {
   id: 'cape',
   title: 'Cape',
   defaults: { substeps: 8, iterations: 1, material: 'cotton' },
-  camera: { target: [0, 1.1, 0], distance: 5, yaw: 2.6, pitch: 0.25 },
+  camera: { target: [0, 1.1, 0], distance: 4.3, yaw: 2.6, pitch: 0.22 },
   create({ world, settings, ui }) {
     const hero = new Character(world)
     hero.addColliders()

@@ -5,6 +5,7 @@ import { tearCost } from './tearing'
 import { guardCost, snapshotCost } from './stability'
 import { outOfRange, perCollider, selfShare } from './collision'
 import { capes, payForUse, sleepingCost } from './budget'
+import { demoScenes } from './demo'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -45,6 +46,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
       outOfRange()
     },
   },
+  demo: { byDefault: false, run: () => demoScenes() },
 }
 
 const wanted = process.argv.slice(2)

@@ -7,7 +7,9 @@ import { serveDemo } from '../../demo/serve.mjs'
 
 /**
  * The demo in real Chromium: every scene loads without console errors, draws something, moves;
- * the iteration slider changes the stretch readout; screenshots go to demo/screenshots/.
+ * the iteration slider changes the stretch readout; a ball thrown by a click tears the curtain and
+ * torn pieces land on the floor; the accuracy scene's 1-iteration side stretches more than its
+ * 12-iteration (and 12-substep) side; screenshots go to demo/screenshots/.
  * Skips (does not fail) when no Chromium is installed: set CHROMIUM_PATH or install Debian's
  * `chromium` package (.ci/run does).
  */
@@ -23,6 +25,13 @@ interface Demo {
   stats: { particles: number; constraints: number; maxStretch: number; stepMs: number; fps: number }
   snapshot(): { coverage: number; colors: number }
   positions(index?: number): number[]
+  screenPoint(p: number[]): [number, number]
+  tearCount(): number
+  api: Record<string, (...args: unknown[]) => unknown>
+}
+interface Stretch {
+  left: { mean: number; max: number }
+  right: { mean: number; max: number }
 }
 declare const __demo: Demo
 
@@ -115,6 +124,68 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
     const one = await readout(1)
     const many = await readout(16)
     expect(one).toBeGreaterThan(3 * many)
+    expect(errors).toEqual([])
+  })
+
+  it('a click throws a ball that tears the curtain, and torn pieces fall to the floor', async () => {
+    errors.length = 0
+    await open('curtain')
+    // nothing torn yet, no ball yet (the scene throws one by itself only if nobody has by 0.8 s)
+    expect(await page.evaluate(() => [__demo.tearCount(), __demo.api.thrown()])).toEqual([0, 0])
+    const [x, y] = await page.evaluate(() => __demo.screenPoint([0.1, 1.2, 0]))
+    await page.mouse.click(x, y)
+    expect(await page.evaluate(() => __demo.api.thrown())).toBe(1)
+    await page.waitForFunction(() => __demo.tearCount() > 0, null, { timeout: 5000 })
+    // the hem hangs 0.5 m above the floor: only cloth torn free gets down there
+    await page.waitForFunction(() => (__demo.api.onFloor() as number) > 0, null, { timeout: 6000 })
+    const tears = await page.evaluate(() => __demo.tearCount())
+    expect(tears).toBeGreaterThan(10)
+    expect(await page.evaluate(() => __demo.api.thrown())).toBe(1)
+    expect(await page.evaluate(() => __demo.positions().every(Number.isFinite))).toBe(true)
+    expect(errors).toEqual([])
+  })
+
+  it('accuracy scene: the 1-iteration side stretches more than the 12-iteration and 12-substep sides', async () => {
+    errors.length = 0
+    await open('accuracy')
+    // averaged over a second of motion (the breeze makes it fluctuate)
+    const sample = async () => {
+      const sum = { left: 0, right: 0, leftMax: 0, rightMax: 0 }
+      for (let k = 0; k < 5; k++) {
+        const s = (await page.evaluate(() => __demo.api.stretch())) as Stretch
+        sum.left += s.left.mean / 5
+        sum.right += s.right.mean / 5
+        sum.leftMax += s.left.max / 5
+        sum.rightMax += s.right.max / 5
+        await page.waitForTimeout(200)
+      }
+      return sum
+    }
+    const labels = () => page.$$eval('#labels .label', (els) => els.map((e) => e.textContent ?? ''))
+
+    await page.waitForTimeout(1500)
+    const byIterations = await sample()
+    expect(byIterations.left).toBeGreaterThan(3 * byIterations.right)
+    expect(byIterations.leftMax).toBeGreaterThan(2 * byIterations.rightMax)
+    expect(await labels()).toEqual(expect.arrayContaining(['1 substep × 1 iteration', '1 substep × 12 iterations']))
+    expect(await page.isDisabled('#substeps')).toBe(true)
+
+    await page.click('#compare-substeps')
+    await page.waitForTimeout(1500)
+    const bySubsteps = await sample()
+    expect(bySubsteps.left).toBeGreaterThan(10 * bySubsteps.right)
+    expect(bySubsteps.leftMax).toBeGreaterThan(5 * bySubsteps.rightMax)
+    expect(await labels()).toEqual(expect.arrayContaining(['1 substep × 1 iteration', '12 substeps × 1 iteration']))
+    expect(await page.isDisabled('#iterations')).toBe(true)
+    // the panel's substeps slider now sets the right-hand side
+    await page.evaluate(() => {
+      const el = document.getElementById('substeps') as HTMLInputElement
+      el.value = '4'
+      el.dispatchEvent(new Event('input', { bubbles: true }))
+    })
+    await page.waitForTimeout(300)
+    expect(await labels()).toEqual(expect.arrayContaining(['4 substeps × 1 iteration']))
+    await page.click('#compare-iterations') // leave the scene as it starts (the mode survives reloads)
     expect(errors).toEqual([])
   })
 })
