@@ -7,6 +7,7 @@ import {
   getClothStretch,
   getClothTearCount,
   installClothPlugin,
+  isClothSleeping,
   pinParticle,
   setClothQuality,
   setClothTethers,
@@ -316,8 +317,9 @@ function render(): void {
   lastRender = now
   renderer.begin()
   instance.draw?.(renderer)
-  let particles = 0, constraints = 0, maxStretch = 0
+  let particles = 0, constraints = 0, maxStretch = 0, asleep = 0
   for (const cloth of instance.cloths) {
+    if (isClothSleeping(world, cloth)) asleep++
     const c = getClothState(world, cloth)
     const base = instance.colors?.get(cloth) ?? [0.78, 0.76, 0.7]
     renderer.drawDynamic(clothKey(cloth), getClothMesh(world, cloth), stretchColors(cloth, base))
@@ -333,6 +335,7 @@ function render(): void {
     `constraints ${constraints}`,
     `max stretch ${(maxStretch * 100).toFixed(2)} %`,
     `fps        ${fps.toFixed(0)}`,
+    ...(asleep > 0 ? [`asleep     ${asleep} of ${instance.cloths.length}`] : []),
     ...(instance.stats?.() ?? []),
   ].join('\n')
 }
