@@ -70,6 +70,11 @@ export interface WindWorld {
   scratch: Float64Array
   /** True once `params` holds this step's zones. */
   compiled: boolean
+  /**
+   * The aerodynamics' stability clamp (`limitAerodynamics`), always on in use. Only tests turn it
+   * off, to show what it prevents (and that the explosion guard catches it).
+   */
+  clamp: boolean
 }
 
 /** Per-cloth aerodynamics buffers (allocated when a wind zone exists). */
@@ -103,6 +108,7 @@ export function createWindWorld(airDensity: number | undefined): WindWorld {
     bounds: new Float64Array(6),
     scratch: new Float64Array(NOISE_SCRATCH),
     compiled: false,
+    clamp: true,
   }
 }
 
@@ -386,7 +392,7 @@ export function applyWind(state: ClothWorldState, c: ClothState): void {
   p[A_MAX_SPEED] = state.maxSpeed
   aeroNormals(c.pos, c.count, t.triangles, t.triangleCount, t.edges, t.edgeCount, cw.normals, cw.scratch)
   accumulateAerodynamics(c.pos, c.vel, t.triangles, t.triangleCount, cw.triInvMass, cw.air, cw.normals, accel, p)
-  limitAerodynamics(c.vel, c.invMass, cw.air, accel, p, c.count)
+  if (wind.clamp) limitAerodynamics(c.vel, c.invMass, cw.air, accel, p, c.count)
   c.accel = accel
   state.stats.windTriangles += t.triangleCount
 }
