@@ -286,13 +286,14 @@ function collideColliders(state: ClothWorldState): void {
     const c = cloths[ci]
     if (c.subIndex < 0) continue
     const cc = c.collision!
+    // self-colliding cloths remember which particles rest on a collider (heavier in particle pairs);
+    // forgotten every substep, also with no collider in range (a cloth lifted off the ground)
+    const touched = cc.self !== null ? cc.self.touched : null
+    if (touched !== null) touched.fill(0)
     if (cc.activeCount === 0) continue
     const muK = cc.friction >= 0 ? cc.friction : c.material.friction
     const muS = cc.staticFriction >= 0 ? cc.staticFriction : muK
     const r = cc.thickness > 0 ? cc.thickness : c.material.thickness
-    // self-colliding cloths remember which particles rest on a collider (heavier in particle pairs)
-    const touched = cc.self !== null ? cc.self.touched : null
-    if (touched !== null) touched.fill(0)
     for (let a = 0; a < cc.activeCount; a++) {
       const e = cc.active[a]
       f[F_RADIUS] = r
