@@ -1,7 +1,7 @@
 import { hasComponent, observe, onAdd, onRemove, removeComponent, entityExists } from 'bitecs'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, createColliderStore, type ColliderStore } from '../components/Collider'
 import { createSelfCollisionStore, type SelfCollisionStore } from '../components/SelfCollision'
-import { checkInteger, checkNonNegative, ClothError } from './errors'
+import { checkAtMost, checkInteger, checkNonNegative, ClothError, MAX_COORDINATE } from './errors'
 import {
   COLLIDE_SCRATCH,
   FRAME_SIZE,
@@ -178,7 +178,7 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   const cc = c.collision!
   const layer = options.layer === undefined ? cc.layer : checkInteger('options.layer', options.layer, 0, 0xffffffff)
   const mask = options.mask === undefined ? cc.mask : checkInteger('options.mask', options.mask, 0, 0xffffffff)
-  const thickness = options.thickness === undefined ? cc.thickness : checkNonNegative('options.thickness', options.thickness)
+  const thickness = options.thickness === undefined ? cc.thickness : checkAtMost('options.thickness', checkNonNegative('options.thickness', options.thickness), MAX_COORDINATE, ' m')
   const friction = options.friction === undefined ? cc.friction : checkNonNegative('options.friction', options.friction)
   const staticFriction = options.staticFriction === undefined ? cc.staticFriction : checkNonNegative('options.staticFriction', options.staticFriction)
   cc.layer = layer
