@@ -408,33 +408,61 @@ describe('properties', () => {
     },
   )
 
-  it.prop([meshArb, solverArb, dtsArb], runs(100))('the same random scene built and stepped twice gives the same bytes', (mesh, solver, dts) => {
-    const run = () => {
+  it.prop([meshArb, solverArb, dtsArb, fc.array(colliderArb, { maxLength: 2 }), windArb, fc.boolean()], runs(100))(
+    'the same random scene (colliders, wind, self-collision) built and stepped twice gives the same bytes',
+    (mesh, solver, dts, colliders, wind, self) => {
+      const run = () => {
+        const world = installClothPlugin(createWorld())
+        const cloth = buildCloth(world, mesh as MeshSpec, solver)
+        pinParticle(world, cloth, 0)
+        const specs = colliders as ColliderSpec[]
+        const ids = specs.map((spec) => addCollider(world, spec))
+        if (wind) createWindZone(world, { ...wind, position: [0, 1.5, 0], size: [2, 2, 2] })
+        if (self) enableSelfCollision(world, cloth)
+        let t = 0
+        for (const dt of dts) {
+          moveColliders(world, specs, ids, (t += dt))
+          stepCloth(world, dt)
+        }
+        for (let f = 0; f < 5; f++) stepCloth(world, 1 / 60)
+        return hashBytes(getClothState(world, cloth).pos)
+      }
+      expect(run()).toBe(run())
+    },
+  )
+
+  it.prop([meshArb, solverArb, dtsArb, dtsArb, fc.array(colliderArb, { maxLength: 2 }), windArb, fc.boolean()], runs(100))(
+    'save, step, restore, step again (colliders moving, wind, self-collision): the same bytes',
+    (mesh, solver, before, after, colliders, wind, self) => {
       const world = installClothPlugin(createWorld())
       const cloth = buildCloth(world, mesh as MeshSpec, solver)
       pinParticle(world, cloth, 0)
-      for (const dt of dts) stepCloth(world, dt)
-      for (let f = 0; f < 5; f++) stepCloth(world, 1 / 60)
-      return hashBytes(getClothState(world, cloth).pos)
-    }
-    expect(run()).toBe(run())
-  })
-
-  it.prop([meshArb, solverArb, dtsArb, dtsArb], runs(100))('save, step, restore, step again: the same bytes', (mesh, solver, before, after) => {
-    const world = installClothPlugin(createWorld())
-    const cloth = buildCloth(world, mesh as MeshSpec, solver)
-    pinParticle(world, cloth, 0)
-    for (const dt of before) stepCloth(world, dt)
-    const snap = saveClothState(world, cloth)
-    const c = getClothState(world, cloth)
-    const trail = () => after.map((dt) => {
-      stepCloth(world, dt)
-      return hashBytes(c.pos) + hashBytes(c.vel)
-    })
-    const first = trail()
-    restoreClothState(world, cloth, snap)
-    expect(trail()).toEqual(first)
-  })
+      const specs = colliders as ColliderSpec[]
+      const ids = specs.map((spec) => addCollider(world, spec))
+      if (wind) createWindZone(world, { ...wind, position: [0, 1.5, 0], size: [2, 2, 2] })
+      if (self) enableSelfCollision(world, cloth)
+      let t = 0
+      for (const dt of before) {
+        moveColliders(world, specs, ids, (t += dt))
+        stepCloth(world, dt)
+      }
+      const snap = saveClothState(world, cloth)
+      const c = getClothState(world, cloth)
+      const t0 = t
+      const trail = () => {
+        t = t0
+        return after.map((dt) => {
+          moveColliders(world, specs, ids, (t += dt))
+          stepCloth(world, dt)
+          return hashBytes(c.pos) + hashBytes(c.vel)
+        })
+      }
+      const first = trail()
+      moveColliders(world, specs, ids, t0) // the host puts its Transforms back too
+      restoreClothState(world, cloth, snap)
+      expect(trail()).toEqual(first)
+    },
+  )
 })
 
 /** Radius of a bounding sphere of the shape about the collider's position (planes: 0, handled apart). */
