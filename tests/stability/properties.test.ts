@@ -1,7 +1,8 @@
-// Property-based tests (fast-check): random meshes, materials, pins, frame-time sequences and API
-// calls. A failure prints the seed and the path of the shrunk counterexample; to replay it, pass
-// them back: `it.prop([...], { seed, path, endOnFailure: true })`. STABILITY_RUNS=10 runs ten times
-// as many cases (the default, 1,150 in all, takes a few seconds); STABILITY_SEED picks the seed.
+// Property-based tests (fast-check): random meshes, materials, pins, frame-time sequences,
+// colliders (every shape, static and moving), wind zones and API calls. A failure prints the seed
+// and the path of the shrunk counterexample; to replay it, pass them back: `it.prop([...], { seed,
+// path, endOnFailure: true })`. STABILITY_RUNS=10 runs ten times as many cases (the default, 1,350
+// in all, takes a few seconds); STABILITY_SEED picks the seed.
 import { fc, it } from '@fast-check/vitest'
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect } from 'vitest'
@@ -49,7 +50,7 @@ import { glMatrix } from 'gl-matrix'
 glMatrix.setMatrixArrayType(Array) // (signedDistance works in doubles)
 
 const scale = Math.max(1, Number(process.env.STABILITY_RUNS ?? 1))
-// A fixed seed by default, so CI runs the same 1,150 cases every time (a test that draws new cases
+// A fixed seed by default, so CI runs the same 1,350 cases every time (a test that draws new cases
 // on every run fails at random); STABILITY_SEED=<n> explores others, and a failure prints its seed.
 const seed = process.env.STABILITY_SEED === undefined ? 20261121 : Number(process.env.STABILITY_SEED)
 const runs = (n: number) => ({ numRuns: n * scale, seed })
