@@ -2,7 +2,7 @@ import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, type ConvexHull } from '../components/Collider'
 import { clearActiveColliders, growCollisionStores, reserveActiveColliders } from './collision'
-import { ClothError, checkFinite, checkInteger, checkNonNegative, checkPositive, checkQuat, checkVec3 } from './errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkFinite, checkInteger, checkNonNegative, checkPoint, checkPositive, checkQuat, checkVec3 } from './errors'
 import { buildConvexHull } from './hull'
 import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0 } from './kernels/collide'
 import { interpolatePose, readPoseInto, trackEntity, untrackEntity } from './kinematics'
@@ -86,7 +86,7 @@ function checkCommon(world: object, state: ClothWorldState, eid: number, o: Coll
   if (!hasComponent(world as never, body, state.transforms.component)) {
     throw new ClothError(o.body === undefined ? 'eid' : 'options.body', body, 'must have a Transform (call setTransform), or give options.body an entity that has one')
   }
-  const offset = o.offset === undefined ? [0, 0, 0] : checkVec3('options.offset', o.offset)
+  const offset = o.offset === undefined ? [0, 0, 0] : checkPoint('options.offset', o.offset)
   let rotation = [0, 0, 0, 1]
   if (o.rotation !== undefined) {
     const q = checkQuat('options.rotation', o.rotation)
@@ -140,7 +140,7 @@ function spawnCollider(
 export function addSphereCollider(world: object, eid: number, options: SphereColliderOptions): number {
   const state = getClothWorld(world)
   const o = checkCommon(world, state, eid, options)
-  const r = checkPositive('options.radius', options.radius)
+  const r = checkLength('options.radius', options.radius, true)
   return spawnCollider(world, state, eid, SHAPE_SPHERE, o, [r], [0, 0, 0, r], r)
 }
 
@@ -155,8 +155,8 @@ export function addSphereCollider(world: object, eid: number, options: SphereCol
 export function addCapsuleCollider(world: object, eid: number, options: CapsuleColliderOptions): number {
   const state = getClothWorld(world)
   const o = checkCommon(world, state, eid, options)
-  const r = checkPositive('options.radius', options.radius)
-  const hh = checkNonNegative('options.halfHeight', options.halfHeight)
+  const r = checkLength('options.radius', options.radius, true)
+  const hh = checkLength('options.halfHeight', options.halfHeight, false)
   if (options.axis !== undefined) {
     const a = checkVec3('options.axis', options.axis)
     const l = Math.hypot(a[0], a[1], a[2])
@@ -170,7 +170,7 @@ export function addCapsuleCollider(world: object, eid: number, options: CapsuleC
 export function addBoxCollider(world: object, eid: number, options: BoxColliderOptions): number {
   const state = getClothWorld(world)
   const o = checkCommon(world, state, eid, options)
-  const h = checkVec3('options.halfExtents', options.halfExtents)
+  const h = checkPoint('options.halfExtents', options.halfExtents)
   for (let k = 0; k < 3; k++) if (!(h[k] > 0)) throw new ClothError('options.halfExtents', options.halfExtents, 'must be > 0 on every axis')
   return spawnCollider(world, state, eid, SHAPE_BOX, o, [h[0], h[1], h[2]], [0, 0, 0, Math.hypot(h[0], h[1], h[2])], Math.min(h[0], h[1], h[2]))
 }
@@ -184,7 +184,7 @@ export function addBoxCollider(world: object, eid: number, options: BoxColliderO
 export function addConvexHullCollider(world: object, eid: number, options: ConvexHullColliderOptions): number {
   const state = getClothWorld(world)
   const o = checkCommon(world, state, eid, options)
-  const hull = buildConvexHull(options.points, 'options.points')
+  const hull = buildConvexHull(checkBoundedArray('options.points', options.points, 3, MAX_COORDINATE), 'options.points')
   const v = hull.vertices
   const nv = v.length / 3
   let cx = 0, cy = 0, cz = 0
@@ -217,6 +217,7 @@ export function addPlaneCollider(world: object, eid: number, options: PlaneColli
     n = [a[0] / l, a[1] / l, a[2] / l]
   }
   const distance = options.distance === undefined ? 0 : checkFinite('options.distance', options.distance)
+  if (Math.abs(distance) > MAX_COORDINATE) throw new ClothError('options.distance', distance, `must lie within ±${MAX_COORDINATE} m`)
   return spawnCollider(world, state, eid, SHAPE_PLANE, o, [n[0], n[1], n[2], distance], [0, 0, 0, Infinity], Infinity)
 }
 
@@ -245,6 +246,8 @@ export function releaseCollider(state: ClothWorldState, eid: number): void {
   C.slot[eid] = -1
   C.hulls[eid] = undefined
   clearActiveColliders(state)
+  // the last collider gone: nothing rests on a collider any more
+  if (cw.colliders.length === 0) for (let q = 0; q < cw.selfCloths.length; q++) cw.selfCloths[q].collision!.self!.touched.fill(0)
 }
 
 /**
@@ -409,6 +412,11 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
   const motion = Math.sqrt(dx * dx + dy * dy + dz * dz) + 2 * Math.acos(dot) * reach
   const lim = 0.5 * (C.depth[eid] + f[F_RADIUS]) - motion
   f[F_LIM2] = lim > 0 ? lim * lim : -1
+}
+
+/** A size in metres: > 0 (or ≥ 0 when `positive` is false) and at most MAX_COORDINATE (1e9 m). */
+function checkLength(argument: string, value: unknown, positive: boolean): number {
+  return checkAtMost(argument, positive ? checkPositive(argument, value) : checkNonNegative(argument, value), MAX_COORDINATE, ' m')
 }
 
 /** Rotation taking +y to the unit vector (x, y, z), as a quaternion. */

@@ -1,7 +1,7 @@
 import { hasComponent, observe, onAdd, onRemove, removeComponent, entityExists } from 'bitecs'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, createColliderStore, type ColliderStore } from '../components/Collider'
 import { createSelfCollisionStore, type SelfCollisionStore } from '../components/SelfCollision'
-import { checkInteger, checkNonNegative, ClothError } from './errors'
+import { checkAtMost, checkInteger, checkNonNegative, ClothError, MAX_COORDINATE } from './errors'
 import {
   COLLIDE_SCRATCH,
   FRAME_SIZE,
@@ -179,7 +179,7 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   const cc = c.collision!
   const layer = options.layer === undefined ? cc.layer : checkInteger('options.layer', options.layer, 0, 0xffffffff)
   const mask = options.mask === undefined ? cc.mask : checkInteger('options.mask', options.mask, 0, 0xffffffff)
-  const thickness = options.thickness === undefined ? cc.thickness : checkNonNegative('options.thickness', options.thickness)
+  const thickness = options.thickness === undefined ? cc.thickness : checkAtMost('options.thickness', checkNonNegative('options.thickness', options.thickness), MAX_COORDINATE, ' m')
   const friction = options.friction === undefined ? cc.friction : checkNonNegative('options.friction', options.friction)
   const staticFriction = options.staticFriction === undefined ? cc.staticFriction : checkNonNegative('options.staticFriction', options.staticFriction)
   cc.layer = layer
@@ -304,13 +304,14 @@ function collideColliders(state: ClothWorldState): void {
     const c = cloths[ci]
     if (c.subIndex < 0) continue
     const cc = c.collision!
+    // self-colliding cloths remember which particles rest on a collider (heavier in particle pairs);
+    // forgotten every substep, also with no collider in range (a cloth lifted off the ground)
+    const touched = cc.self !== null ? cc.self.touched : null
+    if (touched !== null) touched.fill(0)
     if (cc.activeCount === 0) continue
     const muK = cc.friction >= 0 ? cc.friction : c.material.friction
     const muS = cc.staticFriction >= 0 ? cc.staticFriction : muK
     const r = cc.thickness > 0 ? cc.thickness : c.material.thickness
-    // self-colliding cloths remember which particles rest on a collider (heavier in particle pairs)
-    const touched = cc.self !== null ? cc.self.touched : null
-    if (touched !== null) touched.fill(0)
     for (let a = 0; a < cc.activeCount; a++) {
       const e = cc.active[a]
       f[F_RADIUS] = r

@@ -146,6 +146,12 @@ export function checkPoint(argument: string, value: unknown): ArrayLike<number> 
   return v
 }
 
+/** `value` (already checked to be a number) if it is at most `max`, else a ClothError naming `unit`. */
+export function checkAtMost(argument: string, value: number, max: number, unit: string): number {
+  if (value > max) throw new ClothError(argument, value, `must be at most ${max}${unit}`)
+  return value
+}
+
 /** A flat array of finite numbers within ±max, length a multiple of `stride`. */
 export function checkBoundedArray(argument: string, value: unknown, stride: number, max: number): ArrayLike<number> {
   const arr = checkFiniteArray(argument, value, stride)

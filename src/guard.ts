@@ -9,6 +9,8 @@
  */
 import { ClothError, checkInteger, checkPositive } from './errors'
 import {
+  checkClothHealth,
+  checkPieceHealth,
   G_FINITE,
   G_REACH,
   G_SPEED2,
@@ -307,6 +309,17 @@ class DistHeap {
 
 // ---------------------------------------------------------------------------------------------
 // Per step (called by the guard phase)
+
+/**
+ * The health check of one cloth (a HEALTH_* code): one pass over its particles. A tearable cloth
+ * in several pieces has its bounds measured per piece (`checkPieceHealth`): a piece torn off may
+ * fall away from the pins it no longer hangs from, but must keep its own shape.
+ */
+export function checkGuardHealth(c: ClothState): number {
+  const T = c.tear
+  if (T !== null && T.pieceCount > 1) return checkPieceHealth(c.pos, c.vel, c.invMass, c.count, T.piece, T.pieceCount, T.pieceBox, c.guard.params)
+  return checkClothHealth(c.pos, c.vel, c.invMass, c.count, c.guard.params)
+}
 
 /** A good step: count it and copy the pose when the snapshot interval is due. */
 export function keepSafePose(c: ClothState): void {

@@ -1,6 +1,6 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import { B_MAX_DEV, B_MEAN_V, growCollisionStores } from './collision'
-import { ClothError, checkNonNegative, checkPositive } from './errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkNonNegative, checkPositive } from './errors'
 import {
   S_DIST,
   S_INV_CELL,
@@ -106,7 +106,7 @@ export function enableSelfCollision(world: object, cloth: number, options: SelfC
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  const thickness = options.thickness === undefined ? 0 : checkPositive('options.thickness', options.thickness)
+  const thickness = options.thickness === undefined ? 0 : checkAtMost('options.thickness', checkPositive('options.thickness', options.thickness), MAX_COORDINATE, ' m')
   const friction = options.friction === undefined ? -1 : checkNonNegative('options.friction', options.friction)
   const staticFriction = options.staticFriction === undefined ? -1 : checkNonNegative('options.staticFriction', options.staticFriction)
   const cw = state.collision

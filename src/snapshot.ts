@@ -7,13 +7,20 @@
  * pins (particle, target, offset, blend progress) in order; the motion history of the pins' target
  * entities (their frame samples and step poses, as interpolated between frames); the cloth's
  * quality and tether settings and its current tethers; its explosion-guard state (last good pose,
- * counters); whether it sleeps; and the world's step accumulator and frame timing. XPBD multipliers are not saved:
- * they start from zero every substep.
+ * counters); whether it sleeps; and the world's step accumulator and frame timing. XPBD
+ * multipliers are not saved: they start from zero every substep. With colliders and wind zones in
+ * the world it also holds the motion history of the entities they follow, the wind clock and each
+ * zone's gust and turbulence drift (world state, like the frame timing); for a tearable cloth its
+ * tear counters and tethers; for a self-colliding one which particles rest on a collider.
  *
  * Not in a snapshot: the Transform of target entities (the host owns them: restore those too, or
- * the next frame sample sees where they are now) and the rest data (the mesh), which must match.
+ * the next frame sample sees where they are now), colliders and zones themselves and their settings
+ * (added or removed since: not undone), and the rest data (the mesh), which must match. A torn
+ * mesh is not restored either: a tearable cloth's snapshot restores only while the cloth still has
+ * the mesh it was saved with (no tear since); otherwise restoring throws.
  */
 import { entityExists, hasComponent, removeEntity } from 'bitecs'
+import type { Kinematics } from './kinematics'
 import { ClothError } from './errors'
 import { applyGuardSettings, type GuardSettings } from './guard'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION } from './kinematics'
@@ -53,6 +60,21 @@ export interface ClothSnapshot {
   guardSettings: GuardSettings
   /** Sleep: asleep (1/0), stillness timer, bounds it sleeps in (6). Absent: awake. */
   sleep?: Float64Array
+  /** Entities the world's colliders and wind zones follow (distinct, creation order), and their motion history as in `targetData`. */
+  bodies: Int32Array
+  bodyData: Float64Array
+  /** Wind zones, and the wind: clock, then per zone gustFrom, gustPeak, gustTime, gustDuration, gust, drift xyz. */
+  windZones: Int32Array
+  wind: Float64Array
+  /** Tearable cloths: tears so far, mesh fingerprint, particle count (empty for other cloths). */
+  tear: Float64Array
+  /** Tearable cloths: the mesh edges' over-threshold step counters. */
+  tearOver: Uint8Array
+  /** Tearable cloths: their tethers (particle, anchor per tether; rest lengths), rebuilt in place as they tear. */
+  tearTethers: Int32Array
+  tearTetherRest: Float64Array
+  /** Self-colliding cloths: particles that touched a collider in the last substep (empty otherwise). */
+  touched: Uint8Array
 }
 
 const PIN_DATA = 8
@@ -163,7 +185,138 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   sl[0] = c.sleeping ? 1 : 0
   sl[1] = c.sleep[SL_STILL]
   for (let j = 0; j < 6; j++) sl[2 + j] = c.sleepBounds[j]
+
+  // what the world's colliders and wind zones follow, and the wind's own state
+  const cw = state.collision
+  const zones = state.wind.zones
+  let nb = 0
+  for (let q = 0; q < cw.colliders.length + zones.length; q++) if (bodyAt(state, q) >= 0 && firstBody(state, q)) nb++
+  w.bodies = fit32(s.bodies, nb)
+  w.bodyData = fit64(s.bodyData, TARGET_DATA * nb)
+  let b = 0
+  for (let q = 0; q < cw.colliders.length + zones.length; q++) {
+    const e = bodyAt(state, q)
+    if (e < 0 || !firstBody(state, q)) continue
+    s.bodies[b] = e
+    saveSlot(k, k.slotOf[e], s.bodyData, TARGET_DATA * b)
+    b++
+  }
+  const Z = state.components.WindZone
+  w.windZones = fit32(s.windZones, zones.length)
+  w.wind = fit64(s.wind, 1 + WIND_DATA * zones.length)
+  s.wind[0] = state.wind.time[0]
+  for (let q = 0; q < zones.length; q++) {
+    const z = zones[q], o = 1 + WIND_DATA * q
+    s.windZones[q] = z
+    s.wind[o] = Z.gustFrom[z]
+    s.wind[o + 1] = Z.gustPeak[z]
+    s.wind[o + 2] = Z.gustTime[z]
+    s.wind[o + 3] = Z.gustDuration[z]
+    s.wind[o + 4] = Z.gust[z]
+    s.wind[o + 5] = Z.drift[3 * z]
+    s.wind[o + 6] = Z.drift[3 * z + 1]
+    s.wind[o + 7] = Z.drift[3 * z + 2]
+  }
+
+  // tearing: counters and tethers (the mesh itself is not copied: see restoreClothState)
+  const T = c.tear
+  const edges = T === null ? 0 : T.edges.count
+  const ntt = T === null ? 0 : T.tethers.count
+  w.tear = fit64(s.tear, T === null ? 0 : 3)
+  w.tearOver = s.tearOver && s.tearOver.length === edges ? s.tearOver : new Uint8Array(edges)
+  w.tearTethers = fit32(s.tearTethers, 2 * ntt)
+  w.tearTetherRest = fit64(s.tearTetherRest, ntt)
+  if (T !== null) {
+    s.tear[0] = state.components.Tearable.tears[cloth]
+    s.tear[1] = meshFingerprint(c)
+    s.tear[2] = n
+    for (let e = 0; e < edges; e++) s.tearOver[e] = T.over[e]
+    for (let q = 0; q < ntt; q++) {
+      s.tearTethers[2 * q] = T.tethers.particle[q]
+      s.tearTethers[2 * q + 1] = T.tethers.anchor[q]
+      s.tearTetherRest[q] = T.tethers.rest[q]
+    }
+  }
+  const self = c.collision?.self ?? null
+  const nTouched = self === null ? 0 : n
+  w.touched = s.touched && s.touched.length === nTouched ? s.touched : new Uint8Array(nTouched)
+  for (let i = 0; i < nTouched; i++) s.touched[i] = self!.touched[i]
   return s
+}
+
+const WIND_DATA = 8
+
+/** The entity followed by collider q (q < colliders) or wind zone q − colliders, or −1 when untracked. */
+function bodyAt(state: ClothWorldState, q: number): number {
+  const cw = state.collision
+  const nc = cw.colliders.length
+  const e = q < nc ? cw.Collider.body[cw.colliders[q]] : state.wind.zones[q - nc]
+  return e < state.kinematics.slotOf.length && state.kinematics.slotOf[e] >= 0 ? e : -1
+}
+
+/** True when entry q's body has not appeared at an earlier entry. */
+function firstBody(state: ClothWorldState, q: number): boolean {
+  const e = bodyAt(state, q)
+  for (let r = 0; r < q; r++) if (bodyAt(state, r) === e) return false
+  return true
+}
+
+function saveSlot(k: Kinematics, slot: number, out: Float64Array, e: number): void {
+  const o = 7 * slot
+  for (let j = 0; j < 7; j++) {
+    out[e + j] = k.sampleFrom[o + j]
+    out[e + 7 + j] = k.sampleTo[o + j]
+    out[e + 14 + j] = k.stepFrom[o + j]
+    out[e + 21 + j] = k.stepTo[o + j]
+  }
+  for (let j = 0; j < 10; j++) out[e + 28 + j] = k.jump[10 * slot + j]
+  out[e + 38] = k.jumped[slot]
+  out[e + 39] = k.forceJump[slot]
+}
+
+function restoreSlot(k: Kinematics, slot: number, from: Float64Array, e: number): void {
+  const o = 7 * slot
+  for (let j = 0; j < 7; j++) {
+    k.sampleFrom[o + j] = from[e + j]
+    k.sampleTo[o + j] = from[e + 7 + j]
+    k.stepFrom[o + j] = from[e + 14 + j]
+    k.stepTo[o + j] = from[e + 21 + j]
+  }
+  for (let j = 0; j < 10; j++) k.jump[10 * slot + j] = from[e + 28 + j]
+  k.jumped[slot] = from[e + 38]
+  k.forceJump[slot] = from[e + 39]
+}
+
+/**
+ * A 32-bit FNV-1a hash of a tearable cloth's current mesh: triangles and every constraint list (the
+ * order included), which tearing rewrites. Equal fingerprints: the same torn mesh.
+ */
+function meshFingerprint(c: ClothState): number {
+  const t = c.topology
+  let h = 0x811c9dc5
+  h = mix(h, c.count)
+  h = mixAll(h, t.triangles, 3 * t.triangleCount)
+  h = mixAll(h, t.edges, 2 * t.edgeCount)
+  h = mixAll(h, t.stretchIds, 2 * t.stretchCount)
+  h = mixAll(h, t.distIds, 2 * t.distCount)
+  h = mixAll(h, t.compIds, 2 * t.compCount)
+  h = mixAll(h, t.lineIds, 3 * t.lineCount)
+  h = mixAll(h, t.hingeIds, 4 * t.hingeCount)
+  return h
+}
+
+function mixAll(h: number, a: ArrayLike<number>, n: number): number {
+  h = mix(h, n)
+  for (let i = 0; i < n; i++) h = mix(h, a[i])
+  return h
+}
+
+function mix(h: number, v: number): number {
+  for (let b = 0; b < 4; b++) {
+    h ^= (v >>> (8 * b)) & 0xff
+    h = Math.imul(h, 0x01000193) >>> 0
+  }
+  return h
 }
 
 /**
@@ -183,6 +336,20 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   checkSnapshot(snapshot, 'state')
   const s = snapshot
   const n = s.shape[0]
+  const T = c.tear
+  if ((s.tear.length > 0) !== (T !== null)) {
+    throw new ClothError('state', snapshot, T !== null ? 'was saved from a cloth that was not tearable, and this one is' : 'was saved from a tearable cloth, and this one is not')
+  }
+  if (T !== null && (s.tear[2] !== c.count || s.tear[1] !== meshFingerprint(c))) {
+    const since = state.components.Tearable.tears[cloth] - s.tear[0]
+    throw new ClothError(
+      'state', snapshot,
+      since > 0 && s.tear[2] < c.count
+        ? `was saved before this cloth tore (${since} tear${since === 1 ? '' : 's'} since): a snapshot does not restore a torn mesh, only a tearable cloth whose mesh is still the one it was saved with`
+        : 'was saved from a tearable cloth whose mesh (torn differently) is not this one\'s: a snapshot does not restore a torn mesh',
+    )
+  }
+  if (T !== null && s.tearTetherRest.length > T.tethers.rest.length) throw new ClothError('state', snapshot, 'holds more tethers than this cloth has room for')
   if (n !== c.count || s.shape[1] !== c.topology.distCount || s.shape[2] !== c.topology.hingeCount || s.shape[3] !== c.topology.triangleCount) {
     throw new ClothError('state', snapshot, `was saved from a cloth of a different mesh (${n} particles, this one has ${c.count})`)
   }
@@ -221,19 +388,42 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   c.tethers = s.tethers
 
   const k = state.kinematics
-  for (let t = 0; t < s.targets.length; t++) {
-    const slot = k.slotOf[s.targets[t]]
-    const o = 7 * slot, e = TARGET_DATA * t
-    for (let j = 0; j < 7; j++) {
-      k.sampleFrom[o + j] = s.targetData[e + j]
-      k.sampleTo[o + j] = s.targetData[e + 7 + j]
-      k.stepFrom[o + j] = s.targetData[e + 14 + j]
-      k.stepTo[o + j] = s.targetData[e + 21 + j]
-    }
-    for (let j = 0; j < 10; j++) k.jump[10 * slot + j] = s.targetData[e + 28 + j]
-    k.jumped[slot] = s.targetData[e + 38]
-    k.forceJump[slot] = s.targetData[e + 39]
+  for (let t = 0; t < s.targets.length; t++) restoreSlot(k, k.slotOf[s.targets[t]], s.targetData, TARGET_DATA * t)
+  // colliders' and zones' bodies still tracked (a collider or zone removed since has nothing to restore)
+  for (let b = 0; b < s.bodies.length; b++) {
+    const e = s.bodies[b]
+    if (e < k.slotOf.length && k.slotOf[e] >= 0) restoreSlot(k, k.slotOf[e], s.bodyData, TARGET_DATA * b)
   }
+  const wind = state.wind
+  const Z = state.components.WindZone
+  wind.time[0] = s.wind[0]
+  for (let q = 0; q < s.windZones.length; q++) {
+    const z = s.windZones[q], o = 1 + WIND_DATA * q
+    if (wind.zones.indexOf(z) < 0) continue
+    Z.gustFrom[z] = s.wind[o]
+    Z.gustPeak[z] = s.wind[o + 1]
+    Z.gustTime[z] = s.wind[o + 2]
+    Z.gustDuration[z] = s.wind[o + 3]
+    Z.gust[z] = s.wind[o + 4]
+    Z.drift[3 * z] = s.wind[o + 5]
+    Z.drift[3 * z + 1] = s.wind[o + 6]
+    Z.drift[3 * z + 2] = s.wind[o + 7]
+  }
+  wind.compiled = false
+  if (T !== null) {
+    state.components.Tearable.tears[cloth] = s.tear[0]
+    for (let e = 0; e < s.tearOver.length; e++) T.over[e] = s.tearOver[e]
+    const tt = T.tethers
+    tt.count = s.tearTetherRest.length
+    for (let q = 0; q < tt.count; q++) {
+      tt.particle[q] = s.tearTethers[2 * q]
+      tt.anchor[q] = s.tearTethers[2 * q + 1]
+      tt.rest[q] = s.tearTetherRest[q]
+    }
+    if (c.useTethers) c.tethers = tt
+  }
+  const self = c.collision?.self ?? null
+  if (self !== null && s.touched.length === n) for (let i = 0; i < n; i++) self.touched[i] = s.touched[i]
   state.accumulator = s.world[0]
   k.time[K_SINCE_SAMPLE] = s.world[1]
   k.time[K_STEP_FRACTION] = s.world[2]
@@ -320,6 +510,21 @@ function checkSnapshot(s: unknown, arg: string): void {
     (x.sleep !== undefined && (!(x.sleep instanceof Float64Array) || x.sleep.length !== 8 || !allFinite(x.sleep)))
   ) {
     throw new ClothError(arg, s, 'holds a non-finite number')
+  }
+  if (
+    !(x.bodies instanceof Int32Array) || !(x.bodyData instanceof Float64Array) || x.bodyData.length !== TARGET_DATA * x.bodies.length ||
+    !(x.windZones instanceof Int32Array) || !(x.wind instanceof Float64Array) || x.wind.length !== 1 + WIND_DATA * x.windZones.length ||
+    !(x.tear instanceof Float64Array) || (x.tear.length !== 0 && x.tear.length !== 3) || !(x.tearOver instanceof Uint8Array) ||
+    !(x.tearTethers instanceof Int32Array) || !(x.tearTetherRest instanceof Float64Array) || x.tearTethers.length !== 2 * x.tearTetherRest.length ||
+    !(x.touched instanceof Uint8Array)
+  ) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
+  }
+  if (!allFinite(x.bodyData) || !allFinite(x.wind) || !allFinite(x.tear) || !allFinite(x.tearTetherRest)) {
+    throw new ClothError(arg, s, 'holds a non-finite number')
+  }
+  for (let q = 0; q < x.tearTethers.length; q++) {
+    if (!(x.tearTethers[q] >= 0 && x.tearTethers[q] < n)) throw new ClothError(arg, s, 'holds a tether on a particle out of range')
   }
   const g = x.guardSettings
   if (

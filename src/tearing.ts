@@ -180,6 +180,16 @@ export interface ClothTear {
   params: Float64Array
   tethers: TetherSet
   scratch: TetherScratch
+  /**
+   * Connected piece of each particle (pieces numbered by their lowest particle), refreshed after
+   * every step that tore; the explosion guard measures its bounds per piece once there are several.
+   */
+  piece: Int32Array
+  pieceCount: number
+  /** Union-find scratch for `piece`. */
+  pieceRoot: Int32Array
+  /** Per-piece boxes for the guard's check (7 per piece, see `kernels/guard.ts`). */
+  pieceBox: Float64Array
 }
 
 /** Creates the per-world tearing state. Called by `installClothPlugin`. */
@@ -387,6 +397,7 @@ export function tearCloth(state: ClothWorldState, c: ClothState): void {
   }
   if (tears === 0) return
   repairConstraints(T)
+  labelPieces(T, c.count)
   if (c.useTethers) c.tethersDirty = true
   refreshClothWind(c)
   store.tears[eid] += tears
@@ -443,12 +454,17 @@ function splitParticle(c: ClothState, T: ClothTear, v: number, o: number, mode: 
       tris[base + corner[f]] = nv
     }
   }
+  const guardRest = c.guard.rest
   for (let j = 0; j < 3; j++) {
     pos[3 * nv + j] = pos[3 * v + j]
     c.prev[3 * nv + j] = c.prev[3 * v + j]
     c.vel[3 * nv + j] = c.vel[3 * v + j]
     rest[3 * nv + j] = rest[3 * v + j]
+    // the guard's rest pose (its fallback after a failed reset) grows with the cloth: a torn cloth
+    // goes back to its rest layout, every piece in place
+    guardRest[3 * nv + j] = guardRest[3 * v + j]
   }
+  c.guard.restCount = nv + 1
   // share the mass by rest area, neither part below 20 % (extreme mass ratios hurt Gauss-Seidel)
   let frac = areaAll > 0 ? areaPlus / areaAll : 0.5
   if (frac < 0.2) frac = 0.2
@@ -465,6 +481,40 @@ function splitParticle(c: ClothState, T: ClothTear, v: number, o: number, mode: 
   c.count = nv + 1
   t.particleCount = nv + 1
   return nv
+}
+
+/**
+ * Labels the connected pieces of the split mesh (triangles joined through shared particles):
+ * union-find with the smaller index as root, so labels follow the lowest particle of each piece.
+ */
+function labelPieces(T: ClothTear, count: number): void {
+  const t = T.topology
+  const tris = t.triangles
+  const root = T.pieceRoot, label = T.piece
+  for (let i = 0; i < count; i++) root[i] = i
+  for (let k = 0; k < t.triangleCount; k++) {
+    const a = findRoot(root, tris[3 * k])
+    const b = findRoot(root, tris[3 * k + 1])
+    const c = findRoot(root, tris[3 * k + 2])
+    const m = a < b ? (a < c ? a : c) : b < c ? b : c
+    root[a] = m
+    root[b] = m
+    root[c] = m
+  }
+  let n = 0
+  for (let i = 0; i < count; i++) {
+    const r = findRoot(root, i)
+    label[i] = r === i ? n++ : label[r]
+  }
+  T.pieceCount = n
+}
+
+function findRoot(root: Int32Array, i: number): number {
+  while (root[i] !== i) {
+    root[i] = root[root[i]]
+    i = root[i]
+  }
+  return i
 }
 
 /** Re-reads every constraint from the triangles, duplicates split edges, drops broken supports. */
@@ -696,7 +746,16 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
       heapNode: new Int32Array(heap),
       heapSrc: new Int32Array(heap),
     },
+    piece: new Int32Array(P),
+    pieceCount: 1,
+    pieceRoot: new Int32Array(P),
+    pieceBox: new Float64Array(7 * P),
   }
+  // the guard's copies at capacity too (no allocation when the torn cloth's pose is kept)
+  const g = c.guard
+  g.rest = grow(g.rest, 3 * P)
+  g.safe = grow(g.safe, 3 * P)
+  labelPieces(c.tear, c.count)
   c.tethersDirty = true
 }
 

@@ -1,6 +1,6 @@
 import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, onRemove, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, checkInteger, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkVec3, isArrayLike } from './errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkVec3, isArrayLike } from './errors'
 import { A_DRAG, A_H, A_LIFT, A_MAX_SPEED, A_STRIDE, AERO_PARAM_COUNT, accumulateAerodynamics, aeroNormals, limitAerodynamics, triangleInverseMasses } from './kernels/aero'
 import {
   NOISE_SCRATCH, ZONE_STRIDE, Z_CX, Z_CY, Z_CZ, Z_DENSITY, Z_DRIFT_X, Z_DRIFT_Y, Z_DRIFT_Z, Z_FALLOFF, Z_HX, Z_HY, Z_HZ,
@@ -70,6 +70,11 @@ export interface WindWorld {
   scratch: Float64Array
   /** True once `params` holds this step's zones. */
   compiled: boolean
+  /**
+   * The aerodynamics' stability clamp (`limitAerodynamics`), always on in use. Only tests turn it
+   * off, to show what it prevents (and that the explosion guard catches it).
+   */
+  clamp: boolean
 }
 
 /** Per-cloth aerodynamics buffers (allocated when a wind zone exists). */
@@ -93,7 +98,7 @@ const ZERO_ROTATION = [0, 0, 0, 1]
 
 /** Creates the per-world wind state (validates `airDensity`). Called by `installClothPlugin`. */
 export function createWindWorld(airDensity: number | undefined): WindWorld {
-  const rho = airDensity === undefined ? 1.2 : checkNonNegative('options.airDensity', airDensity)
+  const rho = airDensity === undefined ? 1.2 : checkAtMost('options.airDensity', checkNonNegative('options.airDensity', airDensity), MAX_AIR_DENSITY, ' kg/m³')
   return {
     zones: [],
     airDensity: Float64Array.of(rho),
@@ -103,6 +108,7 @@ export function createWindWorld(airDensity: number | undefined): WindWorld {
     bounds: new Float64Array(6),
     scratch: new Float64Array(NOISE_SCRATCH),
     compiled: false,
+    clamp: true,
   }
 }
 
@@ -198,8 +204,8 @@ export function gustWind(world: object, zone: number, options: GustOptions): voi
   const state = getClothWorld(world)
   checkZone(world, state, zone)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  if (typeof options.strength !== 'number' || !Number.isFinite(options.strength)) {
-    throw new ClothError('options.strength', options.strength, 'must be a finite number (m/s)')
+  if (typeof options.strength !== 'number' || !Number.isFinite(options.strength) || Math.abs(options.strength) > MAX_WIND) {
+    throw new ClothError('options.strength', options.strength, `must be a finite number (m/s) within ±${MAX_WIND}`)
   }
   const duration = options.duration === undefined ? 1 : checkPositive('options.duration', options.duration)
   const Z = state.components.WindZone
@@ -386,7 +392,7 @@ export function applyWind(state: ClothWorldState, c: ClothState): void {
   p[A_MAX_SPEED] = state.maxSpeed
   aeroNormals(c.pos, c.count, t.triangles, t.triangleCount, t.edges, t.edgeCount, cw.normals, cw.scratch)
   accumulateAerodynamics(c.pos, c.vel, t.triangles, t.triangleCount, cw.triInvMass, cw.air, cw.normals, accel, p)
-  limitAerodynamics(c.vel, c.invMass, cw.air, accel, p, c.count)
+  if (wind.clamp) limitAerodynamics(c.vel, c.invMass, cw.air, accel, p, c.count)
   c.accel = accel
   state.stats.windTriangles += t.triangleCount
 }
@@ -402,21 +408,24 @@ export function windReaches(state: ClothWorldState, b: Float64Array): boolean {
   if (nz === 0) return false
   if (!wind.compiled) compileZones(state)
   const P = wind.params
+  // every array slot is read on every call, before any test: a read first reached (through a
+  // branch or a short-circuit) long after start-up would run unoptimized code, which boxes numbers
+  const bx0 = b[0], by0 = b[1], bz0 = b[2], bx1 = b[3], by1 = b[4], bz1 = b[5]
   for (let k = 0; k < nz; k++) {
     const o = k * ZONE_STRIDE
-    if (P[o + Z_VX] === 0 && P[o + Z_VY] === 0 && P[o + Z_VZ] === 0 && P[o + Z_TURB] === 0) continue
-    if (P[o + Z_SHAPE] === 0) return true
-    if (b[3] < P[o + Z_MIN] || b[0] > P[o + Z_MAX] || b[4] < P[o + Z_MIN + 1] || b[1] > P[o + Z_MAX + 1] ||
-        b[5] < P[o + Z_MIN + 2] || b[2] > P[o + Z_MAX + 2]) continue
-    if (P[o + Z_SHAPE] === 2) {
-      const cx = P[o + Z_CX], cy = P[o + Z_CY], cz = P[o + Z_CZ]
-      const dx = cx < b[0] ? b[0] - cx : cx > b[3] ? cx - b[3] : 0
-      const dy = cy < b[1] ? b[1] - cy : cy > b[4] ? cy - b[4] : 0
-      const dz = cz < b[2] ? b[2] - cz : cz > b[5] ? cz - b[5] : 0
-      const r = P[o + Z_HX] + P[o + Z_FALLOFF]
-      if (dx * dx + dy * dy + dz * dz > r * r) continue
-    }
-    return true
+    const shape = P[o + Z_SHAPE]
+    const vx = P[o + Z_VX], vy = P[o + Z_VY], vz = P[o + Z_VZ], turb = P[o + Z_TURB]
+    const x0 = P[o + Z_MIN], y0 = P[o + Z_MIN + 1], z0 = P[o + Z_MIN + 2]
+    const x1 = P[o + Z_MAX], y1 = P[o + Z_MAX + 1], z1 = P[o + Z_MAX + 2]
+    const cx = P[o + Z_CX], cy = P[o + Z_CY], cz = P[o + Z_CZ]
+    const r = P[o + Z_HX] + P[o + Z_FALLOFF]
+    const dx = Math.max(bx0 - cx, cx - bx1, 0)
+    const dy = Math.max(by0 - cy, cy - by1, 0)
+    const dz = Math.max(bz0 - cz, cz - bz1, 0)
+    const blowing = vx * vx + vy * vy + vz * vz + turb * turb > 0
+    const boxes = bx1 >= x0 && bx0 <= x1 && by1 >= y0 && by0 <= y1 && bz1 >= z0 && bz0 <= z1
+    const inSphere = dx * dx + dy * dy + dz * dz <= r * r
+    if (blowing && (shape === 0 || (boxes && (shape !== 2 || inSphere)))) return true
   }
   return false
 }
@@ -540,28 +549,41 @@ function checkZoneOptions(o: Partial<WindZoneOptions>, shape: WindShape, creatin
     if (!(l > 1e-9)) throw new ClothError('options.direction', o.direction, 'must have non-zero length')
     out.dir = [d[0] / l, d[1] / l, d[2] / l]
   }
-  if (o.strength !== undefined) out.strength = checkNonNegative('options.strength', o.strength)
-  if (o.turbulence !== undefined) out.turbulence = checkNonNegative('options.turbulence', o.turbulence)
-  if (o.turbulenceScale !== undefined) out.turbulenceScale = checkPositive('options.turbulenceScale', o.turbulenceScale)
-  if (o.turbulencePeriod !== undefined) out.turbulencePeriod = checkPositive('options.turbulencePeriod', o.turbulencePeriod)
+  // bounded far beyond anything physical, so no product of them overflows to Infinity in a step
+  if (o.strength !== undefined) out.strength = checkAtMost('options.strength', checkNonNegative('options.strength', o.strength), MAX_WIND, ' m/s')
+  if (o.turbulence !== undefined) out.turbulence = checkAtMost('options.turbulence', checkNonNegative('options.turbulence', o.turbulence), 100, '')
+  if (o.turbulenceScale !== undefined) out.turbulenceScale = checkScale('options.turbulenceScale', o.turbulenceScale, ' m')
+  if (o.turbulencePeriod !== undefined) out.turbulencePeriod = checkScale('options.turbulencePeriod', o.turbulencePeriod, ' s')
   if (o.size !== undefined) {
     if (shape === 'sphere') {
-      const r = checkPositive('options.size', o.size)
+      const r = checkAtMost('options.size', checkPositive('options.size', o.size), MAX_COORDINATE, ' m')
       out.half = [r, r, r]
     } else if (typeof o.size === 'number') {
-      const s = checkPositive('options.size', o.size) / 2
+      const s = checkAtMost('options.size', checkPositive('options.size', o.size), MAX_COORDINATE, ' m') / 2
       out.half = [s, s, s]
     } else {
       if (!isArrayLike(o.size)) throw new ClothError('options.size', o.size, 'must be a number or [x, y, z] extents')
       const s = checkVec3('options.size', o.size)
-      for (let i = 0; i < 3; i++) if (!(s[i] > 0)) throw new ClothError('options.size', o.size, 'must have positive extents')
+      for (let i = 0; i < 3; i++) if (!(s[i] > 0 && s[i] <= MAX_COORDINATE)) throw new ClothError('options.size', o.size, `must have positive extents of at most ${MAX_COORDINATE} m`)
       out.half = [s[0] / 2, s[1] / 2, s[2] / 2]
     }
   } else if (creating && shape === 'box') out.half = [1, 1, 1]
-  if (o.falloff !== undefined) out.falloff = checkNonNegative('options.falloff', o.falloff)
+  if (o.falloff !== undefined) out.falloff = checkAtMost('options.falloff', checkNonNegative('options.falloff', o.falloff), MAX_COORDINATE, ' m')
   if (o.seed !== undefined) out.seed = checkInteger('options.seed', o.seed, 0, 0xffffffff)
-  if (o.airDensity !== undefined) out.airDensity = checkNonNegative('options.airDensity', o.airDensity)
+  if (o.airDensity !== undefined) out.airDensity = checkAtMost('options.airDensity', checkNonNegative('options.airDensity', o.airDensity), MAX_AIR_DENSITY, ' kg/m³')
   return out
+}
+
+/** Fastest wind a zone may blow (or a gust add), m/s. */
+const MAX_WIND = 1e6
+/** Densest air, kg/m³ (water is 1000). */
+const MAX_AIR_DENSITY = 1e5
+
+/** A length or time scale: within [1e-3, 1e9]. */
+function checkScale(argument: string, value: unknown, unit: string): number {
+  const v = checkAtMost(argument, checkPositive(argument, value), MAX_COORDINATE, unit)
+  if (v < 1e-3) throw new ClothError(argument, value, `must be at least 0.001${unit}`)
+  return v
 }
 
 function applyZoneOptions(Z: ClothWorldState['components']['WindZone'], eid: number, o: CheckedZone): void {

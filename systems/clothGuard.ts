@@ -1,5 +1,5 @@
-import { deliverResets, guardActive, keepSafePose, resetCloth } from '../src/guard'
-import { HEALTH_OK, checkClothHealth } from '../src/kernels/guard'
+import { checkGuardHealth, deliverResets, guardActive, keepSafePose, resetCloth } from '../src/guard'
+import { HEALTH_OK } from '../src/kernels/guard'
 import { getClothWorld } from '../src/state'
 
 /**
@@ -17,7 +17,7 @@ export function clothGuard<W extends object>(world: W): W {
     const g = c.guard
     if (!guardActive(g) || c.subIndex < 0) continue // off, or asleep this step (a cloth that fell asleep in it still counts)
     state.stats.guardChecks++
-    const health = checkClothHealth(c.pos, c.vel, c.invMass, c.count, g.params)
+    const health = checkGuardHealth(c)
     if (health === HEALTH_OK) keepSafePose(c)
     else resetCloth(state, c, health)
   }

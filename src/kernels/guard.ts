@@ -98,3 +98,88 @@ export function checkClothHealth(
   if (speed2 > 0 && rel2 > speed2) return HEALTH_SPEED
   return HEALTH_OK
 }
+
+/**
+ * `checkClothHealth` for a cloth in several pieces (torn): the same finite and speed tests over
+ * the whole cloth, and the bounds test per piece: a piece holding pinned particles must stay within
+ * `G_REACH` of the box around all the cloth's pinned particles (as the whole cloth did before it
+ * tore, so a piece that has just torn off one pin while stretched toward another is not flagged),
+ * and a piece without pins may span at most `G_REACH` along each axis: a piece torn off and falling
+ * away is judged by its own shape, not by its distance from the pins it no longer hangs from.
+ * `piece` labels particles [0, count) with pieces [0, pieceCount); `box` is scratch of 7 doubles
+ * per piece (min xyz, max xyz, pinned flag).
+ */
+export function checkPieceHealth(
+  pos: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  piece: Int32Array,
+  pieceCount: number,
+  box: Float64Array,
+  g: Float64Array,
+): number {
+  const finite = g[G_FINITE], reach = g[G_REACH], speed2 = g[G_SPEED2]
+  for (let p = 0; p < pieceCount; p++) {
+    const o = 7 * p
+    box[o] = box[o + 1] = box[o + 2] = Infinity
+    box[o + 3] = box[o + 4] = box[o + 5] = -Infinity
+    box[o + 6] = 0
+  }
+  let bad = 0
+  let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity
+  let pMaxX = -Infinity, pMaxY = -Infinity, pMaxZ = -Infinity
+  let sx = 0, sy = 0, sz = 0, s2 = 0
+  for (let i = 0; i < count; i++) {
+    const j = 3 * i
+    const x = pos[j], y = pos[j + 1], z = pos[j + 2]
+    const vx = vel[j], vy = vel[j + 1], vz = vel[j + 2]
+    bad += (x + y + z + vx + vy + vz) * 0
+    const o = 7 * piece[i]
+    if (x < box[o]) box[o] = x
+    if (x > box[o + 3]) box[o + 3] = x
+    if (y < box[o + 1]) box[o + 1] = y
+    if (y > box[o + 4]) box[o + 4] = y
+    if (z < box[o + 2]) box[o + 2] = z
+    if (z > box[o + 5]) box[o + 5] = z
+    if (invMass[i] === 0) {
+      box[o + 6] = 1
+      if (x < pMinX) pMinX = x
+      if (x > pMaxX) pMaxX = x
+      if (y < pMinY) pMinY = y
+      if (y > pMaxY) pMaxY = y
+      if (z < pMinZ) pMinZ = z
+      if (z > pMaxZ) pMaxZ = z
+    }
+    sx += vx
+    sy += vy
+    sz += vz
+    s2 += vx * vx + vy * vy + vz * vz
+  }
+  if (count === 0) return HEALTH_OK
+  if (bad !== 0 && finite !== 0) return HEALTH_NONFINITE
+  let excess = -Infinity
+  for (let p = 0; p < pieceCount; p++) {
+    const o = 7 * p
+    const pinned = box[o + 6] === 1
+    // pinned: how far the piece's box sticks out of the pins' box; unpinned: its extent
+    const ax = pinned ? pMinX - box[o] : box[o + 3] - box[o], bx = pinned ? box[o + 3] - pMaxX : 0
+    const ay = pinned ? pMinY - box[o + 1] : box[o + 4] - box[o + 1], by = pinned ? box[o + 4] - pMaxY : 0
+    const az = pinned ? pMinZ - box[o + 2] : box[o + 5] - box[o + 2], bz = pinned ? box[o + 5] - pMaxZ : 0
+    if (ax > excess) excess = ax
+    if (bx > excess) excess = bx
+    if (ay > excess) excess = ay
+    if (by > excess) excess = by
+    if (az > excess) excess = az
+    if (bz > excess) excess = bz
+  }
+  excess -= reach
+  g[G_OUT_EXCESS] = excess
+  const inv = 1 / count
+  const mx = sx * inv, my = sy * inv, mz = sz * inv
+  const rel2 = s2 * inv - (mx * mx + my * my + mz * mz)
+  g[G_OUT_SPEED2] = rel2
+  if (reach > 0 && excess > 0) return HEALTH_BOUNDS
+  if (speed2 > 0 && rel2 > speed2) return HEALTH_SPEED
+  return HEALTH_OK
+}

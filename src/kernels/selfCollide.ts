@@ -229,25 +229,33 @@ export function solvePairs(
 }
 
 /**
- * Clamps each free particle's motion this substep, relative to the mean motion of the cloth's free
- * particles, to p[S_LIMIT] metres: the speed limit under which the step's pair list stays complete.
- * A cloth carried along by a running character is not slowed; only fast motion within the cloth is.
+ * Clamps each free particle's motion this substep, relative to the mass-weighted mean motion of the
+ * cloth's free particles, to p[S_LIMIT] metres: the speed limit under which the step's pair list
+ * stays complete. A cloth carried along by a running character is not slowed; only fast motion
+ * within the cloth is. The momentum the clamped particles lose is given back to all free particles
+ * as one common motion (which changes no relative motion, so the limit still holds between any two
+ * of them): clamping only the fast side of an uneven spread would otherwise shift the cloth's mean
+ * motion every substep, and a crumpled self-colliding sheet propelled itself to 80 m/s that way.
  */
 export function clampRelativeMotion(pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, p: Float64Array): void {
-  let mx = 0, my = 0, mz = 0, n = 0
+  let mx = 0, my = 0, mz = 0, m = 0
   for (let i = 0; i < count; i++) {
-    if (invMass[i] === 0) continue
+    const w = invMass[i]
+    if (w === 0) continue
     const j = 3 * i
-    mx += pos[j] - prev[j]
-    my += pos[j + 1] - prev[j + 1]
-    mz += pos[j + 2] - prev[j + 2]
-    n++
+    const mi = 1 / w
+    mx += mi * (pos[j] - prev[j])
+    my += mi * (pos[j + 1] - prev[j + 1])
+    mz += mi * (pos[j + 2] - prev[j + 2])
+    m += mi
   }
-  if (n === 0) return
-  mx /= n
-  my /= n
-  mz /= n
+  if (!(m > 0)) return
+  mx /= m
+  my /= m
+  mz /= m
   const lim = p[S_LIMIT], lim2 = lim * lim
+  // momentum taken out by the clamp (Σ m·Δx)
+  let lx = 0, ly = 0, lz = 0
   for (let i = 0; i < count; i++) {
     if (invMass[i] === 0) continue
     const j = 3 * i
@@ -255,8 +263,23 @@ export function clampRelativeMotion(pos: Float64Array, prev: Float64Array, invMa
     const d2 = dx * dx + dy * dy + dz * dz
     if (d2 <= lim2) continue
     const f = lim / Math.sqrt(d2)
+    const g = (1 - f) / invMass[i]
+    lx += dx * g
+    ly += dy * g
+    lz += dz * g
     pos[j] = prev[j] + mx + dx * f
     pos[j + 1] = prev[j + 1] + my + dy * f
     pos[j + 2] = prev[j + 2] + mz + dz * f
+  }
+  if (lx === 0 && ly === 0 && lz === 0) return
+  lx /= m
+  ly /= m
+  lz /= m
+  for (let i = 0; i < count; i++) {
+    if (invMass[i] === 0) continue
+    const j = 3 * i
+    pos[j] += lx
+    pos[j + 1] += ly
+    pos[j + 2] += lz
   }
 }

@@ -168,11 +168,49 @@ describe('relative motion clamp', () => {
     pos[3 * 3 + 1] = 0.5 // one particle also 0.5 m in y
     const w = new Float64Array(n).fill(1)
     clampRelativeMotion(pos, prev, w, n, params({ [S_LIMIT]: 0.1 }))
-    // mean motion (1, 0.125, 0); the outlier's deviation (0, 0.375, 0) is cut to 0.1
+    // mean motion (1, 0.125, 0); the outlier's deviation (0, 0.375, 0) is cut to 0.1 and the
+    // others' (0, −0.125, 0) to −0.1; the 0.2 m of motion taken out in y is given back to all
+    // four alike (0.05 each), so the total motion (momentum) is what it was
     expect(pos[3 * 3]).toBeCloseTo(1, 12)
-    expect(pos[3 * 3 + 1]).toBeCloseTo(0.125 + 0.1, 12)
-    // the others deviate by 0.125 (down) from the mean: cut to 0.1
-    expect(pos[1]).toBeCloseTo(0.125 - 0.1, 12)
+    expect(pos[3 * 3 + 1]).toBeCloseTo(0.125 + 0.1 + 0.05, 12)
+    expect(pos[1]).toBeCloseTo(0.125 - 0.1 + 0.05, 12)
     expect(pos[0]).toBeCloseTo(1, 12)
+    let sy = 0
+    for (let i = 0; i < n; i++) sy += pos[3 * i + 1]
+    expect(sy).toBeCloseTo(0.5, 12)
+  })
+
+  it('conserves momentum (Σ m·Δx) for any masses and motions, and keeps any two particles’ relative motion within twice the limit', () => {
+    for (let seed = 1; seed <= 50; seed++) {
+      const r = rng(seed)
+      const n = 2 + Math.floor(r() * 30)
+      const prev = randomPoints(n, seed)
+      const pos = new Float64Array(3 * n)
+      const w = new Float64Array(n)
+      for (let i = 0; i < n; i++) {
+        w[i] = r() < 0.15 ? 0 : 10 ** (2 * r() - 1) // some pinned, masses 0.1…10 kg
+        const fast = r() < 0.3 ? 5 : 0.05 // an uneven spread: a few fast ones
+        for (let k = 0; k < 3; k++) pos[3 * i + k] = prev[3 * i + k] + (r() - 0.3) * fast
+      }
+      const momentum = (a: Float64Array) => {
+        const p = [0, 0, 0]
+        for (let i = 0; i < n; i++) if (w[i] > 0) for (let k = 0; k < 3; k++) p[k] += (a[3 * i + k] - prev[3 * i + k]) / w[i]
+        return p
+      }
+      const before = momentum(pos)
+      const pinned = pos.filter((_, j) => w[Math.floor(j / 3)] === 0)
+      const lim = 0.1
+      clampRelativeMotion(pos, prev, w, n, params({ [S_LIMIT]: lim }))
+      const after = momentum(pos)
+      for (let k = 0; k < 3; k++) expect(after[k]).toBeCloseTo(before[k], 9)
+      expect(pos.filter((_, j) => w[Math.floor(j / 3)] === 0)).toEqual(pinned) // pinned particles untouched
+      for (let i = 0; i < n; i++) {
+        for (let j = 0; j < n; j++) {
+          if (w[i] === 0 || w[j] === 0) continue
+          const d = Math.hypot(...[0, 1, 2].map((k) => pos[3 * i + k] - prev[3 * i + k] - (pos[3 * j + k] - prev[3 * j + k])))
+          expect(d).toBeLessThanOrEqual(2 * lim + 1e-12)
+        }
+      }
+    }
   })
 })

@@ -6,8 +6,15 @@ import { glMatrix, quat, vec3 } from 'gl-matrix'
 import { describe, expect, it } from 'vitest'
 import {
   ClothError,
+  addCapsuleCollider,
+  addPlaneCollider,
+  addSphereCollider,
   checkClothHealth,
   createCloth,
+  createWindZone,
+  getClothTearCount,
+  makeTearable,
+  setWindZone,
   defineMaterial,
   drainClothResets,
   getClothGuard,
@@ -25,9 +32,11 @@ import {
   type ClothPluginOptions,
   type ClothResetEvent,
 } from '../../src/index'
+import { HEALTH_BOUNDS, HEALTH_NONFINITE, HEALTH_OK, HEALTH_SPEED, checkPieceHealth } from '../../src/kernels/guard'
+import { getClothWorld } from '../../src/state'
 import { hashBytes } from '../helpers'
-import { geodesicDiameter, hangingSheet, inspect } from './harness'
-import { heroWithCape } from './scenes'
+import { geodesicDiameter, hangingSheet, inspect, inspectPieces } from './harness'
+import { heroWithBody, heroWithCape, poseLegs, walk } from './scenes'
 
 glMatrix.setMatrixArrayType(Array)
 
@@ -89,6 +98,35 @@ describe('health check (one pass over the particles)', () => {
     expect(checkClothHealth(pos, vel, c.invMass, c.count, g)).toBe(0)
     expect(getClothStats(world).guardChecks).toBe(30)
     expect(getClothGuard(world, sheet).size).toBeCloseTo(geodesicDiameter(world, sheet), 9)
+  })
+})
+
+describe('health check of a torn cloth (per piece)', () => {
+  it('measures pieces holding pins from the pins, pieces without pins by their own extent', () => {
+    // particles 0-2: piece 0 (0 and 1 pinned at y = 2); 3-5: piece 1 (no pins); 6: piece 2 (alone)
+    const pos = Float64Array.from([0, 2, 0, 1, 2, 0, 0.5, 1, 0, 0, -10, 0, 0.5, -10, 0, 0.2, -9.5, 0, 30, -40, 5])
+    const vel = new Float64Array(pos.length)
+    const invMass = Float64Array.from([0, 0, 1, 1, 1, 1, 1])
+    const piece = Int32Array.from([0, 0, 0, 1, 1, 1, 2])
+    const box = new Float64Array(7 * 3)
+    const g = Float64Array.from([1, 2, 100 * 100, 0, 0]) // finite on, 2 m of reach, 100 m/s
+    const check = () => checkPieceHealth(pos, vel, invMass, 7, piece, 3, box, g)
+    // piece 1 lies 12 m below the pins and particle 6 far off: each is judged by its own shape
+    expect(check()).toBe(HEALTH_OK)
+    expect(checkClothHealth(pos, vel, invMass, 7, g)).toBe(2) // (as one piece: out of bounds)
+    pos[3 * 4] = 2.6 // piece 1 now spans 2.6 m in x: more than the reach
+    expect(check()).toBe(HEALTH_BOUNDS)
+    expect(g[4]).toBeCloseTo(0.6, 12)
+    pos[3 * 4] = 0.5
+    pos[3 * 2 + 1] = 2 - 2.01 // a free particle of the pinned piece 2.01 m below the pins' box
+    expect(check()).toBe(HEALTH_BOUNDS)
+    pos[3 * 2 + 1] = 2 - 1.99
+    expect(check()).toBe(HEALTH_OK)
+    vel[3 * 6 + 2] = NaN
+    expect(check()).toBe(HEALTH_NONFINITE)
+    vel[3 * 6 + 2] = 0
+    for (let i = 0; i < 7; i++) vel[3 * i] = i % 2 ? 150 : -150
+    expect(check()).toBe(HEALTH_SPEED)
   })
 })
 
@@ -347,5 +385,193 @@ describe('events and options', () => {
     }
     expect(() => installClothPlugin(createWorld(), { guard: { bounds: -2 } })).toThrow(/options\.guard\.bounds/)
     expect(() => onClothReset(world, 5 as never)).toThrow(ClothError)
+  })
+})
+
+describe('with colliders, wind and tearing', () => {
+  /** A ground plane at y = 0. */
+  function ground(world: object) {
+    const g = addEntity(world)
+    setTransform(world, g, [0, 0, 0])
+    addPlaneCollider(world, g)
+  }
+
+  it('torn pieces that fall away from their pins are judged by their own shape: no reset', () => {
+    // Before the bounds were measured per piece, the first piece to fall farther than 2 sizes from
+    // the pins reset the whole cloth, and then every step after (the reset pose fell again)
+    for (const capacity of [2000, undefined]) {
+      const world = installClothPlugin(createWorld())
+      ground(world)
+      const sheet = hangingSheet(world, { position: [0, 5, 0] })
+      for (let f = 0; f < 20; f++) stepCloth(world, 1 / 60)
+      makeTearable(world, sheet, { strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1, capacity })
+      for (let f = 0; f < 300; f++) stepCloth(world, 1 / 60)
+      const c = getClothState(world, sheet)
+      const T = c.tear!
+      expect(getClothTearCount(world, sheet)).toBeGreaterThanOrEqual(capacity ? 200 : 64)
+      expect(T.pieceCount).toBeGreaterThan(capacity ? 50 : 1)
+      let lowest = Infinity
+      for (let i = 0; i < c.count; i++) lowest = Math.min(lowest, c.pos[3 * i + 1])
+      expect(lowest).toBeLessThan(0.1) // pieces lie on the ground, 5 m below the pins
+      expect(getClothStats(world).guardResets).toBe(0)
+      // the labels the guard uses are the mesh's pieces
+      expect(T.pieceCount).toBe(inspectPieces(world, sheet, Infinity, -Infinity, 0).pieces)
+    }
+  })
+
+  it('a torn cloth that fails twice goes back to its rest layout, every piece in place (split particles included)', () => {
+    const world = installClothPlugin(createWorld())
+    const sheet = hangingSheet(world)
+    const c = getClothState(world, sheet)
+    const initial = Float64Array.from(c.pos.subarray(0, 3 * c.count))
+    makeTearable(world, sheet, { strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1 })
+    for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+    const torn = c.count
+    expect(torn).toBeGreaterThan(64)
+    // which original particle each split copy came from: the copies share its rest position
+    const rest = c.topology.restPositions
+    const origin = (i: number) => {
+      for (let k = 0; k < 64; k++) if (rest[3 * k] === rest[3 * i] && rest[3 * k + 1] === rest[3 * i + 1] && rest[3 * k + 2] === rest[3 * i + 2]) return k
+      return -1
+    }
+    for (let f = 0; f < 2; f++) {
+      c.pos[3 * (torn - 1)] = NaN // broken twice in a row: the second reset places the rest layout
+      stepCloth(world, 1 / 60)
+    }
+    expect(drainClothResets(world).map((e) => e.restoredTo)).toEqual(['snapshot', 'rest'])
+    expect(c.count).toBe(torn)
+    for (let i = 0; i < c.count; i++) {
+      const k = origin(i)
+      expect(k).toBeGreaterThanOrEqual(0)
+      for (let a = 0; a < 3; a++) expect(c.pos[3 * i + a]).toBeCloseTo(initial[3 * k + a], 9)
+    }
+  })
+
+  describe('no false positives in ordinary scenes (guard on, never fires)', () => {
+    it('a cape with body colliders on a character walking, turning and running for 20 s', () => {
+      const world = installClothPlugin(createWorld())
+      const s = { ...heroWithBody(world, { resolution: [10, 14] }), world }
+      for (let f = 0; f < 1200; f++) {
+        const t = f / 60
+        walk(s, t, f < 600 ? 2 : 6)
+        const a = ((f < 600 ? 2 : 6) / 2) * t
+        poseLegs(s, [2 * Math.cos(a) - 2, 1.6, 2 * Math.sin(a)], -a, t)
+        stepCloth(world, 1 / 60)
+      }
+      expect(getClothStats(world).colliderTests).toBeGreaterThan(0)
+      expect(getClothStats(world).guardChecks).toBe(1200)
+      expect(getClothStats(world).guardResets).toBe(0)
+    })
+
+    it('flags in steady, turbulent and gusting wind (8 to 40 m/s, and 1000 m/s with the clamp on)', () => {
+      for (const [strength, turbulence] of [[8, 0], [15, 0.4], [40, 0.5], [1000, 0.5]]) {
+        const world = installClothPlugin(createWorld())
+        const flag = createCloth(world, { width: 1.5, height: 1, resolution: [15, 10], position: [0.75, 3, 0], material: 'nylon' })
+        for (let r = 0; r < 10; r++) pinParticle(world, flag, r * 15)
+        const zone = createWindZone(world, { direction: [0.2, 0, 1], strength, turbulence })
+        for (let f = 0; f < 600; f++) {
+          if (f === 300) setWindZone(world, zone, { strength: 2 * strength })
+          stepCloth(world, 1 / 60)
+        }
+        expect(getClothStats(world).windTriangles).toBeGreaterThan(0)
+        expect(getClothStats(world).guardResets, `${strength} m/s`).toBe(0)
+      }
+    })
+
+    it('a tearable curtain yanked apart, its pieces falling 2.5 m onto a ball and the floor', () => {
+      const world = installClothPlugin(createWorld())
+      ground(world)
+      const ball = addEntity(world)
+      setTransform(world, ball, [0.3, 0.3, 0.4])
+      addSphereCollider(world, ball, { radius: 0.3 })
+      const curtain = createCloth(world, { width: 2, height: 1.8, resolution: [24, 20], position: [0, 4.3, 0] })
+      for (let col = 0; col < 24; col += 3) pinParticle(world, curtain, col)
+      makeTearable(world, curtain, { strain: 0.3, maxTearsPerStep: 8 })
+      const hand = addEntity(world)
+      setTransform(world, hand, [0, 2.5, 0])
+      pinParticle(world, curtain, 19 * 24 + 12, hand)
+      for (let f = 0; f < 600; f++) {
+        const u = Math.min(1, f / 40)
+        setTransform(world, hand, [0.3 * u, 2.5 - 1.5 * u, 2.5 * u])
+        stepCloth(world, 1 / 60)
+      }
+      const c = getClothState(world, curtain)
+      expect(getClothTearCount(world, curtain)).toBeGreaterThan(10)
+      expect(c.tear!.pieceCount).toBeGreaterThan(1)
+      expect(getClothStats(world).guardResets).toBe(0)
+    })
+  })
+
+  describe('fires when the features blow up', () => {
+    it('wind: without the aerodynamic clamp a sheet in a 100 m/s wind races apart; the speed test catches it', () => {
+      for (const guard of [true, false]) {
+        const world = installClothPlugin(createWorld(), { guard: guard ? true : { speed: false } })
+        getClothWorld(world).wind.clamp = false // the explicit drag overshoots the air (see kernels/aero.ts)
+        const sheet = hangingSheet(world, { material: 'silk' })
+        createWindZone(world, { direction: [0.3, 0.2, 1], strength: 100, turbulence: 0.3 })
+        const c = getClothState(world, sheet)
+        let fastFrames = 0
+        for (let f = 0; f < 300; f++) {
+          stepCloth(world, 1 / 60)
+          if (relativeRmsSpeed(c) > 125) fastFrames++
+        }
+        expect(inspect(world, sheet, Infinity).finite).toBe(true) // the world's speed limit keeps it finite
+        if (guard) {
+          expect(fastFrames).toBe(0)
+          expect(getClothStats(world).guardResets).toBeGreaterThan(0)
+          expect(new Set(drainClothResets(world).map((e) => e.reason))).toEqual(new Set(['speed']))
+        } else {
+          expect(fastFrames).toBeGreaterThan(20)
+        }
+      }
+      // with the clamp (always, in use), the same wind is calm: no reset
+      const world = installClothPlugin(createWorld())
+      hangingSheet(world, { material: 'silk' })
+      createWindZone(world, { direction: [0.3, 0.2, 1], strength: 100, turbulence: 0.3 })
+      for (let f = 0; f < 300; f++) stepCloth(world, 1 / 60)
+      expect(getClothStats(world).guardResets).toBe(0)
+    })
+
+    it('collisions: a sphere sweeping 100 m through a pinned sheet in one step (teleport detection off) drags it out of bounds; the bounds test catches it', () => {
+      for (const guard of [true, false]) {
+        const world = installClothPlugin(createWorld(), { teleportDistance: 1e6, guard })
+        const sheet = hangingSheet(world)
+        const ball = addEntity(world)
+        setTransform(world, ball, [0, 1.5, -50])
+        addSphereCollider(world, ball, { radius: 0.2 })
+        const allowed = 2 * geodesicDiameter(world, sheet)
+        let worst = -Infinity
+        for (let f = 0; f < 90; f++) {
+          if (f === 30) setTransform(world, ball, [0, 1.5, 50])
+          stepCloth(world, 1 / 60)
+          worst = Math.max(worst, inspect(world, sheet, allowed).excess)
+        }
+        if (guard) {
+          expect(worst).toBeLessThanOrEqual(1e-9)
+          expect(drainClothResets(world).map((e) => e.reason)).toContain('bounds')
+        } else {
+          expect(worst).toBeGreaterThan(20) // carried along tens of metres by the sphere
+        }
+      }
+    })
+
+    it('tearing: no way found to make it blow up (every edge torn at once, the capacity exhausted, pieces on colliders): nothing to catch', () => {
+      const world = installClothPlugin(createWorld())
+      ground(world)
+      const log = addEntity(world)
+      setTransform(world, log, [0, 0.2, 0], [0, 0, Math.SQRT1_2, Math.SQRT1_2])
+      addCapsuleCollider(world, log, { radius: 0.2, halfHeight: 0.6 })
+      const sheet = hangingSheet(world, { position: [0, 3, 0], bending: 'both' })
+      makeTearable(world, sheet, { strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1, capacity: 40 })
+      let peak = 0
+      const c = getClothState(world, sheet)
+      for (let f = 0; f < 300; f++) {
+        stepCloth(world, 1 / 60)
+        peak = Math.max(peak, relativeRmsSpeed(c))
+      }
+      expect(c.count).toBe(64 + 40) // the capacity ran out
+      expect(peak).toBeLessThan(10) // m/s: the pieces fall, nothing flies apart
+      expect(getClothStats(world).guardResets).toBe(0)
+    })
   })
 })

@@ -7,6 +7,11 @@
  *   `reach` × the cloth's size + `margin` (the size is the longest shortest path along its edges at
  *   rest; a cloth without pins may span at most that much);
  *
+ * With `pieces: true` (torn cloths) the region is per connected piece of the render mesh: a piece
+ * holding pinned particles stays within reach of the box around the cloth's pinned particles, a
+ * piece without pins spans at most reach × size + margin; and with `floor`, no particle sinks below
+ * it by more than the margin (pieces land on the ground instead of falling forever).
+ *
  * and at the end that it recovered: settled back near the drape of an unabused twin of the scene
  * (`recover: 'drape'`), or at least came to rest (`'rest'`), or only stayed bounded (`'bounded'`,
  * for scenes that never settle, e.g. without damping). By default the explosion guard stays on but
@@ -35,6 +40,7 @@ import {
   stepCloth,
   wakeCloth,
   type ClothPluginOptions,
+  type ClothStats,
   type CreateClothOptions,
 } from '../../src/index'
 
@@ -79,6 +85,10 @@ export interface TortureCase<P extends SceneParts = SceneParts> {
   resets?: number
   /** Check every `checkEvery` frames during the abuse (long runs). Default 1. */
   checkEvery?: number
+  /** Measure the region per connected piece of the render mesh (torn cloths). Default false. */
+  pieces?: boolean
+  /** Lowest allowed particle height (a ground the pieces land on), m; the margin applies. */
+  floor?: number
 }
 
 export interface TortureResult {
@@ -102,6 +112,8 @@ export interface TortureResult {
   resets: number
   /** Fixed steps run. */
   steps: number
+  /** The world's work counters at the end (`getClothStats`). */
+  stats: ClothStats
   /** The case as run (defaults filled in). */
   spec: Required<Pick<TortureCase, 'frames' | 'settle' | 'recover' | 'reach' | 'margin' | 'drapeTolerance' | 'restSpeed' | 'restStretch' | 'resets'>>
 }
@@ -125,11 +137,11 @@ export function runTorture<P extends SceneParts>(tc: TortureCase<P>): TortureRes
   const allowed = sizes.map((s) => spec.reach * s + spec.margin)
   const result: TortureResult = {
     finite: true, firstNonFinite: -1, worstExcess: -Infinity, worstFrame: -1, allowed,
-    drapeError: 0, endSpeed: 0, endStretch: 0, resets: 0, steps: 0, spec,
+    drapeError: 0, endSpeed: 0, endStretch: 0, resets: 0, steps: 0, stats: getClothStats(world), spec,
   }
   const check = (frame: number) => {
     for (let k = 0; k < scene.cloths.length; k++) {
-      const h = inspect(world, scene.cloths[k], allowed[k])
+      const h = tc.pieces ? inspectPieces(world, scene.cloths[k], allowed[k], tc.floor ?? -Infinity, spec.margin) : inspect(world, scene.cloths[k], allowed[k])
       if (!h.finite && result.finite) {
         result.finite = false
         result.firstNonFinite = frame
@@ -157,6 +169,7 @@ export function runTorture<P extends SceneParts>(tc: TortureCase<P>): TortureRes
   result.endStretch = Math.max(...scene.cloths.map((cl) => getClothStretch(world, cl).max))
   result.resets = getClothStats(world).guardResets
   result.steps = getClothStats(world).steps
+  result.stats = { ...getClothStats(world) }
 
   if (spec.recover === 'drape') {
     const twin = installClothPlugin(createWorld(), tc.world)
@@ -230,6 +243,77 @@ export function inspect(world: object, cloth: number, allowed: number): { finite
   }
   if (!Number.isFinite(excess)) excess = finite ? excess : Infinity
   return { finite, excess }
+}
+
+/**
+ * `inspect` per connected piece of the render mesh (torn cloths): a piece holding pinned particles
+ * against the box of all the cloth's pinned particles (as the whole cloth before it tore), a piece
+ * without pins against its own extent; plus a floor.
+ */
+export function inspectPieces(world: object, cloth: number, allowed: number, floor: number, margin: number): { finite: boolean; excess: number; pieces: number } {
+  const c = getClothState(world, cloth)
+  const { finite } = inspect(world, cloth, Infinity)
+  const mesh = getClothMesh(world, cloth)
+  const label = meshPieces(mesh.indices, c.count)
+  let pieces = 0
+  for (let i = 0; i < c.count; i++) pieces = Math.max(pieces, label[i] + 1)
+  const lo = Array.from({ length: pieces }, () => [Infinity, Infinity, Infinity])
+  const hi = Array.from({ length: pieces }, () => [-Infinity, -Infinity, -Infinity])
+  const pinnedPiece = new Uint8Array(pieces)
+  const pinLo = [Infinity, Infinity, Infinity], pinHi = [-Infinity, -Infinity, -Infinity]
+  let excess = -Infinity
+  for (let i = 0; i < c.count; i++) {
+    const p = label[i]
+    for (let k = 0; k < 3; k++) {
+      const x = c.pos[3 * i + k]
+      lo[p][k] = Math.min(lo[p][k], x)
+      hi[p][k] = Math.max(hi[p][k], x)
+      if (c.pinCount[i] > 0) {
+        pinLo[k] = Math.min(pinLo[k], x)
+        pinHi[k] = Math.max(pinHi[k], x)
+      }
+    }
+    if (c.pinCount[i] > 0) pinnedPiece[p] = 1
+    excess = Math.max(excess, floor - margin - c.pos[3 * i + 1])
+  }
+  for (let i = 0; i < c.count; i++) {
+    if (!pinnedPiece[label[i]]) continue
+    let d2 = 0
+    for (let k = 0; k < 3; k++) {
+      const x = c.pos[3 * i + k]
+      const out = x < pinLo[k] ? pinLo[k] - x : x > pinHi[k] ? x - pinHi[k] : 0
+      d2 += out * out
+    }
+    excess = Math.max(excess, Math.sqrt(d2) - allowed)
+  }
+  for (let p = 0; p < pieces; p++) {
+    if (pinnedPiece[p]) continue
+    for (let k = 0; k < 3; k++) excess = Math.max(excess, hi[p][k] - lo[p][k] - allowed)
+  }
+  if (!(excess === excess)) excess = Infinity
+  return { finite, excess: finite ? excess : Infinity, pieces }
+}
+
+/** Connected pieces of a triangle mesh (triangles joined through shared vertices); unused vertices get their own. */
+export function meshPieces(indices: ArrayLike<number>, vertexCount: number): Int32Array {
+  const parent = Int32Array.from({ length: vertexCount }, (_, i) => i)
+  const find = (x: number): number => {
+    while (parent[x] !== x) x = parent[x] = parent[parent[x]]
+    return x
+  }
+  for (let t = 0; t < indices.length; t += 3) {
+    const a = find(indices[t])
+    parent[find(indices[t + 1])] = a
+    parent[find(indices[t + 2])] = find(indices[t])
+  }
+  const label = new Int32Array(vertexCount)
+  const ids = new Map<number, number>()
+  for (let i = 0; i < vertexCount; i++) {
+    const r = find(i)
+    if (!ids.has(r)) ids.set(r, ids.size)
+    label[i] = ids.get(r)!
+  }
+  return label
 }
 
 /** Rms particle speed, m/s. */
