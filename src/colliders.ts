@@ -4,7 +4,7 @@ import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, type C
 import { clearActiveColliders, growCollisionStores, reserveActiveColliders } from './collision'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkFinite, checkInteger, checkNonNegative, checkPoint, checkPositive, checkQuat, checkVec3 } from './errors'
 import { buildConvexHull } from './hull'
-import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0 } from './kernels/collide'
+import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, F_SW, F_SWR } from './kernels/collide'
 import { interpolatePose, readPoseInto, trackEntity, untrackEntity } from './kinematics'
 import { getClothWorld, type ClothWorldState } from './state'
 import { checkEntity } from './transform'
@@ -400,6 +400,7 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
     f[F_PN] = wx; f[F_PN + 1] = wy; f[F_PN + 2] = wz
     f[F_PC] = wx * f[F_PE] + wy * f[F_PE + 1] + wz * f[F_PE + 2] + f[F_S0 + 3]
     f[F_LIM2] = Infinity
+    f[F_SWR] = Infinity
     return
   }
   // largest displacement of a point of the shape this substep: translation + angle × reach
@@ -412,6 +413,11 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
   const motion = Math.sqrt(dx * dx + dy * dy + dz * dz) + 2 * Math.acos(dot) * reach
   const lim = 0.5 * (C.depth[eid] + f[F_RADIUS]) - motion
   f[F_LIM2] = lim > 0 ? lim * lim : -1
+  const lx = f[F_BC], ly = f[F_BC + 1], lz = f[F_BC + 2]
+  f[F_SW] = f[F_PE] + f[F_RE] * lx + f[F_RE + 1] * ly + f[F_RE + 2] * lz
+  f[F_SW + 1] = f[F_PE + 1] + f[F_RE + 3] * lx + f[F_RE + 4] * ly + f[F_RE + 5] * lz
+  f[F_SW + 2] = f[F_PE + 2] + f[F_RE + 6] * lx + f[F_RE + 7] * ly + f[F_RE + 8] * lz
+  f[F_SWR] = f[F_BC + 3] + f[F_RADIUS] + motion
 }
 
 /** A size in metres: > 0 (or ≥ 0 when `positive` is false) and at most MAX_COORDINATE (1e9 m). */

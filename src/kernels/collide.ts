@@ -52,7 +52,14 @@ export const F_PN = 41
 export const F_PC = 44
 /** Local bounding sphere of the shape: centre (3) and radius (1). */
 export const F_BC = 45
-export const FRAME_SIZE = 52
+/**
+ * The bounding sphere's world centre at the end of the substep (3), and how near a particle must
+ * end to it to be touched this substep (1): its radius + the thickness + the most any point of the
+ * shape moved (Infinity: no bound).
+ */
+export const F_SW = 49
+export const F_SWR = 52
+export const FRAME_SIZE = 53
 
 /** Length of the scratch block the kernels use. */
 export const COLLIDE_SCRATCH = 32
@@ -202,6 +209,36 @@ function toLocalEnd(pos: Float64Array, j: number, f: Float64Array, s: Float64Arr
 }
 
 /**
+ * The swept test's first question, small enough for the compiler to inline into the collider
+ * loops: whether particle j's path this substep, in the collider's frame, comes within the
+ * thickness of the shape's bounding sphere. Most fast particles near a fast collider answer no
+ * (on 64 capes at one substep, 9 in 10 of them), and then skip the call.
+ */
+function sweptNear(pos: Float64Array, prev: Float64Array, j: number, f: Float64Array): boolean {
+  // in the world first: a particle that ends farther from the bounding sphere's centre than its
+  // reach (which covers the shape's own motion) plus the particle's path was never near it
+  const wx = pos[j] - f[F_SW], wy = pos[j + 1] - f[F_SW + 1], wz = pos[j + 2] - f[F_SW + 2]
+  const w2 = wx * wx + wy * wy + wz * wz, reachW = f[F_SWR]
+  if (w2 > reachW * reachW) {
+    const gap = Math.sqrt(w2) - reachW
+    const ux = pos[j] - prev[j], uy = pos[j + 1] - prev[j + 1], uz = pos[j + 2] - prev[j + 2]
+    if (gap * gap > ux * ux + uy * uy + uz * uz) return false
+  }
+  // then exactly as the swept test's own first check, in the collider's frame
+  const px = prev[j] - f[F_PS], py = prev[j + 1] - f[F_PS + 1], pz = prev[j + 2] - f[F_PS + 2]
+  const qx = pos[j] - f[F_PE], qy = pos[j + 1] - f[F_PE + 1], qz = pos[j + 2] - f[F_PE + 2]
+  const bx = f[F_RE] * qx + f[F_RE + 3] * qy + f[F_RE + 6] * qz
+  const by = f[F_RE + 1] * qx + f[F_RE + 4] * qy + f[F_RE + 7] * qz
+  const bz = f[F_RE + 2] * qx + f[F_RE + 5] * qy + f[F_RE + 8] * qz
+  const mx = bx - (f[F_RS] * px + f[F_RS + 3] * py + f[F_RS + 6] * pz)
+  const my = by - (f[F_RS + 1] * px + f[F_RS + 4] * py + f[F_RS + 7] * pz)
+  const mz = bz - (f[F_RS + 2] * px + f[F_RS + 5] * py + f[F_RS + 8] * pz)
+  const cx = bx - f[F_BC], cy = by - f[F_BC + 1], cz = bz - f[F_BC + 2]
+  const reach = f[F_BC + 3] + f[F_RADIUS] + Math.sqrt(mx * mx + my * my + mz * mz)
+  return cx * cx + cy * cy + cz * cz <= reach * reach
+}
+
+/**
  * Swept test for a particle that moved far relative to the collider this substep. In the
  * collider's frame the particle went from a (its start position in the start pose) to b (now, in
  * the end pose). If a was outside the shape, the plane through a's closest surface point separates
@@ -238,6 +275,10 @@ export function sweptContact(
       return contactFromLocal(pos, prev, j, f, s, touched)
     }
   } else {
+    // the distance to a shape changes by at most the distance moved, so a particle that ends
+    // farther than the thickness plus its path length never came within the thickness on the way
+    // (most particles near a fast collider: skips the start point's test and the segment test)
+    if (db >= r && (db - r) * (db - r) >= mx * mx + my * my + mz * mz) return 0
     s[0] = ax; s[1] = ay; s[2] = az
     closestPoint(shape, f, planes, planeCount, s)
     if (s[9] <= 0) return 0
@@ -339,7 +380,7 @@ export function collideSphere(
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
     if (mx * mx + my * my + mz * mz > lim2) {
-      contacts += sweptContact(SHAPE_SPHERE, pos, prev, j, f, null, 0, s, touched)
+      if (sweptNear(pos, prev, j, f)) contacts += sweptContact(SHAPE_SPHERE, pos, prev, j, f, null, 0, s, touched)
       continue
     }
     const dx = x - cx, dy = y - cy, dz = z - cz
@@ -374,7 +415,7 @@ export function collideCapsule(
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
     if (mx * mx + my * my + mz * mz > lim2) {
-      contacts += sweptContact(SHAPE_CAPSULE, pos, prev, j, f, null, 0, s, touched)
+      if (sweptNear(pos, prev, j, f)) contacts += sweptContact(SHAPE_CAPSULE, pos, prev, j, f, null, 0, s, touched)
       continue
     }
     const dx = x - cx, dy = y - cy, dz = z - cz
@@ -414,7 +455,7 @@ export function collideBox(
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
     if (mx * mx + my * my + mz * mz > lim2) {
-      contacts += sweptContact(SHAPE_BOX, pos, prev, j, f, null, 0, s, touched)
+      if (sweptNear(pos, prev, j, f)) contacts += sweptContact(SHAPE_BOX, pos, prev, j, f, null, 0, s, touched)
       continue
     }
     const bx = x - px, by = y - py, bz = z - pz
@@ -449,7 +490,7 @@ export function collideHull(
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     const mx = x - prev[j], my = y - prev[j + 1], mz = z - prev[j + 2]
     if (mx * mx + my * my + mz * mz > lim2) {
-      contacts += sweptContact(SHAPE_HULL, pos, prev, j, f, planes, planeCount, s, touched)
+      if (sweptNear(pos, prev, j, f)) contacts += sweptContact(SHAPE_HULL, pos, prev, j, f, planes, planeCount, s, touched)
       continue
     }
     const bx = x - px, by = y - py, bz = z - pz

@@ -18,6 +18,8 @@ import {
   F_RE,
   F_RS,
   F_S0,
+  F_SW,
+  F_SWR,
   closestPoint,
   collideBox,
   collideCapsule,
@@ -45,6 +47,7 @@ function frame(size: number[], r: number, from = [0, 0, 0], to = from, muS = 0, 
   f[F_MU_K] = muK
   f[F_LIM2] = lim2
   f[F_BC + 3] = bound
+  f[F_SWR] = Infinity // no world bound: every fast particle goes through the frame's own test
   return f
 }
 
@@ -295,6 +298,30 @@ describe('properties', () => {
         run(s, frame(size, r, [0, 0, 0], [0, 0, 0], 0.5, 0.4, -1, 1))
         expect(Number.isFinite(s.pos[0] + s.pos[1] + s.pos[2])).toBe(true)
         expect(sdf(s.pos[0], s.pos[1], s.pos[2])).toBeGreaterThanOrEqual(r - 1e-9)
+      }
+    },
+  )
+
+  test.prop([fc.array(point, { minLength: 1, maxLength: 30 }), point, point, fc.double({ min: 0.001, max: 0.05, noNaN: true })], { numRuns: 200 })(
+    'the world-space bound in front of the swept test skips only particles the swept test would leave alone',
+    (ends, from, to, r) => {
+      const shapes: [number[], number, (pos: Float64Array, prev: Float64Array, w: Float64Array, n: number, f: Float64Array) => number][] = [
+        [[0.5], 0.5, (pos, prev, w, n, f) => collideSphere(pos, prev, w, n, f, scratch())],
+        [[0.3, 0.6], 0.9, (pos, prev, w, n, f) => collideCapsule(pos, prev, w, n, f, scratch())],
+        [[0.7, 0.4, 0.2], Math.hypot(0.7, 0.4, 0.2), (pos, prev, w, n, f) => collideBox(pos, prev, w, n, f, scratch())],
+      ]
+      for (const [size, bound, run] of shapes) {
+        // a collider translating from `from` to `to` in one substep, every particle swept; the
+        // particles end at `ends` and started 1 m to the side
+        const pos = Float64Array.from(ends.flat()), prev = pos.map((x, i) => (i % 3 === 0 ? x - 1 : x))
+        const w = new Float64Array(ends.length).fill(1)
+        const open = frame(size, r, from, to, 0.5, 0.4, -1, bound)
+        const bounded = frame(size, r, from, to, 0.5, 0.4, -1, bound)
+        for (let k = 0; k < 3; k++) bounded[F_SW + k] = to[k]
+        bounded[F_SWR] = bound + r + Math.hypot(to[0] - from[0], to[1] - from[1], to[2] - from[2])
+        const a = { pos: pos.slice(), prev: prev.slice() }, b = { pos: pos.slice(), prev: prev.slice() }
+        expect(run(b.pos, b.prev, w, ends.length, bounded)).toBe(run(a.pos, a.prev, w, ends.length, open))
+        expect([...b.pos, ...b.prev]).toEqual([...a.pos, ...a.prev])
       }
     },
   )
