@@ -692,13 +692,18 @@ function halvingsTop(c: ClothState): number {
   return iterationHalvings(c.lod.wantIterations) + 2
 }
 
+/** Share of `msPerFrame` the time budget plans to spend. */
+const HEADROOM = 0.95
+
 /**
  * Lowers levels until the predicted total fits `budget` ns: each round lowers the cloth whose
  * next level down loses the least quality (weighted by its priority, which falls with distance)
  * per nanosecond saved. Frozen and sleeping cloths cost nothing.
  */
 function fitBudget(state: ClothWorldState, b: BudgetSettings): void {
-  const budget = (b.msPerFrame * 1e6) / state.quality.timing[Q_FACTOR] // in model nanoseconds
+  // in model nanoseconds, aiming HEADROOM under the budget: the corrected model still errs by a
+  // few % from step to step (64 capes: measured 2 % over a prediction that filled the budget)
+  const budget = (HEADROOM * b.msPerFrame * 1e6) / state.quality.timing[Q_FACTOR]
   const q = state.quality
   const cal = calibration(q)
   const cfg = q.cfg

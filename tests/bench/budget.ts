@@ -200,15 +200,22 @@ export function capes(): void {
     const capes: number[] = []
     for (let i = 0; i < 64; i++) {
       const x = (i % 8) * 3, z = Math.floor(i / 8) * 3
+      // each character starts where its run puts it at frame 0, facing its way, with the cape
+      // hanging 20 cm behind it (a first frame that jumps 1 m and turns up to 180° threads capes
+      // between the legs; see Known limits)
+      const phase = i * 0.7
+      const turn: [number, number, number, number] = [0, Math.sin(-phase / 2), 0, Math.cos(-phase / 2)]
+      const hx = x + Math.cos(phase), hz = z + Math.sin(phase)
       const hero = addEntity(world)
-      setTransform(world, hero, [x, 1.6, z])
+      setTransform(world, hero, [hx, 1.6, hz], turn)
       const legs = [addEntity(world), addEntity(world)]
       addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0, -0.25, 0], radius: 0.17, halfHeight: 0.25 })
       addCapsuleCollider(world, legs[0], { body: hero, offset: [-0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
       addCapsuleCollider(world, legs[1], { body: hero, offset: [0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
-      const cape = createCloth(world, { width: 0.6, height: 1, resolution: 24, position: [x, 1.62, z - 0.2], material: 'cotton' })
+      const back = [0.2 * Math.sin(phase), 1.62, -0.2 * Math.cos(phase)] // (0, 0.02, −0.2) turned with the character
+      const cape = createCloth(world, { width: 0.6, height: 1, resolution: 24, position: [hx + back[0], back[1], hz + back[2]], rotation: turn, material: 'cotton' })
       pinRow(world, cape, 0, hero)
-      heroes.push({ eid: hero, x, z, phase: i * 0.7 })
+      heroes.push({ eid: hero, x, z, phase })
       capes.push(cape)
     }
     let frame = 0
