@@ -175,6 +175,7 @@ function stretchColors(cloth: number, base: ArrayLike<number>): Float32Array {
 
 let drag: { cloth: number; pin: number; target: number; depth: number } | null = null
 let orbit: { x: number; y: number } | null = null
+let lastOrbit = -Infinity // performance.now() of the last manual orbit
 /** Where and when the left button went down: a release close by is a click. */
 let press: { x: number; y: number; time: number } | null = null
 const rayO = vec3.create(), rayD = vec3.create()
@@ -218,6 +219,7 @@ canvas.addEventListener('pointerdown', (e) => {
 canvas.addEventListener('pointermove', (e) => {
   if (orbit) {
     renderer.camera.yaw -= (e.clientX - orbit.x) * 0.008
+    lastOrbit = performance.now()
     renderer.camera.pitch = Math.max(-1.2, Math.min(1.4, renderer.camera.pitch + (e.clientY - orbit.y) * 0.008))
     orbit = { x: e.clientX, y: e.clientY }
   } else if (drag) {
@@ -313,6 +315,13 @@ function render(): void {
     const t = renderer.camera.target
     const a = 1 - Math.exp(-Math.min(0.1, (now - lastRender) / 1000) / 0.12)
     for (let k = 0; k < 3; k++) t[k] += (follow[k] - t[k]) * a
+  }
+  const yaw = instance.followYaw?.()
+  if (yaw !== undefined && now - lastOrbit > 5000) {
+    // swing the shorter way round, with a 1.5 s time constant
+    const cam = renderer.camera
+    const d = yaw - cam.yaw - 2 * Math.PI * Math.round((yaw - cam.yaw) / (2 * Math.PI))
+    cam.yaw += d * (1 - Math.exp(-Math.min(0.1, (now - lastRender) / 1000) / 1.5))
   }
   lastRender = now
   renderer.begin()

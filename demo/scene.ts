@@ -43,6 +43,11 @@ export interface SceneInstance {
   /** A point the camera keeps looking at (e.g. a moving character). */
   follow?(): ArrayLike<number>
   /**
+   * The camera yaw to view the followed point from (e.g. behind a character, so its cape shows):
+   * the camera swings toward it slowly, and leaves it to the user for a while after they orbit.
+   */
+  followYaw?(): number
+  /**
    * A left click on the canvas (press and release without dragging), with the world-space ray
    * through the clicked point. Pressing and moving still drags cloth or orbits.
    */

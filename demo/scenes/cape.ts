@@ -11,7 +11,7 @@ export const capeScene: DemoScene = {
   id: 'cape',
   title: 'Cape',
   defaults: { substeps: 8, iterations: 1, material: 'cotton' },
-  camera: { target: [0, 1.1, 0], distance: 4.3, yaw: 2.6, pitch: 0.22 },
+  camera: { target: [0, 1.1, 0], distance: 4.3, yaw: Math.PI + 0.7, pitch: 0.22 },
   create({ world, settings, ui }) {
     const hero = new Character(world)
     hero.addColliders()
@@ -39,6 +39,7 @@ export const capeScene: DemoScene = {
       },
       stats: () => [`speed      ${hero.speed.toFixed(1)} m/s`],
       follow: () => hero.local(0, 1.1, 0),
+      followYaw: () => hero.heading + Math.PI + 0.7, // behind the character and to its right
     }
   },
 }
