@@ -192,10 +192,10 @@ export function solvePairs(
     const W = wa + wb
     if (W === 0) continue
     contacts++
-    const d = Math.sqrt(d2)
-    const nx = dx / d, ny = dy / d, nz = dz / d
+    const d = Math.sqrt(d2), invD = 1 / d, invW = 1 / W
+    const nx = dx * invD, ny = dy * invD, nz = dz * invD
     const push = D - d
-    const fa = wa / W, fb = wb / W
+    const fa = wa * invW, fb = wb * invW
     posA[ja] -= nx * push * fa; posA[ja + 1] -= ny * push * fa; posA[ja + 2] -= nz * push * fa
     posB[jb] += nx * push * fb; posB[jb + 1] += ny * push * fb; posB[jb + 2] += nz * push * fb
     // relative motion of B's particle with respect to A's this substep
@@ -220,8 +220,8 @@ export function solvePairs(
       f = (muK * load) / Math.sqrt(t2)
       if (f > 1) f = 1
     }
-    const U = ua + ub
-    const ga = (f * ua) / U, gb = (f * ub) / U
+    const fU = f / (ua + ub)
+    const ga = fU * ua, gb = fU * ub
     posA[ja] += dx * ga; posA[ja + 1] += dy * ga; posA[ja + 2] += dz * ga
     posB[jb] -= dx * gb; posB[jb + 1] -= dy * gb; posB[jb + 2] -= dz * gb
   }
