@@ -300,7 +300,7 @@ describe('properties', () => {
     [meshArb, solverArb.map((s) => ({ ...s, bending: s.bending === 'dihedral' || s.bending === 'both' ? ('distance' as const) : s.bending })), fc.integer({ min: 1, max: 1 << 30 }), fc.integer({ min: 5, max: 40 })],
     runs(250),
   )(
-    'no energy from nowhere: a free cloth without gravity or air drag (distance constraints, any material) never gains kinetic energy, and keeps its momentum',
+    'no energy from nowhere: a free cloth without gravity or air drag (distance constraints, any material, moving under half an edge per substep) ends with no more kinetic energy than it started with, never 2 % more in a step, and keeps its momentum',
     (mesh, solver, seed, frames) => {
       const material = defineMaterial({ ...solver.material, damping: 0 })
       const world = installClothPlugin(createWorld(), { gravity: [0, 0, 0], guard: false })
