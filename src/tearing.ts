@@ -4,7 +4,7 @@ import { findOverstrained } from './kernels/strain'
 import { getCloth } from './pins'
 import { growStores } from './plugin'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
-import type { TetherSet } from './tethers'
+import { createAnchorScratch, nearestAnchorsAlongMesh, type AnchorScratch, type TetherSet } from './tethers'
 import type { ClothTopology } from './topology'
 import { ensureClothWind, refreshClothWind } from './wind'
 import { wakeClothState } from './sleep'
@@ -138,24 +138,6 @@ interface LineSet {
   chkC: Uint8Array
 }
 
-/** Scratch for the allocation-free tether rebuild. */
-interface TetherScratch {
-  kCap: number
-  tmp: Float64Array
-  anchors: Int32Array
-  adjStart: Int32Array
-  adjList: Int32Array
-  fill: Int32Array
-  island: Int32Array
-  stack: Int32Array
-  bestAnchor: Int32Array
-  bestDist: Float64Array
-  settled: Int32Array
-  heapKey: Float64Array
-  heapNode: Int32Array
-  heapSrc: Int32Array
-}
-
 /** Tearing state of one cloth (`ClothState.tear`). */
 export interface ClothTear {
   enabled: boolean
@@ -179,7 +161,7 @@ export interface ClothTear {
   /** Strain-check parameters: (1 + strain)², hysteresis, max candidates. */
   params: Float64Array
   tethers: TetherSet
-  scratch: TetherScratch
+  scratch: AnchorScratch
   /**
    * Connected piece of each particle (pieces numbered by their lowest particle), refreshed after
    * every step that tore; the explosion guard measures its bounds per piece once there are several.
@@ -711,7 +693,6 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
   c.topology = t
 
   const K = Math.max(1, Math.min(16, c.tethersPerParticle))
-  const heap = P + 2 * K * E + 16
   c.tear = {
     enabled: true,
     topology: t,
@@ -730,22 +711,7 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
     candRatio: new Float64Array(2 * maxTears + 4),
     params: new Float64Array(3),
     tethers: { particle: new Int32Array(P * K), anchor: new Int32Array(P * K), rest: new Float64Array(P * K), count: 0 },
-    scratch: {
-      kCap: K,
-      tmp: new Float64Array(1),
-      anchors: new Int32Array(P),
-      adjStart: new Int32Array(P + 1),
-      adjList: new Int32Array(2 * E),
-      fill: new Int32Array(P),
-      island: new Int32Array(P),
-      stack: new Int32Array(P),
-      bestAnchor: new Int32Array(P * K),
-      bestDist: new Float64Array(P * K),
-      settled: new Int32Array(P),
-      heapKey: new Float64Array(heap),
-      heapNode: new Int32Array(heap),
-      heapSrc: new Int32Array(heap),
-    },
+    scratch: createAnchorScratch(P, E, K),
     piece: new Int32Array(P),
     pieceCount: 1,
     pieceRoot: new Int32Array(P),
@@ -1000,28 +966,11 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
   c.tethers = out
   state.stats.tetherRebuilds++
   if (A === 0) return
-  // adjacency of the split mesh (CSR)
-  const start = s.adjStart, list = s.adjList, fill = s.fill
-  start.fill(0, 0, n + 1)
-  const edges = t.edges
-  for (let e = 0; e < t.edgeCount; e++) {
-    start[edges[2 * e] + 1]++
-    start[edges[2 * e + 1] + 1]++
-  }
-  for (let i = 0; i < n; i++) start[i + 1] += start[i]
-  for (let i = 0; i < n; i++) fill[i] = start[i]
-  for (let e = 0; e < t.edgeCount; e++) {
-    const a = edges[2 * e], b = edges[2 * e + 1]
-    list[fill[a]++] = b
-    list[fill[b]++] = a
-  }
-  const best = s.bestAnchor, dist = s.bestDist
-  best.fill(-1, 0, n * K)
-  dist.fill(Infinity, 0, n * K)
-  const rest = t.restPositions
   // anchors chosen along the split mesh (so a tether never reaches across a tear, and never into
   // another piece); the rest length is the straight distance ('euclidean') or the path ('geodesic')
-  geodesicNearest(rest, n, s, A, K)
+  const rest = t.restPositions
+  nearestAnchorsAlongMesh(rest, n, t.edges, t.edgeCount, s, A, K)
+  const best = s.bestAnchor, dist = s.bestDist
   const straight = c.tetherMode !== 'geodesic'
   const slack = 1 + c.tetherSlack
   let m = 0
@@ -1042,80 +991,6 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
     }
   }
   out.count = m
-}
-
-/** Multi-source Dijkstra settling each particle up to K times (once per anchor), typed-array heap. */
-function geodesicNearest(rest: Float64Array, n: number, s: TetherScratch, A: number, K: number): void {
-  const settled = s.settled
-  settled.fill(0, 0, n)
-  const key = s.heapKey, node = s.heapNode, src = s.heapSrc
-  const cap = key.length
-  let size = 0
-  const best = s.bestAnchor, dist = s.bestDist
-  const start = s.adjStart, list = s.adjList
-  for (let q = 0; q < A; q++) {
-    if (size >= cap) break
-    key[size] = 0
-    size = heapPush(key, node, src, size, s.anchors[q], s.anchors[q])
-  }
-  while (size > 0) {
-    const d = key[0], v = node[0], from = src[0]
-    size = heapPop(key, node, src, size)
-    if (settled[v] >= K) continue
-    const base = v * K
-    let seen = false
-    for (let k = 0; k < settled[v]; k++) if (best[base + k] === from) seen = true
-    if (seen) continue
-    best[base + settled[v]] = from
-    dist[base + settled[v]] = d
-    settled[v]++
-    for (let q = start[v]; q < start[v + 1]; q++) {
-      const u = list[q]
-      if (settled[u] >= K || size >= cap) continue
-      const dx = rest[3 * u] - rest[3 * v], dy = rest[3 * u + 1] - rest[3 * v + 1], dz = rest[3 * u + 2] - rest[3 * v + 2]
-      key[size] = d + Math.sqrt(dx * dx + dy * dy + dz * dz)
-      size = heapPush(key, node, src, size, u, from)
-    }
-  }
-}
-
-/** Pushes (key[size], v, from) onto the heap; the caller writes the key first (no boxed argument). */
-function heapPush(key: Float64Array, node: Int32Array, src: Int32Array, size: number, v: number, from: number): number {
-  const k = key[size]
-  let i = size
-  while (i > 0) {
-    const p = (i - 1) >> 1
-    if (key[p] <= k) break
-    key[i] = key[p]
-    node[i] = node[p]
-    src[i] = src[p]
-    i = p
-  }
-  key[i] = k
-  node[i] = v
-  src[i] = from
-  return size + 1
-}
-
-function heapPop(key: Float64Array, node: Int32Array, src: Int32Array, size: number): number {
-  const last = size - 1
-  if (last === 0) return 0
-  const k = key[last], v = node[last], from = src[last]
-  let i = 0
-  for (;;) {
-    let ch = 2 * i + 1
-    if (ch >= last) break
-    if (ch + 1 < last && key[ch + 1] < key[ch]) ch++
-    if (key[ch] >= k) break
-    key[i] = key[ch]
-    node[i] = node[ch]
-    src[i] = src[ch]
-    i = ch
-  }
-  key[i] = k
-  node[i] = v
-  src[i] = from
-  return last
 }
 
 /** Tears so far of a tearable cloth (0 for any other cloth). */

@@ -50,15 +50,18 @@ export function buildTethers(
   const uniqueAnchors: number[] = []
   for (let i = 0; i < count; i++) if (isAnchor[i]) uniqueAnchors.push(i)
 
-  const adj = adjacency(count, edges, edgeCount)
   const K = perParticle
-  const bestAnchor = new Int32Array(count * K).fill(-1)
-  const bestDist = new Float64Array(count * K).fill(Infinity)
+  const s = createAnchorScratch(count, edgeCount, K, mode === 'geodesic')
+  for (let k = 0; k < uniqueAnchors.length; k++) s.anchors[k] = uniqueAnchors[k]
+  const bestAnchor = s.bestAnchor, bestDist = s.bestDist
 
   if (mode === 'geodesic') {
-    kNearestDijkstra(rest, count, adj, uniqueAnchors, K, bestAnchor, bestDist)
+    nearestAnchorsAlongMesh(rest, count, edges, edgeCount, s, uniqueAnchors.length, K)
   } else {
-    const island = islands(count, adj)
+    fillAdjacency(s, count, edges, edgeCount)
+    bestAnchor.fill(-1)
+    bestDist.fill(Infinity)
+    const island = islands(count, s.adjStart, s.adjList)
     for (let i = 0; i < count; i++) {
       if (isAnchor[i]) continue
       for (const a of uniqueAnchors) {
@@ -115,30 +118,8 @@ function insertBest(anchor: Int32Array, dist: Float64Array, base: number, K: num
   return true
 }
 
-interface Adjacency {
-  start: Int32Array
-  list: Int32Array
-}
-
-function adjacency(n: number, edges: ArrayLike<number>, edgeCount: number): Adjacency {
-  const start = new Int32Array(n + 1)
-  for (let e = 0; e < edgeCount; e++) {
-    start[edges[2 * e] + 1]++
-    start[edges[2 * e + 1] + 1]++
-  }
-  for (let i = 0; i < n; i++) start[i + 1] += start[i]
-  const list = new Int32Array(start[n])
-  const fill = start.slice(0, n)
-  for (let e = 0; e < edgeCount; e++) {
-    const a = edges[2 * e], b = edges[2 * e + 1]
-    list[fill[a]++] = b
-    list[fill[b]++] = a
-  }
-  return { start, list }
-}
-
-/** Connected-component label per particle. */
-function islands(n: number, adj: Adjacency): Int32Array {
+/** Connected-component label per particle, from a CSR adjacency. */
+function islands(n: number, start: Int32Array, list: Int32Array): Int32Array {
   const label = new Int32Array(n).fill(-1)
   const stack = new Int32Array(n)
   let next = 0
@@ -149,8 +130,8 @@ function islands(n: number, adj: Adjacency): Int32Array {
     label[s] = next
     while (top > 0) {
       const i = stack[--top]
-      for (let k = adj.start[i]; k < adj.start[i + 1]; k++) {
-        const j = adj.list[k]
+      for (let k = start[i]; k < start[i + 1]; k++) {
+        const j = list[k]
         if (label[j] < 0) {
           label[j] = next
           stack[top++] = j
@@ -163,95 +144,143 @@ function islands(n: number, adj: Adjacency): Int32Array {
 }
 
 /**
- * Multi-source Dijkstra that settles each particle up to K times, once per distinct anchor, so
- * every particle learns its K geodesically nearest anchors in O(K·E·log E).
+ * Scratch of `nearestAnchorsAlongMesh`, in typed arrays sized once for `particles` particles,
+ * `edges` mesh edges and up to `kCap` anchors per particle: a call allocates nothing (the torn
+ * cloth's rebuild reserves one at `makeTearable`).
  */
-function kNearestDijkstra(
-  rest: ArrayLike<number>,
-  n: number,
-  adj: Adjacency,
-  anchors: number[],
-  K: number,
-  bestAnchor: Int32Array,
-  bestDist: Float64Array,
-): void {
-  const settled = new Int32Array(n)
-  const heap = new MinHeap()
-  for (const a of anchors) heap.push(0, a, a)
-  while (heap.size > 0) {
-    const d = heap.topKey()
-    const node = heap.topNode()
-    const src = heap.topSource()
-    heap.pop()
-    if (settled[node] >= K) continue
-    const base = node * K
-    let seen = false
-    for (let k = 0; k < settled[node]; k++) if (bestAnchor[base + k] === src) seen = true
-    if (seen) continue
-    bestAnchor[base + settled[node]] = src
-    bestDist[base + settled[node]] = d
-    settled[node]++
-    for (let k = adj.start[node]; k < adj.start[node + 1]; k++) {
-      const j = adj.list[k]
-      if (settled[j] < K) heap.push(d + distance(rest, node, j), j, src)
-    }
-  }
-  // anchors record themselves first; the caller skips anchors, so nothing else to undo
+export interface AnchorScratch {
+  kCap: number
+  /** Input: the anchor particles, [0, A). */
+  anchors: Int32Array
+  /** The mesh adjacency (CSR): neighbours of i are adjList[adjStart[i] .. adjStart[i + 1]). */
+  adjStart: Int32Array
+  adjList: Int32Array
+  fill: Int32Array
+  /** Output: particle i's k-th nearest anchor and its distance at [i·K + k], nearest first (−1 / Infinity: none). */
+  bestAnchor: Int32Array
+  bestDist: Float64Array
+  settled: Int32Array
+  heapKey: Float64Array
+  heapNode: Int32Array
+  heapSrc: Int32Array
 }
 
-/** Binary min-heap over (key, node, source) triples in parallel growable arrays. */
-class MinHeap {
-  private keys: number[] = []
-  private nodes: number[] = []
-  private sources: number[] = []
-  get size(): number {
-    return this.keys.length
+export function createAnchorScratch(particles: number, edges: number, kCap: number, withHeap = true): AnchorScratch {
+  // every settle of a particle (at most kCap) pushes each neighbour once: 2·kCap·edges pushes
+  // after the anchors, so the heap never overflows
+  const heap = withHeap ? particles + 2 * kCap * edges + 16 : 0
+  return {
+    kCap,
+    anchors: new Int32Array(particles),
+    adjStart: new Int32Array(particles + 1),
+    adjList: new Int32Array(2 * edges),
+    fill: new Int32Array(particles),
+    bestAnchor: new Int32Array(particles * kCap),
+    bestDist: new Float64Array(particles * kCap),
+    settled: new Int32Array(particles),
+    heapKey: new Float64Array(heap),
+    heapNode: new Int32Array(heap),
+    heapSrc: new Int32Array(heap),
   }
-  topKey(): number {
-    return this.keys[0]
+}
+
+/** Builds the CSR adjacency of the first n particles over `edges` into the scratch. */
+function fillAdjacency(s: AnchorScratch, n: number, edges: ArrayLike<number>, edgeCount: number): void {
+  const start = s.adjStart, list = s.adjList, fill = s.fill
+  start.fill(0, 0, n + 1)
+  for (let e = 0; e < edgeCount; e++) {
+    start[edges[2 * e] + 1]++
+    start[edges[2 * e + 1] + 1]++
   }
-  topNode(): number {
-    return this.nodes[0]
+  for (let i = 0; i < n; i++) start[i + 1] += start[i]
+  for (let i = 0; i < n; i++) fill[i] = start[i]
+  for (let e = 0; e < edgeCount; e++) {
+    const a = edges[2 * e], b = edges[2 * e + 1]
+    list[fill[a]++] = b
+    list[fill[b]++] = a
   }
-  topSource(): number {
-    return this.sources[0]
+}
+
+/**
+ * The K anchors (`s.anchors[0..A)`) nearest to each of the first n particles along the mesh edges,
+ * with their path lengths, into `s.bestAnchor` / `s.bestDist`: a multi-source Dijkstra on a
+ * typed-array heap that settles each particle up to K times, once per distinct anchor, in
+ * O(K·E·log E). Anchors on another piece of the mesh are never reached. Allocates nothing.
+ */
+export function nearestAnchorsAlongMesh(
+  rest: ArrayLike<number>, n: number, edges: ArrayLike<number>, edgeCount: number, s: AnchorScratch, A: number, K: number,
+): void {
+  fillAdjacency(s, n, edges, edgeCount)
+  const best = s.bestAnchor, dist = s.bestDist
+  best.fill(-1, 0, n * K)
+  dist.fill(Infinity, 0, n * K)
+  const settled = s.settled
+  settled.fill(0, 0, n)
+  const key = s.heapKey, node = s.heapNode, src = s.heapSrc
+  const cap = key.length
+  let size = 0
+  const start = s.adjStart, list = s.adjList
+  for (let q = 0; q < A; q++) {
+    if (size >= cap) break
+    key[size] = 0
+    size = heapPush(key, node, src, size, s.anchors[q], s.anchors[q])
   }
-  push(key: number, node: number, source: number): void {
-    const k = this.keys, nd = this.nodes, s = this.sources
-    let i = k.length
-    k.push(key)
-    nd.push(node)
-    s.push(source)
-    while (i > 0) {
-      const p = (i - 1) >> 1
-      if (k[p] <= key) break
-      k[i] = k[p]
-      nd[i] = nd[p]
-      s[i] = s[p]
-      i = p
+  while (size > 0) {
+    const d = key[0], v = node[0], from = src[0]
+    size = heapPop(key, node, src, size)
+    if (settled[v] >= K) continue
+    const base = v * K
+    let seen = false
+    for (let k = 0; k < settled[v]; k++) if (best[base + k] === from) seen = true
+    if (seen) continue
+    best[base + settled[v]] = from
+    dist[base + settled[v]] = d
+    settled[v]++
+    for (let q = start[v]; q < start[v + 1]; q++) {
+      const u = list[q]
+      if (settled[u] >= K || size >= cap) continue
+      const dx = rest[3 * u] - rest[3 * v], dy = rest[3 * u + 1] - rest[3 * v + 1], dz = rest[3 * u + 2] - rest[3 * v + 2]
+      key[size] = d + Math.sqrt(dx * dx + dy * dy + dz * dz)
+      size = heapPush(key, node, src, size, u, from)
     }
-    k[i] = key
-    nd[i] = node
-    s[i] = source
   }
-  pop(): void {
-    const k = this.keys, nd = this.nodes, s = this.sources
-    const lastK = k.pop()!, lastN = nd.pop()!, lastS = s.pop()!
-    const size = k.length
-    if (size === 0) return
-    let i = 0
-    for (;;) {
-      let c = 2 * i + 1
-      if (c >= size) break
-      if (c + 1 < size && k[c + 1] < k[c]) c++
-      if (k[c] >= lastK) break
-      k[i] = k[c]
-      nd[i] = nd[c]
-      s[i] = s[c]
-      i = c
-    }
-    k[i] = lastK
-    nd[i] = lastN
-    s[i] = lastS
+}
+
+/** Pushes (key[size], v, from) onto the heap; the caller writes the key first (no boxed argument). */
+function heapPush(key: Float64Array, node: Int32Array, src: Int32Array, size: number, v: number, from: number): number {
+  const k = key[size]
+  let i = size
+  while (i > 0) {
+    const p = (i - 1) >> 1
+    if (key[p] <= k) break
+    key[i] = key[p]
+    node[i] = node[p]
+    src[i] = src[p]
+    i = p
   }
+  key[i] = k
+  node[i] = v
+  src[i] = from
+  return size + 1
+}
+
+function heapPop(key: Float64Array, node: Int32Array, src: Int32Array, size: number): number {
+  const last = size - 1
+  if (last === 0) return 0
+  const k = key[last], v = node[last], from = src[last]
+  let i = 0
+  for (;;) {
+    let ch = 2 * i + 1
+    if (ch >= last) break
+    if (ch + 1 < last && key[ch + 1] < key[ch]) ch++
+    if (key[ch] >= k) break
+    key[i] = key[ch]
+    node[i] = node[ch]
+    src[i] = src[ch]
+    i = ch
+  }
+  key[i] = k
+  node[i] = v
+  src[i] = from
+  return last
 }
