@@ -19,7 +19,7 @@ import {
   HEALTH_NONFINITE,
   HEALTH_SPEED,
 } from './kernels/guard'
-import { getCloth } from './pins'
+import { getCloth, placePins } from './pins'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import { SL_STILL } from './sleep'
 import type { ClothTopology } from './topology'
@@ -433,8 +433,9 @@ function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, 
   const P = state.components.Pin
   const pos = c.pos
   // where the pins hold their particles at the end of this step (a NaN may have reached pinned
-  // particles too: 0 × NaN is NaN in the constraint updates)
-  placePinnedParticles(state, c)
+  // particles too: 0 × NaN is NaN in the constraint updates): as on the last substep, blends as
+  // they stand
+  placePins(state, c, c.substeps - 1, c.substeps, false)
   const f = fit
   for (let k = 0; k < fit.length; k++) f[k] = 0
   let n = 0
@@ -508,51 +509,6 @@ function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64Array, 
     }
   }
   for (let j = 0; j < 3 * c.count; j++) prev[j] = pos[j]
-}
-
-/**
- * Writes every pinned particle's position at the end of the current step: its pin's offset (as
- * blended so far) on the target's pose at the step's end (world pins: the offset itself). Same
- * placement as `placePins` on the last substep, without advancing the blend.
- */
-function placePinnedParticles(state: ClothWorldState, c: ClothState): void {
-  const P = state.components.Pin
-  const T = state.transforms
-  const to = state.kinematics.stepTo
-  const pos = c.pos
-  for (let q = 0; q < c.pins.length; q++) {
-    const pin = c.pins[q]
-    let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
-    const left = P.blendLeft[pin], total = P.blendTime[pin]
-    if (left > 0 && total > 0) {
-      const u = 1 - left / total
-      const sm = u * u * (3 - 2 * u)
-      const b = 3 * pin
-      lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * sm
-      ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * sm
-      lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * sm
-    }
-    const i = 3 * P.particle[pin]
-    const tgt = P.target[pin]
-    if (tgt === 0) {
-      pos[i] = lx
-      pos[i + 1] = ly
-      pos[i + 2] = lz
-      continue
-    }
-    if (T.sx && T.sy && T.sz) {
-      const sx = T.sx[tgt], sy = T.sy[tgt], sz = T.sz[tgt]
-      if (sx > 0) lx *= sx
-      if (sy > 0) ly *= sy
-      if (sz > 0) lz *= sz
-    }
-    const o = 7 * P.slot[pin]
-    const qx = to[o + 3], qy = to[o + 4], qz = to[o + 5], qw = to[o + 6]
-    const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)
-    pos[i] = to[o] + lx + qw * tx + (qy * tz - qz * ty)
-    pos[i + 1] = to[o + 1] + ly + qw * ty + (qz * tx - qx * tz)
-    pos[i + 2] = to[o + 2] + lz + qw * tz + (qx * ty - qy * tx)
-  }
 }
 
 /**

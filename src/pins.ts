@@ -193,8 +193,10 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): void {
  * interpolated (position lerp, rotation slerp) to (k + 1)/n of the way through the step, so a fast
  * character drags its cloth smoothly instead of in one jerk per step. Scalars travel in typed
  * arrays: calling helpers with double arguments would box them (allocate) on every call.
+ * `advance` false places them as they stand (the guard, after a reset): the blends of pins added
+ * or moved at run time do not move on, and no pin update is counted.
  */
-export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number): void {
+export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number, advance = true): void {
   const P = state.components.Pin
   const T = state.transforms
   const sxs = T.sx, sys = T.sy, szs = T.sz
@@ -208,7 +210,7 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
     const left = P.blendLeft[pin]
     if (left > 0) {
       const total = P.blendTime[pin]
-      const nextLeft = left > h ? left - h : 0
+      const nextLeft = !advance ? left : left > h ? left - h : 0
       P.blendLeft[pin] = nextLeft
       const u = total > 0 ? 1 - nextLeft / total : 1
       const s = u * u * (3 - 2 * u) // smoothstep: no velocity kick at either end
@@ -240,7 +242,7 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
     pos[i + 1] = py + ly + qw * ty + (qz * tx - qx * tz)
     pos[i + 2] = pz + lz + qw * tz + (qx * ty - qy * tx)
   }
-  state.stats.pinUpdates += c.pins.length
+  if (advance) state.stats.pinUpdates += c.pins.length
 }
 
 /**
