@@ -1,6 +1,7 @@
 import { ClothError, checkNonNegative, checkPositive } from './errors'
 import { colliderLayersMatch, colliderReaches } from './collision'
 import { P_MAX_V2 } from './kernels/params'
+import { particleBounds } from './kernels/mesh'
 import { getCloth } from './pins'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import { windReaches } from './wind'
@@ -136,21 +137,10 @@ export function updateSleep(state: ClothWorldState, c: ClothState): void {
   if (s[SL_STILL] < s[SL_DELAY]) return
   s[SL_STILL] = 0
   // the box it would sleep in (what the wake tests look at)
-  const b = c.sleepBounds
-  const pos = c.pos
-  b[0] = b[3] = pos[0]
-  b[1] = b[4] = pos[1]
-  b[2] = b[5] = pos[2]
-  for (let i = 1; i < c.count; i++) {
-    for (let a = 0; a < 3; a++) {
-      const x = pos[3 * i + a]
-      if (x < b[a]) b[a] = x
-      else if (x > b[3 + a]) b[3 + a] = x
-    }
-  }
+  particleBounds(c.pos, c.count, c.sleepBounds, 0)
   // still in a steady wind: the wind may change any time, so stay awake (and test again after
   // another delay)
-  if (state.wind.zones.length > 0 && windReaches(state, b)) return
+  if (state.wind.zones.length > 0 && windReaches(state, c.sleepBounds)) return
   c.sleeping = true
   state.sleep.count++
   c.vel.fill(0, 0, 3 * c.count)

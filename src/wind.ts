@@ -2,9 +2,10 @@ import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, on
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkVec3, isArrayLike } from './errors'
 import { A_DRAG, A_H, A_LIFT, A_MAX_SPEED, A_STRIDE, AERO_PARAM_COUNT, accumulateAerodynamics, aeroNormals, limitAerodynamics, triangleInverseMasses } from './kernels/aero'
+import { particleBounds } from './kernels/mesh'
 import {
   NOISE_SCRATCH, ZONE_STRIDE, Z_CX, Z_CY, Z_CZ, Z_DENSITY, Z_DRIFT_X, Z_DRIFT_Y, Z_DRIFT_Z, Z_FALLOFF, Z_HX, Z_HY, Z_HZ,
-  Z_INV_SCALE, Z_MAX, Z_MIN, Z_R, Z_SEED, Z_SHAPE, Z_TIME, Z_TURB, Z_VX, Z_VY, Z_VZ, addZoneAir, particleBounds,
+  Z_INV_SCALE, Z_MAX, Z_MIN, Z_R, Z_SEED, Z_SHAPE, Z_TIME, Z_TURB, Z_VX, Z_VY, Z_VZ, addZoneAir,
 } from './kernels/wind'
 import { trackEntity, untrackEntity } from './kinematics'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'

@@ -92,3 +92,26 @@ export function maxEdgeStrain(pos: Float64Array, edges: Int32Array, edgeRest: Fl
   }
   out[o] = max2 > 1 ? Math.sqrt(max2) - 1 : 0
 }
+
+/**
+ * Axis-aligned bounds of particles [0, count) into out[o..o+5] (min xyz, max xyz), for culling
+ * wind zones against a cloth and the box a cloth sleeps in.
+ */
+export function particleBounds(pos: Float64Array, count: number, out: Float64Array, o: number): void {
+  let x0 = Infinity, y0 = Infinity, z0 = Infinity, x1 = -Infinity, y1 = -Infinity, z1 = -Infinity
+  for (let i = 0; i < 3 * count; i += 3) {
+    const x = pos[i], y = pos[i + 1], z = pos[i + 2]
+    if (x < x0) x0 = x
+    if (x > x1) x1 = x
+    if (y < y0) y0 = y
+    if (y > y1) y1 = y
+    if (z < z0) z0 = z
+    if (z > z1) z1 = z
+  }
+  out[o] = x0
+  out[o + 1] = y0
+  out[o + 2] = z0
+  out[o + 3] = x1
+  out[o + 4] = y1
+  out[o + 5] = z1
+}
