@@ -188,6 +188,17 @@ function kineticEnergy(c: { vel: Float64Array; invMass: Float64Array; count: num
 
 // ---------------------------------------------------------------------------------------------
 
+/** A random cloth pinned by particle 0, with colliders, a box wind zone and self-collision as given. */
+function featureScene(mesh: MeshSpec, solver: ClothOptions, specs: ColliderSpec[], wind: Parameters<typeof createWindZone>[1] | null, self: boolean) {
+  const world = installClothPlugin(createWorld())
+  const cloth = buildCloth(world, mesh, solver)
+  pinParticle(world, cloth, 0)
+  const ids = specs.map((spec) => addCollider(world, spec))
+  if (wind) createWindZone(world, { ...wind, position: [0, 1.5, 0], size: [2, 2, 2] })
+  if (self) enableSelfCollision(world, cloth)
+  return { world, cloth, specs, ids }
+}
+
 /**
  * No energy from nowhere: kinetic energy (started at the rest shape, so there is no stored energy)
  * never rises more than 2 % above its start in any step, and at the end it is no higher than at the
@@ -433,13 +444,7 @@ describe('properties', () => {
     'the same random scene (colliders, wind, self-collision) built and stepped twice gives the same bytes',
     (mesh, solver, dts, colliders, wind, self) => {
       const run = () => {
-        const world = installClothPlugin(createWorld())
-        const cloth = buildCloth(world, mesh as MeshSpec, solver)
-        pinParticle(world, cloth, 0)
-        const specs = colliders as ColliderSpec[]
-        const ids = specs.map((spec) => addCollider(world, spec))
-        if (wind) createWindZone(world, { ...wind, position: [0, 1.5, 0], size: [2, 2, 2] })
-        if (self) enableSelfCollision(world, cloth)
+        const { world, cloth, specs, ids } = featureScene(mesh as MeshSpec, solver, colliders as ColliderSpec[], wind, self)
         let t = 0
         for (const dt of dts) {
           moveColliders(world, specs, ids, (t += dt))
@@ -455,13 +460,7 @@ describe('properties', () => {
   it.prop([meshArb, solverArb, dtsArb, dtsArb, fc.array(colliderArb, { maxLength: 2 }), windArb, fc.boolean()], runs(100))(
     'save, step, restore, step again (colliders moving, wind, self-collision): the same bytes',
     (mesh, solver, before, after, colliders, wind, self) => {
-      const world = installClothPlugin(createWorld())
-      const cloth = buildCloth(world, mesh as MeshSpec, solver)
-      pinParticle(world, cloth, 0)
-      const specs = colliders as ColliderSpec[]
-      const ids = specs.map((spec) => addCollider(world, spec))
-      if (wind) createWindZone(world, { ...wind, position: [0, 1.5, 0], size: [2, 2, 2] })
-      if (self) enableSelfCollision(world, cloth)
+      const { world, cloth, specs, ids } = featureScene(mesh as MeshSpec, solver, colliders as ColliderSpec[], wind, self)
       let t = 0
       for (const dt of before) {
         moveColliders(world, specs, ids, (t += dt))
