@@ -29,6 +29,7 @@
  */
 import { createWorld } from 'bitecs'
 import { expect } from 'vitest'
+import { meshPieces } from '../tearing/util'
 import {
   createCloth,
   getClothMesh,
@@ -254,7 +255,7 @@ export function inspectPieces(world: object, cloth: number, allowed: number, flo
   const c = getClothState(world, cloth)
   const { finite } = inspect(world, cloth, Infinity)
   const mesh = getClothMesh(world, cloth)
-  const label = meshPieces(mesh.indices, c.count)
+  const label = meshPieces(mesh.indices, c.count, true)
   let pieces = 0
   for (let i = 0; i < c.count; i++) pieces = Math.max(pieces, label[i] + 1)
   const lo = Array.from({ length: pieces }, () => [Infinity, Infinity, Infinity])
@@ -292,28 +293,6 @@ export function inspectPieces(world: object, cloth: number, allowed: number, flo
   }
   if (!(excess === excess)) excess = Infinity
   return { finite, excess: finite ? excess : Infinity, pieces }
-}
-
-/** Connected pieces of a triangle mesh (triangles joined through shared vertices); unused vertices get their own. */
-export function meshPieces(indices: ArrayLike<number>, vertexCount: number): Int32Array {
-  const parent = Int32Array.from({ length: vertexCount }, (_, i) => i)
-  const find = (x: number): number => {
-    while (parent[x] !== x) x = parent[x] = parent[parent[x]]
-    return x
-  }
-  for (let t = 0; t < indices.length; t += 3) {
-    const a = find(indices[t])
-    parent[find(indices[t + 1])] = a
-    parent[find(indices[t + 2])] = find(indices[t])
-  }
-  const label = new Int32Array(vertexCount)
-  const ids = new Map<number, number>()
-  for (let i = 0; i < vertexCount; i++) {
-    const r = find(i)
-    if (!ids.has(r)) ids.set(r, ids.size)
-    label[i] = ids.get(r)!
-  }
-  return label
 }
 
 /** Rms particle speed, m/s. */

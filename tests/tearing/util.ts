@@ -1,5 +1,8 @@
-/** Connected pieces of a triangle mesh (triangles joined through shared vertices). */
-export function meshPieces(indices: ArrayLike<number>, vertexCount: number): Int32Array {
+/**
+ * Connected pieces of a triangle mesh (triangles joined through shared vertices), numbered from 0
+ * in vertex order. A vertex no triangle uses is labelled −1, or with `unusedAlone` a piece of its own.
+ */
+export function meshPieces(indices: ArrayLike<number>, vertexCount: number, unusedAlone = false): Int32Array {
   const parent = Int32Array.from({ length: vertexCount }, (_, i) => i)
   const find = (x: number): number => {
     while (parent[x] !== x) x = parent[x] = parent[parent[x]]
@@ -15,7 +18,7 @@ export function meshPieces(indices: ArrayLike<number>, vertexCount: number): Int
   for (let t = 0; t < indices.length; t++) used[indices[t]] = 1
   const ids = new Map<number, number>()
   for (let i = 0; i < vertexCount; i++) {
-    if (!used[i]) continue
+    if (!used[i] && !unusedAlone) continue
     const r = find(i)
     if (!ids.has(r)) ids.set(r, ids.size)
     label[i] = ids.get(r)!
