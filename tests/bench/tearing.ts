@@ -1,6 +1,7 @@
-import { addEntity, createWorld } from 'bitecs'
+import { createWorld } from 'bitecs'
 import { createCloth, getClothStats, installClothPlugin, makeTearable, pinParticle, resetClothStats, setTransform, stepCloth } from '../../src/index'
 import { fmt, saveJson, table, timeIt } from './harness'
+import { pinSidesToBars } from '../fixtures/bars'
 
 function sheet(n: number, mode: 'plain' | 'tearable' | 'tearable elsewhere') {
   const world = installClothPlugin(createWorld(), { sleep: false })
@@ -54,13 +55,7 @@ export function tearCost(): void {
   const world = installClothPlugin(createWorld(), { sleep: false })
   const n = 32
   const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 2, 0], substeps: 4 })
-  const left = addEntity(world), right = addEntity(world)
-  setTransform(world, left, [0, 0, 0])
-  setTransform(world, right, [0, 0, 0])
-  for (let r = 0; r < n; r++) {
-    pinParticle(world, cloth, r * n, left)
-    pinParticle(world, cloth, r * n + n - 1, right)
-  }
+  const [left, right] = pinSidesToBars(world, cloth, n)
   makeTearable(world, cloth, { maxTearsPerStep: 4 })
   let worst = 0, tearSteps = 0, quiet = 0, quietSteps = 0
   for (let f = 0; f < 120; f++) {

@@ -1,23 +1,17 @@
-import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  createCloth, drainClothTears, getClothMesh, getClothState, getClothStats, getClothTearCount, makeTearable, onClothTear, pinParticle,
+  createCloth, drainClothTears, getClothMesh, getClothState, getClothStats, getClothTearCount, makeTearable, onClothTear,
   setTransform, stepCloth,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { meshPieces, pieceCount } from './util'
+import { pinSidesToBars } from '../fixtures/bars'
 
 /** A 1 m sheet pinned along its left and right edges to two bars that move apart. */
 function pulledSheet(tearable: boolean, n = 16) {
   const world = makeWorld()
   const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 2, 0], material: 'cotton' })
-  const left = addEntity(world), right = addEntity(world)
-  setTransform(world, left, [0, 0, 0])
-  setTransform(world, right, [0, 0, 0])
-  for (let r = 0; r < n; r++) {
-    pinParticle(world, cloth, r * n, left)
-    pinParticle(world, cloth, r * n + n - 1, right)
-  }
+  const [left, right] = pinSidesToBars(world, cloth, n)
   if (tearable) makeTearable(world, cloth)
   const events: { particle: number; newParticle: number; x: number; strain: number; cloth: number }[] = []
   onClothTear(world, (e) => events.push({ particle: e.particle, newParticle: e.newParticle, x: e.x, strain: e.strain, cloth: e.cloth }))
