@@ -18,23 +18,25 @@ export function dampPairs(
   params: Float64Array,
 ): void {
   const factor = params[P_STRETCH_DAMP]
+  // written like the distance loops (truncated index arithmetic, one test for pinned and
+  // degenerate pairs): a pinned pair's zero weights leave its velocities as they are
   for (let k = 0; k < count; k++) {
-    const i0 = ids[2 * k], i1 = ids[2 * k + 1]
+    const i0 = ids[k << 1], i1 = ids[((k << 1) + 1) | 0]
     const wa = invMass[i0], wb = invMass[i1]
-    const ws = wa + wb
-    if (ws === 0) continue
-    const a = 3 * i0, b = 3 * i1
-    const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
-    const d2 = dx * dx + dy * dy + dz * dz
-    if (d2 < 1e-24) continue
-    const vr = ((vel[b] - vel[a]) * dx + (vel[b + 1] - vel[a + 1]) * dy + (vel[b + 2] - vel[a + 2]) * dz) / d2
-    const s = (factor * vr) / ws
+    const a = (3 * i0) | 0, b = (3 * i1) | 0
+    const a1 = (a + 1) | 0, a2 = (a + 2) | 0, b1 = (b + 1) | 0, b2 = (b + 2) | 0
+    const dx = pos[b] - pos[a], dy = pos[b1] - pos[a1], dz = pos[b2] - pos[a2]
+    const den = (wa + wb) * (dx * dx + dy * dy + dz * dz)
+    if (!(den >= 1e-30)) continue
+    const vax = vel[a], vay = vel[a1], vaz = vel[a2]
+    const vbx = vel[b], vby = vel[b1], vbz = vel[b2]
+    const s = (factor * ((vbx - vax) * dx + (vby - vay) * dy + (vbz - vaz) * dz)) / den
     const sa = wa * s, sb = wb * s
-    vel[a] += sa * dx
-    vel[a + 1] += sa * dy
-    vel[a + 2] += sa * dz
-    vel[b] -= sb * dx
-    vel[b + 1] -= sb * dy
-    vel[b + 2] -= sb * dz
+    vel[a] = vax + sa * dx
+    vel[a1] = vay + sa * dy
+    vel[a2] = vaz + sa * dz
+    vel[b] = vbx - sb * dx
+    vel[b1] = vby - sb * dy
+    vel[b2] = vbz - sb * dz
   }
 }
