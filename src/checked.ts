@@ -13,6 +13,7 @@ import {
   solveCompression as solveCompressionKernel,
   solveDistances as solveDistancesKernel,
   solveDistancesXpbd as solveDistancesXpbdKernel,
+  spreadInverseMasses as spreadInverseMassesKernel,
 } from './kernels/distance'
 import { GUARD_PARAM_COUNT, checkClothHealth as checkClothHealthKernel } from './kernels/guard'
 import { predictPositions as predictKernel, updateVelocities as updateKernel } from './kernels/integrate'
@@ -104,38 +105,72 @@ export function updateVelocities(pos: Float64Array, prev: Float64Array, vel: Flo
   updateKernel(pos, prev, vel, p, n)
 }
 
-function pairs(pos: unknown, invMass: unknown, idArr: unknown, rest: unknown, compliance: unknown, start: unknown, end: unknown): void {
-  const n = masses('invMass', invMass)
-  positionsFor('pos', pos, n)
+/** A pair list's rest lengths and compliances over [start, end); returns end. */
+function pairData(rest: unknown, compliance: unknown, start: unknown, end: unknown): number {
   if (!(rest instanceof Float64Array)) throw new ClothError('rest', rest, 'must be a Float64Array')
   range(start, end, rest.length)
   const e = end as number
-  ids('ids', idArr, 2 * e, n)
   f64('rest', rest, e)
-  nonNegative('rest', rest as Float64Array, e)
+  nonNegative('rest', rest, e)
   f64('compliance', compliance, e)
   nonNegative('compliance', compliance as Float64Array, e)
+  return e
 }
 
-/** Checked `solveDistances`. */
+function pairs(pos: unknown, invMass: unknown, idArr: unknown, rest: unknown, compliance: unknown, start: unknown, end: unknown): void {
+  const n = masses('invMass', invMass)
+  positionsFor('pos', pos, n)
+  ids('ids', idArr, 2 * pairData(rest, compliance, start, end), n)
+}
+
+/** The distance loops' arguments: positions, inverse masses at position offsets, offset pairs. */
+function offsetPairs(pos: unknown, invMass3: unknown, offsets: unknown, rest: unknown, compliance: unknown, start: unknown, end: unknown): void {
+  if (!(invMass3 instanceof Float64Array)) throw new ClothError('invMass3', invMass3, 'must be a Float64Array')
+  const n = Math.floor(invMass3.length / 3)
+  for (let i = 0; i < n; i++) {
+    const w = invMass3[3 * i]
+    if (!(Number.isFinite(w) && w >= 0)) throw new ClothError(`invMass3[${3 * i}]`, w, 'must be a finite number ≥ 0')
+  }
+  positionsFor('pos', pos, n)
+  const e = pairData(rest, compliance, start, end)
+  if (!(offsets instanceof Int32Array)) throw new ClothError('offsets', offsets, 'must be an Int32Array')
+  if (offsets.length < 2 * e) throw new ClothError('offsets', offsets, `must hold at least ${2 * e} offsets`)
+  for (let i = 0; i < 2 * e; i++) {
+    const o = offsets[i]
+    if (!(o >= 0 && o <= 3 * (n - 1) && o % 3 === 0)) throw new ClothError(`offsets[${i}]`, o, `must be a position offset (particle index × 3) in [0, ${3 * (n - 1)}]`)
+  }
+}
+
+/**
+ * Checked `solveDistances`. Pairs are position offsets (particle index × 3, as in a topology's
+ * `distOffsets`) and `invMass3[3i]` holds particle i's inverse mass (`spreadInverseMasses`).
+ */
 export function solveDistances(
-  pos: Float64Array, invMass: Float64Array, idArr: Int32Array, rest: Float64Array, compliance: Float64Array,
+  pos: Float64Array, invMass3: Float64Array, offsets: Int32Array, rest: Float64Array, compliance: Float64Array,
   p: Float64Array, start: number, end: number,
 ): void {
-  pairs(pos, invMass, idArr, rest, compliance, start, end)
+  offsetPairs(pos, invMass3, offsets, rest, compliance, start, end)
   params('params', p)
-  solveDistancesKernel(pos, invMass, idArr, rest, compliance, p, start, end)
+  solveDistancesKernel(pos, invMass3, offsets, rest, compliance, p, start, end)
 }
 
-/** Checked `solveDistancesXpbd`. */
+/** Checked `solveDistancesXpbd` (arguments as `solveDistances`, plus the multipliers). */
 export function solveDistancesXpbd(
-  pos: Float64Array, invMass: Float64Array, idArr: Int32Array, rest: Float64Array, compliance: Float64Array,
+  pos: Float64Array, invMass3: Float64Array, offsets: Int32Array, rest: Float64Array, compliance: Float64Array,
   lambda: Float64Array, p: Float64Array, start: number, end: number,
 ): void {
-  pairs(pos, invMass, idArr, rest, compliance, start, end)
+  offsetPairs(pos, invMass3, offsets, rest, compliance, start, end)
   f64('lambda', lambda, end)
   params('params', p)
-  solveDistancesXpbdKernel(pos, invMass, idArr, rest, compliance, lambda, p, start, end)
+  solveDistancesXpbdKernel(pos, invMass3, offsets, rest, compliance, lambda, p, start, end)
+}
+
+/** Checked `spreadInverseMasses`: `invMass3` must hold 3 × count numbers. */
+export function spreadInverseMasses(invMass: Float64Array, invMass3: Float64Array, n: number): void {
+  count('count', n)
+  masses('invMass', invMass, n)
+  f64('invMass3', invMass3, 3 * n, false)
+  spreadInverseMassesKernel(invMass, invMass3, n)
 }
 
 /** Checked `solveCompression`. */

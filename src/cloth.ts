@@ -273,6 +273,7 @@ function spawnCloth(
     vel: new Float64Array(3 * n),
     invMass,
     baseInvMass: Float64Array.from(invMass),
+    invMass3: new Float64Array(3 * n),
     pinCount: new Uint16Array(n),
     accel: null,
     distLambda: new Float64Array(topology.distCount),

@@ -69,7 +69,7 @@ export { clothEvents } from '../systems/clothEvents'
 // Kernels: plain functions over typed arrays, usable without a world. The exported versions check
 // their arguments (ClothError); the plugin's systems call the unchecked ones in src/kernels/.
 export { predictPositions, updateVelocities } from './checked'
-export { solveDistances, solveDistancesXpbd, solveCompression } from './checked'
+export { solveDistances, solveDistancesXpbd, spreadInverseMasses, solveCompression } from './checked'
 export { dampPairs } from './checked'
 export { solveDihedrals, solveLineBending } from './checked'
 export { solveTethers } from './checked'

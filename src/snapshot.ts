@@ -298,7 +298,7 @@ function meshFingerprint(c: ClothState): number {
   h = mixAll(h, t.triangles, 3 * t.triangleCount)
   h = mixAll(h, t.edges, 2 * t.edgeCount)
   h = mixAll(h, t.stretchIds, 2 * t.stretchCount)
-  h = mixAll(h, t.distIds, 2 * t.distCount)
+  h = mixAll(h, t.distOffsets, 2 * t.distCount)
   h = mixAll(h, t.compIds, 2 * t.compCount)
   h = mixAll(h, t.lineIds, 3 * t.lineCount)
   h = mixAll(h, t.hingeIds, 4 * t.hingeCount)

@@ -134,6 +134,12 @@ export interface ClothState {
   invMass: Float64Array
   /** Inverse masses without pins, 1/kg. */
   baseInvMass: Float64Array
+  /**
+   * The distance loops' copy of `invMass`, spread to position offsets (`invMass3[3i]` =
+   * `invMass[i]`). The solve phase refreshes it at the first substep of every step, so it follows
+   * pins, unpins, tears and restores made between steps.
+   */
+  invMass3: Float64Array
   /** Number of pins holding each particle. */
   pinCount: Uint16Array
   /** Extra per-particle acceleration for this substep (wind), or null when nothing writes it. */

@@ -97,7 +97,9 @@ type TearTopology = Mutable<ClothTopology>
  * `u8` alias the topology's arrays; entries are re-read and compacted after splits.
  */
 interface PairSet {
+  /** Particles, each stored as index × `scale` (3 for the distance constraints' position offsets). */
   ids: Int32Array
+  scale: number
   f64: Float64Array[]
   u8: Uint8Array[]
   /** The hysteresis counters (the mesh edges, which the tear phase measures): reset on duplicates. */
@@ -547,8 +549,8 @@ function repairPairs(s: PairSet, tris: Uint32Array): number {
     if (w !== k) copyPair(s, k, w)
     const tA = s.endT[2 * w]
     if (tA >= 0) {
-      s.ids[2 * w] = tris[3 * tA + s.endC[2 * w]]
-      s.ids[2 * w + 1] = tris[3 * s.endT[2 * w + 1] + s.endC[2 * w + 1]]
+      s.ids[2 * w] = s.scale * tris[3 * tA + s.endC[2 * w]]
+      s.ids[2 * w + 1] = s.scale * tris[3 * s.endT[2 * w + 1] + s.endC[2 * w + 1]]
     }
     w++
   }
@@ -649,7 +651,7 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
     edgeRest: grow(src.edgeRest.subarray(0, src.edgeCount), E),
     stretchIds: grow(src.stretchIds.subarray(0, 2 * src.stretchCount), 2 * S),
     stretchRest: grow(src.stretchRest.subarray(0, src.stretchCount), S),
-    distIds: grow(src.distIds.subarray(0, 2 * src.distCount), 2 * D),
+    distOffsets: grow(src.distOffsets.subarray(0, 2 * src.distCount), 2 * D),
     distRest: grow(src.distRest.subarray(0, src.distCount), D),
     distCompliance: grow(src.distCompliance.subarray(0, src.distCount), D),
     distKind: grow(src.distKind.subarray(0, src.distCount), D),
@@ -665,10 +667,10 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
   }
   const mesh = new MeshIndex(t.triangles, t.triangleCount)
   const over = new Uint8Array(E)
-  const stretch = pairSet(t.stretchIds, t.stretchCount, S, [t.stretchRest], [], null, mesh, t.restPositions)
-  const edges = pairSet(t.edges, t.edgeCount, E, [t.edgeRest], [over], over, mesh, t.restPositions)
-  const dist = pairSet(t.distIds, t.distCount, D, [t.distRest, t.distCompliance], [t.distKind], null, mesh, t.restPositions)
-  const comp = pairSet(t.compIds, t.compCount, C, [t.compRest, t.compCompliance], [], null, mesh, t.restPositions)
+  const stretch = pairSet(t.stretchIds, 1, t.stretchCount, S, [t.stretchRest], [], null, mesh, t.restPositions)
+  const edges = pairSet(t.edges, 1, t.edgeCount, E, [t.edgeRest], [over], over, mesh, t.restPositions)
+  const dist = pairSet(t.distOffsets, 3, t.distCount, D, [t.distRest, t.distCompliance], [t.distKind], null, mesh, t.restPositions)
+  const comp = pairSet(t.compIds, 1, t.compCount, C, [t.compRest, t.compCompliance], [], null, mesh, t.restPositions)
   const lines = lineSet(t, mesh)
   t.lineCount = lines.count
   const hinges = hingeSet(t, mesh)
@@ -680,6 +682,7 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
   c.vel = grow(c.vel, 3 * P)
   c.invMass = grow(c.invMass, P)
   c.baseInvMass = grow(c.baseInvMass, P)
+  c.invMass3 = grow(c.invMass3, 3 * P)
   c.pinCount = grow(c.pinCount, P)
   c.distLambda = new Float64Array(D)
   c.compLambda = new Float64Array(C)
@@ -783,11 +786,11 @@ function pairKey(a: number, b: number): number {
 }
 
 function pairSet(
-  ids: Int32Array, count: number, cap: number, f64: Float64Array[], u8: Uint8Array[], over: Uint8Array | null,
+  ids: Int32Array, scale: number, count: number, cap: number, f64: Float64Array[], u8: Uint8Array[], over: Uint8Array | null,
   mesh: MeshIndex, rest: Float64Array,
 ): PairSet {
   const s: PairSet = {
-    ids, f64, u8, over, count, cap,
+    ids, scale, f64, u8, over, count, cap,
     endT: new Int32Array(2 * cap).fill(-1),
     endC: new Uint8Array(2 * cap),
     chkT: new Int32Array(4 * cap).fill(-1),
@@ -796,7 +799,7 @@ function pairSet(
     twinC: new Uint8Array(2 * cap),
   }
   for (let k = 0; k < count; k++) {
-    const a = ids[2 * k], b = ids[2 * k + 1]
+    const a = ids[2 * k] / scale, b = ids[2 * k + 1] / scale
     const tris = mesh.edgeTris.get(pairKey(a, b))
     if (tris) {
       // an edge: read from its first triangle; the second one is its twin

@@ -56,8 +56,12 @@ export interface ClothTopology {
   readonly stretchRest: Float64Array
   readonly stretchCount: number
 
-  /** Two-sided distance constraints: 2 particle indices each, in solver order. */
-  readonly distIds: Int32Array
+  /**
+   * Two-sided distance constraints, in solver order: 2 position offsets each, the particle index
+   * × 3 (where its x sits in `pos`), so the solver's hot loop indexes positions without a
+   * multiply. Divide by 3 for the particle index.
+   */
+  readonly distOffsets: Int32Array
   /** Rest length, m. */
   readonly distRest: Float64Array
   /** Compliance, m/N (0 = rigid). */
@@ -407,15 +411,15 @@ function assemble(
 
   const dist2 = orderPairs(pairs, levels)
   const m = dist2.length
-  const distIds = new Int32Array(2 * m)
+  const distOffsets = new Int32Array(2 * m)
   const distRest = new Float64Array(m)
   const distCompliance = new Float64Array(m)
   const distKind = new Uint8Array(m)
   for (let k = 0; k < m; k++) {
     const j = dist2[k]
     const a = pairs.a[j], b = pairs.b[j]
-    distIds[2 * k] = a
-    distIds[2 * k + 1] = b
+    distOffsets[2 * k] = 3 * a
+    distOffsets[2 * k + 1] = 3 * b
     distRest[k] = dist(rest, a, b)
     distKind[k] = pairs.kind[j]
     distCompliance[k] = Math.min(MAX_COMPLIANCE, complianceOf(a, b, pairs.kind[j], distRest[k]))
@@ -473,8 +477,8 @@ function assemble(
   const stretchRest = new Float64Array(sc)
   for (let k = 0, j = 0; k < m; k++) {
     if (distKind[k] !== STRETCH) continue
-    stretchIds[2 * j] = distIds[2 * k]
-    stretchIds[2 * j + 1] = distIds[2 * k + 1]
+    stretchIds[2 * j] = distOffsets[2 * k] / 3
+    stretchIds[2 * j + 1] = distOffsets[2 * k + 1] / 3
     stretchRest[j++] = distRest[k]
   }
 
@@ -493,7 +497,7 @@ function assemble(
     stretchIds,
     stretchRest,
     stretchCount: sc,
-    distIds,
+    distOffsets,
     distRest,
     distCompliance,
     distKind,

@@ -1,6 +1,6 @@
 import { solveLineBending } from '../src/kernels/bending'
 import { solveDihedrals } from '../src/kernels/dihedral'
-import { solveCompression, solveDistances, solveDistancesXpbd } from '../src/kernels/distance'
+import { solveCompression, solveDistances, solveDistancesXpbd, spreadInverseMasses } from '../src/kernels/distance'
 import { solveTethers } from '../src/kernels/tether'
 import { getClothWorld } from '../src/state'
 
@@ -25,6 +25,9 @@ export function clothSolve<W extends object>(world: W): W {
     // XPBD with several iterations accumulates multipliers from zero each substep; with one
     // iteration (or classic PBD) they are always zero and the cheaper loops skip them
     const accumulate = c.solver === 'xpbd' && c.iterations > 1
+    // the distance loops read inverse masses at position offsets; masses change only between
+    // steps (pins, unpins, tears, restores), so one copy per step keeps them current
+    if (c.subIndex === 0) spreadInverseMasses(c.invMass, c.invMass3, c.count)
     if (accumulate) {
       c.distLambda.fill(0)
       c.compLambda.fill(0)
@@ -41,8 +44,8 @@ export function clothSolve<W extends object>(world: W): W {
       if (t.hingeCount > 0) {
         solveDihedrals(c.pos, c.invMass, t.hingeIds, t.hingeRest, t.hingeCompliance, hingeLambda, t.hingeSide, p, 0, t.hingeCount)
       }
-      if (accumulate) solveDistancesXpbd(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, c.distLambda, p, 0, t.distCount)
-      else solveDistances(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, p, 0, t.distCount)
+      if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, p, 0, t.distCount)
+      else solveDistances(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, p, 0, t.distCount)
       if (t.compCount > 0) {
         solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, p, 0, t.compCount)
       }

@@ -41,7 +41,10 @@ describe('grid topology', () => {
     let lastLevel = 0
     let clashes = 0
     for (let k = 0; k < t.distCount; k++) {
-      const a = t.distIds[2 * k], b = t.distIds[2 * k + 1]
+      // position offsets: particle index × 3, exactly
+      expect(t.distOffsets[2 * k] % 3).toBe(0)
+      expect(t.distOffsets[2 * k + 1] % 3).toBe(0)
+      const a = t.distOffsets[2 * k] / 3, b = t.distOffsets[2 * k + 1] / 3
       const key = `${Math.min(a, b)}-${Math.max(a, b)}`
       expect(seen.has(key)).toBe(false)
       seen.add(key)
@@ -52,7 +55,7 @@ describe('grid topology', () => {
       // neighbours in the sweep rarely share a particle (instruction-level parallelism); only
       // at the tail, when nothing independent is left, can they
       if (k > 0) {
-        const c = t.distIds[2 * k - 2], d = t.distIds[2 * k - 1]
+        const c = t.distOffsets[2 * k - 2] / 3, d = t.distOffsets[2 * k - 1] / 3
         if (c === a || c === b || d === a || d === b) clashes++
       }
     }

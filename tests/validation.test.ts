@@ -31,6 +31,7 @@ import {
   solveLineBending,
   solveDistances,
   solveDistancesXpbd,
+  spreadInverseMasses,
   solveTethers,
   stepCloth,
   teleportCloth,
@@ -141,12 +142,17 @@ describe('exported kernels and builders check their arguments', () => {
   const f64 = (...v: number[]) => Float64Array.from(v)
 
   it('solvers: index ranges, indices, array sizes, finite values, the parameter block', () => {
-    rejects(() => solveDistances(pos(), w(), ids(0, 9), f64(1), f64(0), p(), 0, 1), 'ids[1]')
-    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(1), f64(0), p(), 0, 2), 'end')
-    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(NaN), f64(0), p(), 0, 1), 'rest[0]')
-    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(1), f64(-1), p(), 0, 1), 'compliance[0]')
-    rejects(() => solveDistances(pos(), w(), ids(0, 1), f64(1), f64(0), new Float64Array(2), 0, 1), 'params')
-    rejects(() => solveDistancesXpbd(pos(), w(), ids(0, 1), f64(1), f64(0), new Float64Array(0), p(), 0, 1), 'lambda')
+    // the distance loops take position offsets (index × 3) and inverse masses spread to them
+    const w3 = () => new Float64Array(3 * n).fill(1)
+    rejects(() => solveDistances(pos(), w3(), ids(0, 27), f64(1), f64(0), p(), 0, 1), 'offsets[1]')
+    rejects(() => solveDistances(pos(), w3(), ids(0, 1), f64(1), f64(0), p(), 0, 1), 'offsets[1]') // not a multiple of 3
+    rejects(() => solveDistances(pos(), w3(), ids(0, 3), f64(1), f64(0), p(), 0, 2), 'end')
+    rejects(() => solveDistances(pos(), f64(1, 0, 0, NaN, 0, 0), ids(0, 3), f64(1), f64(0), p(), 0, 1), 'invMass3[3]')
+    rejects(() => solveDistances(pos(), w3(), ids(0, 3), f64(NaN), f64(0), p(), 0, 1), 'rest[0]')
+    rejects(() => solveDistances(pos(), w3(), ids(0, 3), f64(1), f64(-1), p(), 0, 1), 'compliance[0]')
+    rejects(() => solveDistances(pos(), w3(), ids(0, 3), f64(1), f64(0), new Float64Array(2), 0, 1), 'params')
+    rejects(() => solveDistancesXpbd(pos(), w3(), ids(0, 3), f64(1), f64(0), new Float64Array(0), p(), 0, 1), 'lambda')
+    rejects(() => spreadInverseMasses(w(), new Float64Array(3 * n - 1), n), 'invMass3')
     rejects(() => solveCompression(pos(), f64(1, 1, -1, 1), ids(0, 1), f64(1), f64(0), null, p(), 0, 1), 'invMass[2]')
     rejects(() => solveDihedrals(pos(), w(), ids(0, 1, 2, 3), f64(0), f64(0), null, 2, p(), 0, 1), 'side')
     rejects(() => solveDihedrals(pos().subarray(0, 9), w(), ids(0, 1, 2, 3), f64(0), f64(0), null, 0, p(), 0, 1), 'pos')
@@ -154,7 +160,7 @@ describe('exported kernels and builders check their arguments', () => {
     rejects(() => dampPairs(pos(), pos(), w(), ids(0, 1), 2, p()), 'ids')
     rejects(() => solveLineBending(pos(), w(), ids(0, 1, 9), f64(0), f64(0), null, p(), 0, 1), 'ids[2]')
     rejects(() => solveLineBending(pos(), w(), ids(0, 1, 2), f64(-1), f64(0), null, p(), 0, 1), 'rest[0]')
-    solveDistances(pos(), w(), ids(0, 1), f64(1), f64(0), p(), 0, 1) // and valid calls run
+    solveDistances(pos(), w3(), ids(0, 3), f64(1), f64(0), p(), 0, 1) // and valid calls run
   })
 
   it('integration, render and measure kernels', () => {

@@ -24,7 +24,7 @@ import {
 } from '../../src/index'
 import { predictPositions, updateVelocities } from '../../src/kernels/integrate'
 import { solveLineBending } from '../../src/kernels/bending'
-import { solveDistances } from '../../src/kernels/distance'
+import { solveDistances, spreadInverseMasses } from '../../src/kernels/distance'
 import { solveTethers } from '../../src/kernels/tether'
 import { dampPairs } from '../../src/kernels/damping'
 import { P_STRETCH_DAMP, createKernelParams, setSubstepParams } from '../../src/kernels/params'
@@ -43,7 +43,8 @@ function hangingSheet(world: object, x: number, n = N): number {
 
 /**
  * The bare solver on a cloth's own arrays: exactly the kernels the plugin runs for a plain sheet
- * (predict, line bending, distances, tethers, velocities; stretch damping once per step), called
+ * (predict, line bending, distances, tethers, velocities; the mass spread and stretch damping once
+ * per step), called
  * in a loop with no world, systems, pins, guard or bookkeeping around them. The cloth belongs to a
  * world nobody else steps, built exactly like the plugin's, so both runs touch memory laid out
  * the same way (copies of the arrays land elsewhere in the heap, and cache aliasing between them
@@ -51,17 +52,18 @@ function hangingSheet(world: object, x: number, n = N): number {
  */
 function bareSolver(c: ClothState): () => void {
   const t = c.topology
-  const { pos, prev, vel, invMass } = c
+  const { pos, prev, vel, invMass, invMass3 } = c
   const p = createKernelParams()
   const n = c.substeps, h = DT / n
   const tethers = c.tethers
   const gravity = [0, -9.81, 0]
   return () => {
+    spreadInverseMasses(invMass, invMass3, c.count)
     for (let s = 0; s < n; s++) {
       setSubstepParams(p, h, c.damping, gravity, 250)
       predictPositions(pos, prev, vel, invMass, null, p, c.count)
       solveLineBending(pos, invMass, t.lineIds, t.lineRest, t.lineCompliance, null, p, 0, t.lineCount)
-      solveDistances(pos, invMass, t.distIds, t.distRest, t.distCompliance, p, 0, t.distCount)
+      solveDistances(pos, invMass3, t.distOffsets, t.distRest, t.distCompliance, p, 0, t.distCount)
       solveTethers(pos, invMass, tethers.particle, tethers.anchor, tethers.rest, tethers.count)
       updateVelocities(pos, prev, vel, p, c.count)
     }

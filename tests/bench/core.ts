@@ -54,7 +54,7 @@ function solveLoop(c: ReturnType<typeof getClothState>): () => void {
   const t = c.topology
   return () => {
     c.distLambda.fill(0)
-    for (let it = 0; it < 8; it++) solveDistancesXpbd(c.pos, c.invMass, t.distIds, t.distRest, t.distCompliance, c.distLambda, c.params, 0, t.distCount)
+    for (let it = 0; it < 8; it++) solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, c.params, 0, t.distCount)
   }
 }
 

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest'
-import { solveCompression, solveDistances, solveDistancesXpbd } from '../../src/kernels/distance'
+import { solveCompression, solveDistances, solveDistancesXpbd, spreadInverseMasses } from '../../src/kernels/distance'
 import { P_INV_H2, createKernelParams } from '../../src/kernels/params'
 
 /** Kernel parameters with 1/h² set (the only scalar these kernels read). */
@@ -9,11 +9,17 @@ const params = (invH2: number) => {
   return p
 }
 
+/** Two particles on the x axis; `w`/`ids` as the compression loop takes them, `w3`/`offsets` as the distance loops do. */
 function pair(ax: number, bx: number, wa = 1, wb = 1) {
+  const w = Float64Array.from([wa, wb])
+  const w3 = new Float64Array(6)
+  spreadInverseMasses(w, w3, 2)
   return {
     pos: Float64Array.from([ax, 0, 0, bx, 0, 0]),
-    w: Float64Array.from([wa, wb]),
+    w,
     ids: Int32Array.from([0, 1]),
+    w3,
+    offsets: Int32Array.from([0, 3]),
     rest: Float64Array.from([1]),
     comp: Float64Array.from([0]),
     lambda: new Float64Array(1),
@@ -23,7 +29,7 @@ function pair(ax: number, bx: number, wa = 1, wb = 1) {
 describe('solveDistances', () => {
   it('converges a stretched rigid pair to its rest length, moving both ends by inverse mass', () => {
     const p = pair(0, 2, 1, 3)
-    for (let i = 0; i < 50; i++) solveDistances(p.pos, p.w, p.ids, p.rest, p.comp, params(3600), 0, 1)
+    for (let i = 0; i < 50; i++) solveDistances(p.pos, p.w3, p.offsets, p.rest, p.comp, params(3600), 0, 1)
     expect(p.pos[3] - p.pos[0]).toBeCloseTo(1, 9)
     // centre of mass (masses 1 and 1/3) does not move: 1·0 + (1/3)·2 = (4/3)·x_cm
     const xcm = (1 * p.pos[0] + (1 / 3) * p.pos[3]) / (4 / 3)
@@ -33,30 +39,30 @@ describe('solveDistances', () => {
   it('leaves a pinned end where it is and never overshoots a stretched pair past rest', () => {
     for (const stretched of [1.01, 1.1, 1.5, 2, 3, 10]) {
       const p = pair(0, stretched, 0, 1)
-      solveDistances(p.pos, p.w, p.ids, p.rest, p.comp, params(3600), 0, 1)
+      solveDistances(p.pos, p.w3, p.offsets, p.rest, p.comp, params(3600), 0, 1)
       expect(p.pos[0]).toBe(0)
       expect(p.pos[3]).toBeGreaterThanOrEqual(1)
       expect(p.pos[3]).toBeLessThan(stretched)
     }
     // near rest one projection is almost exact (second-order accurate)
     const p = pair(0, 1.1, 0, 1)
-    solveDistances(p.pos, p.w, p.ids, p.rest, p.comp, params(3600), 0, 1)
+    solveDistances(p.pos, p.w3, p.offsets, p.rest, p.comp, params(3600), 0, 1)
     expect(p.pos[3] - 1).toBeLessThan(0.001)
   })
 
   it('skips a pair with both ends pinned and a collapsed pair without producing NaN', () => {
     const p = pair(0, 3, 0, 0)
-    solveDistances(p.pos, p.w, p.ids, p.rest, p.comp, params(3600), 0, 1)
+    solveDistances(p.pos, p.w3, p.offsets, p.rest, p.comp, params(3600), 0, 1)
     expect(Array.from(p.pos)).toEqual([0, 0, 0, 3, 0, 0])
     const q = pair(0.5, 0.5)
     q.rest[0] = 0
-    solveDistances(q.pos, q.w, q.ids, q.rest, q.comp, params(3600), 0, 1)
+    solveDistances(q.pos, q.w3, q.offsets, q.rest, q.comp, params(3600), 0, 1)
     expect(Array.from(q.pos).every(Number.isFinite)).toBe(true)
   })
 
   it('pushes a collapsed pair with non-zero rest length apart along any direction without NaN', () => {
     const p = pair(0.25, 0.25 + 1e-9)
-    solveDistances(p.pos, p.w, p.ids, p.rest, p.comp, params(3600), 0, 1)
+    solveDistances(p.pos, p.w3, p.offsets, p.rest, p.comp, params(3600), 0, 1)
     expect(Array.from(p.pos).every(Number.isFinite)).toBe(true)
   })
 
@@ -66,8 +72,8 @@ describe('solveDistances', () => {
     const hang = (iterations: number) => {
       const pos = Float64Array.from([0, 0, 0, 0, -1, 0])
       const prev = Float64Array.from(pos)
-      const w = Float64Array.from([0, 1 / 0.5]) // 0.5 kg
-      const ids = Int32Array.from([0, 1])
+      const w3 = Float64Array.from([0, 0, 0, 1 / 0.5, 0, 0]) // 0.5 kg, at position offsets
+      const offsets = Int32Array.from([0, 3])
       const rest = Float64Array.from([1])
       const comp = Float64Array.from([0.001]) // m/N
       const lambda = new Float64Array(1)
@@ -78,7 +84,7 @@ describe('solveDistances', () => {
         prev[4] = pos[4]
         pos[4] += vy * h
         lambda.fill(0)
-        for (let it = 0; it < iterations; it++) solveDistancesXpbd(pos, w, ids, rest, comp, lambda, params(1 / (h * h)), 0, 1)
+        for (let it = 0; it < iterations; it++) solveDistancesXpbd(pos, w3, offsets, rest, comp, lambda, params(1 / (h * h)), 0, 1)
         vy = (pos[4] - prev[4]) / h
       }
       return -pos[4] - 1
