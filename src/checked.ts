@@ -105,7 +105,7 @@ export function updateVelocities(pos: Float64Array, prev: Float64Array, vel: Flo
   updateKernel(pos, prev, vel, p, n)
 }
 
-/** A pair list's rest lengths and compliances over [start, end); returns end. */
+/** A constraint list's rest values and compliances over [start, end), both ≥ 0; returns end. */
 function pairData(rest: unknown, compliance: unknown, start: unknown, end: unknown): number {
   if (!(rest instanceof Float64Array)) throw new ClothError('rest', rest, 'must be a Float64Array')
   range(start, end, rest.length)
@@ -204,13 +204,7 @@ export function solveLineBending(
 ): void {
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
-  if (!(rest instanceof Float64Array)) throw new ClothError('rest', rest, 'must be a Float64Array')
-  range(start, end, rest.length)
-  ids('ids', idArr, 3 * end, n)
-  f64('rest', rest, end)
-  nonNegative('rest', rest, end)
-  f64('compliance', compliance, end)
-  nonNegative('compliance', compliance, end)
+  ids('ids', idArr, 3 * pairData(rest, compliance, start, end), n)
   if (lambda !== null) f64('lambda', lambda, end)
   params('params', p)
   solveLineBendingKernel(pos, invMass, idArr, rest, compliance, lambda, p, start, end)

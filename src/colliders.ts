@@ -8,6 +8,7 @@ import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, 
 import { interpolatePose, readPoseInto, trackEntity, untrackEntity } from './kinematics'
 import { getClothWorld, type ClothWorldState } from './state'
 import { checkEntity } from './transform'
+import { quatToMatrix } from './math'
 import { wakeAroundCollider } from './sleep'
 
 /** Options every collider takes. */
@@ -303,15 +304,6 @@ function composePose(state: ClothWorldState, eid: number, src: Float64Array, so:
   out[oo + 6] = qw * bw - qx * bx - qy * by - qz * bz
 }
 
-/** Row-major rotation matrix of the unit quaternion at q[qo..qo+3] into m[mo..mo+8]. */
-function quatToMatrix(q: Float64Array, qo: number, m: Float64Array, mo: number): void {
-  const x = q[qo], y = q[qo + 1], z = q[qo + 2], w = q[qo + 3]
-  const xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y, wz = w * z
-  m[mo] = 1 - 2 * (yy + zz); m[mo + 1] = 2 * (xy - wz); m[mo + 2] = 2 * (xz + wy)
-  m[mo + 3] = 2 * (xy + wz); m[mo + 4] = 1 - 2 * (xx + zz); m[mo + 5] = 2 * (yz - wx)
-  m[mo + 6] = 2 * (xz - wy); m[mo + 7] = 2 * (yz + wx); m[mo + 8] = 1 - 2 * (xx + yy)
-}
-
 /**
  * The collider's bounds swept over the current fixed step (`Collider.swept`): for solid shapes the
  * box around its bounding sphere at the step's start and end poses; for planes the world normal
@@ -381,8 +373,8 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
   composePose(state, eid, t, 7, t, 21)
   f[F_PS] = t[14]; f[F_PS + 1] = t[15]; f[F_PS + 2] = t[16]
   f[F_PE] = t[21]; f[F_PE + 1] = t[22]; f[F_PE + 2] = t[23]
-  quatToMatrix(t, 17, f, F_RS)
-  quatToMatrix(t, 24, f, F_RE)
+  quatToMatrix(t[17], t[18], t[19], t[20], f, F_RS)
+  quatToMatrix(t[24], t[25], t[26], t[27], f, F_RE)
   // M = Rs·Reᵀ
   for (let r = 0; r < 3; r++) {
     for (let c = 0; c < 3; c++) {

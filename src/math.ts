@@ -1,5 +1,5 @@
 /**
- * Scalar quaternion and vector helpers for the pin and teleport paths. They write into an output
+ * Scalar quaternion and vector helpers for the pin, teleport, collider and wind-zone paths. They write into an output
  * array at an offset and never allocate. Quaternions are [x, y, z, w] like gl-matrix.
  */
 
@@ -72,4 +72,21 @@ export function normalizeQuat(x: number, y: number, z: number, w: number, out: F
   out[o + 1] = y / l
   out[o + 2] = z / l
   out[o + 3] = w / l
+}
+
+/**
+ * Row-major rotation matrix of the unit quaternion (x, y, z, w) into m[mo..mo+8]. The conjugate
+ * (−x, −y, −z, w) gives the transpose, the inverse rotation, exactly.
+ */
+export function quatToMatrix(x: number, y: number, z: number, w: number, m: Float64Array, mo: number): void {
+  const xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y, wz = w * z
+  m[mo] = 1 - 2 * (yy + zz)
+  m[mo + 1] = 2 * (xy - wz)
+  m[mo + 2] = 2 * (xz + wy)
+  m[mo + 3] = 2 * (xy + wz)
+  m[mo + 4] = 1 - 2 * (xx + zz)
+  m[mo + 5] = 2 * (yz - wx)
+  m[mo + 6] = 2 * (xz - wy)
+  m[mo + 7] = 2 * (yz + wx)
+  m[mo + 8] = 1 - 2 * (xx + yy)
 }

@@ -2,7 +2,7 @@ import { addComponent, addEntity, entityExists, hasComponent, removeEntity } fro
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from './errors'
 import { P_H, P_STEP_FRACTION } from './kernels/params'
-import { rotateVec3 } from './math'
+import { quatToMatrix, rotateVec3 } from './math'
 import { getClothWorld, type ClothState, type ClothWorldState } from './state'
 import { checkEntity, readScale } from './transform'
 import { interpolatePose, trackEntity, untrackEntity } from './kinematics'
@@ -245,6 +245,8 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
   if (advance) state.stats.pinUpdates += c.pins.length
 }
 
+const ROTATION = new Float64Array(9)
+
 /**
  * Moves a cloth rigidly: x' = to + R·(x − from) for positions and previous positions, v' = R·v,
  * so the motion carries no velocity and the shape is kept exactly.
@@ -256,10 +258,9 @@ export function transformCloth(
   toX: number, toY: number, toZ: number,
 ): void {
   // rotation matrix of the unit quaternion, once
-  const xx = rx * rx, yy = ry * ry, zz = rz * rz, xy = rx * ry, xz = rx * rz, yz = ry * rz, wx = rw * rx, wy = rw * ry, wz = rw * rz
-  const m00 = 1 - 2 * (yy + zz), m01 = 2 * (xy - wz), m02 = 2 * (xz + wy)
-  const m10 = 2 * (xy + wz), m11 = 1 - 2 * (xx + zz), m12 = 2 * (yz - wx)
-  const m20 = 2 * (xz - wy), m21 = 2 * (yz + wx), m22 = 1 - 2 * (xx + yy)
+  const M = ROTATION
+  quatToMatrix(rx, ry, rz, rw, M, 0)
+  const m00 = M[0], m01 = M[1], m02 = M[2], m10 = M[3], m11 = M[4], m12 = M[5], m20 = M[6], m21 = M[7], m22 = M[8]
   const { pos, prev, vel } = c
   for (let i = 0; i < 3 * c.count; i += 3) {
     let x = pos[i] - fromX, y = pos[i + 1] - fromY, z = pos[i + 2] - fromZ

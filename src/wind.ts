@@ -3,6 +3,7 @@ import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkVec3, isArrayLike } from './errors'
 import { A_DRAG, A_H, A_LIFT, A_MAX_SPEED, A_STRIDE, AERO_PARAM_COUNT, accumulateAerodynamics, aeroNormals, limitAerodynamics, triangleInverseMasses } from './kernels/aero'
 import { particleBounds } from './kernels/mesh'
+import { quatToMatrix } from './math'
 import {
   NOISE_SCRATCH, ZONE_STRIDE, Z_CX, Z_CY, Z_CZ, Z_DENSITY, Z_DRIFT_X, Z_DRIFT_Y, Z_DRIFT_Z, Z_FALLOFF, Z_HX, Z_HY, Z_HZ,
   Z_INV_SCALE, Z_MAX, Z_MIN, Z_R, Z_SEED, Z_SHAPE, Z_TIME, Z_TURB, Z_VX, Z_VY, Z_VZ, addZoneAir,
@@ -324,21 +325,8 @@ function compileZones(state: ClothWorldState): void {
     P[o + Z_CX] = px
     P[o + Z_CY] = py
     P[o + Z_CZ] = pz
-    // rotation matrix M of q; the block stores Mᵀ (world → zone)
-    const xx = qx * qx, yy = qy * qy, zz = qz * qz, xy = qx * qy, xz = qx * qz, yz = qy * qz, wx = qw * qx, wy = qw * qy, wz = qw * qz
-    const m00 = 1 - 2 * (yy + zz), m01 = 2 * (xy - wz), m02 = 2 * (xz + wy)
-    const m10 = 2 * (xy + wz), m11 = 1 - 2 * (xx + zz), m12 = 2 * (yz - wx)
-    const m20 = 2 * (xz - wy), m21 = 2 * (yz + wx), m22 = 1 - 2 * (xx + yy)
-    const r = o + Z_R
-    P[r] = m00
-    P[r + 1] = m10
-    P[r + 2] = m20
-    P[r + 3] = m01
-    P[r + 4] = m11
-    P[r + 5] = m21
-    P[r + 6] = m02
-    P[r + 7] = m12
-    P[r + 8] = m22
+    // the block stores Mᵀ (world → zone): the matrix of the conjugate quaternion
+    quatToMatrix(-qx, -qy, -qz, qw, P, o + Z_R)
     const hx = Z.halfX[z], hy = Z.halfY[z], hz = Z.halfZ[z]
     P[o + Z_HX] = hx
     P[o + Z_HY] = hy
@@ -349,9 +337,10 @@ function compileZones(state: ClothWorldState): void {
     // world bounds: a box's extent along each world axis is Σ|m_ij|·h_j
     let ex = hx, ey = hx, ez = hx
     if (shape === 1) {
-      ex = Math.abs(m00) * hx + Math.abs(m01) * hy + Math.abs(m02) * hz
-      ey = Math.abs(m10) * hx + Math.abs(m11) * hy + Math.abs(m12) * hz
-      ez = Math.abs(m20) * hx + Math.abs(m21) * hy + Math.abs(m22) * hz
+      const r = o + Z_R // Mᵀ: m_ij sits at r + 3j + i
+      ex = Math.abs(P[r]) * hx + Math.abs(P[r + 3]) * hy + Math.abs(P[r + 6]) * hz
+      ey = Math.abs(P[r + 1]) * hx + Math.abs(P[r + 4]) * hy + Math.abs(P[r + 7]) * hz
+      ez = Math.abs(P[r + 2]) * hx + Math.abs(P[r + 5]) * hy + Math.abs(P[r + 8]) * hz
     }
     P[o + Z_MIN] = px - ex - f
     P[o + Z_MIN + 1] = py - ey - f
