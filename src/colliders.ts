@@ -373,8 +373,8 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
   composePose(state, eid, t, 7, t, 21)
   f[F_PS] = t[14]; f[F_PS + 1] = t[15]; f[F_PS + 2] = t[16]
   f[F_PE] = t[21]; f[F_PE + 1] = t[22]; f[F_PE + 2] = t[23]
-  quatToMatrix(t[17], t[18], t[19], t[20], f, F_RS)
-  quatToMatrix(t[24], t[25], t[26], t[27], f, F_RE)
+  quatToMatrix(t, 17, f, F_RS)
+  quatToMatrix(t, 24, f, F_RE)
   // M = Rs·Reᵀ
   for (let r = 0; r < 3; r++) {
     for (let c = 0; c < 3; c++) {

@@ -75,10 +75,12 @@ export function normalizeQuat(x: number, y: number, z: number, w: number, out: F
 }
 
 /**
- * Row-major rotation matrix of the unit quaternion (x, y, z, w) into m[mo..mo+8]. The conjugate
- * (−x, −y, −z, w) gives the transpose, the inverse rotation, exactly.
+ * Row-major rotation matrix of the unit quaternion at q[qo..qo+3] into m[mo..mo+8]. Arrays and
+ * offsets only: it runs per collider and substep, and a double passed to a call V8 does not
+ * inline is boxed on the heap.
  */
-export function quatToMatrix(x: number, y: number, z: number, w: number, m: Float64Array, mo: number): void {
+export function quatToMatrix(q: Float64Array, qo: number, m: Float64Array, mo: number): void {
+  const x = q[qo], y = q[qo + 1], z = q[qo + 2], w = q[qo + 3]
   const xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y, wz = w * z
   m[mo] = 1 - 2 * (yy + zz)
   m[mo + 1] = 2 * (xy - wz)

@@ -245,7 +245,8 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
   if (advance) state.stats.pinUpdates += c.pins.length
 }
 
-const ROTATION = new Float64Array(9)
+/** Scratch of transformCloth: the rotation matrix in [0, 9), the quaternion in [9, 13). */
+const ROTATION = new Float64Array(13)
 
 /**
  * Moves a cloth rigidly: x' = to + R·(x − from) for positions and previous positions, v' = R·v,
@@ -259,7 +260,11 @@ export function transformCloth(
 ): void {
   // rotation matrix of the unit quaternion, once
   const M = ROTATION
-  quatToMatrix(rx, ry, rz, rw, M, 0)
+  M[9] = rx
+  M[10] = ry
+  M[11] = rz
+  M[12] = rw
+  quatToMatrix(M, 9, M, 0)
   const m00 = M[0], m01 = M[1], m02 = M[2], m10 = M[3], m11 = M[4], m12 = M[5], m20 = M[6], m21 = M[7], m22 = M[8]
   const { pos, prev, vel } = c
   for (let i = 0; i < 3 * c.count; i += 3) {

@@ -296,6 +296,13 @@ export function advanceWind(state: ClothWorldState): void {
   compileZones(state)
 }
 
+/** Swaps a[i] and a[j]. */
+function swap(a: Float64Array, i: number, j: number): void {
+  const t = a[i]
+  a[i] = a[j]
+  a[j] = t
+}
+
 /** Writes each zone's parameter block for the current step. */
 function compileZones(state: ClothWorldState): void {
   const wind = state.wind
@@ -321,12 +328,15 @@ function compileZones(state: ClothWorldState): void {
     P[o + Z_SEED] = Z.seed[z] | 0
     const s = 7 * Z.slot[z]
     const px = poses[s], py = poses[s + 1], pz = poses[s + 2]
-    const qx = poses[s + 3], qy = poses[s + 4], qz = poses[s + 5], qw = poses[s + 6]
     P[o + Z_CX] = px
     P[o + Z_CY] = py
     P[o + Z_CZ] = pz
-    // the block stores Mᵀ (world → zone): the matrix of the conjugate quaternion
-    quatToMatrix(-qx, -qy, -qz, qw, P, o + Z_R)
+    // the block stores Mᵀ (world → zone): M, then transposed in place
+    const r = o + Z_R
+    quatToMatrix(poses, s + 3, P, r)
+    swap(P, r + 1, r + 3)
+    swap(P, r + 2, r + 6)
+    swap(P, r + 5, r + 7)
     const hx = Z.halfX[z], hy = Z.halfY[z], hz = Z.halfZ[z]
     P[o + Z_HX] = hx
     P[o + Z_HY] = hy
@@ -337,7 +347,7 @@ function compileZones(state: ClothWorldState): void {
     // world bounds: a box's extent along each world axis is Σ|m_ij|·h_j
     let ex = hx, ey = hx, ez = hx
     if (shape === 1) {
-      const r = o + Z_R // Mᵀ: m_ij sits at r + 3j + i
+      // Mᵀ: m_ij sits at r + 3j + i
       ex = Math.abs(P[r]) * hx + Math.abs(P[r + 3]) * hy + Math.abs(P[r + 6]) * hz
       ey = Math.abs(P[r + 1]) * hx + Math.abs(P[r + 4]) * hy + Math.abs(P[r + 7]) * hz
       ez = Math.abs(P[r + 2]) * hx + Math.abs(P[r + 5]) * hy + Math.abs(P[r + 8]) * hz
