@@ -5,7 +5,7 @@
  * which is why the plugin's own systems call the unchecked kernels in `src/kernels/` directly:
  * their data was validated once, when it entered through the API.
  */
-import { ClothError, checkIndex, checkInteger, checkOneOf, checkPositive, isArrayLike, MAX_COORDINATE } from './errors'
+import { ClothError, checkBoundedArray, checkIndex, checkInteger, checkObject, checkOneOf, checkPositive, isArrayLike, MAX_COORDINATE } from './errors'
 import { solveLineBending as solveLineBendingKernel } from './kernels/bending'
 import { dampPairs as dampPairsKernel } from './kernels/damping'
 import { solveDihedrals as solveDihedralsKernel } from './kernels/dihedral'
@@ -26,7 +26,10 @@ import {
   buildGridTopology as buildGridKernel,
   buildMeshTopology as buildMeshKernel,
   dihedralAngle as dihedralAngleKernel,
+  type BendSide,
+  type BendingModel,
   type ClothTopology,
+  type ShearModel,
   type TopologyOptions,
 } from './topology'
 
@@ -283,18 +286,52 @@ export function checkClothHealth(pos: Float64Array, vel: Float64Array, invMass: 
 // ---------------------------------------------------------------------------------------------
 // Builders
 
-function topologyOptions(o: unknown, n: number): TopologyOptions {
-  if (o === undefined) return {}
-  if (typeof o !== 'object' || o === null) throw new ClothError('options', o, 'must be an object')
-  const t = o as TopologyOptions
-  if (t.bending !== undefined) checkOneOf('options.bending', t.bending, ['distance', 'dihedral', 'both', 'none'] as const)
-  if (t.shear !== undefined) checkOneOf('options.shear', t.shear, ['distance', 'compression', 'none'] as const)
-  if (t.bendSide !== undefined) checkOneOf('options.bendSide', t.bendSide, ['both', 'front', 'back'] as const)
-  if (t.orderFrom !== undefined) {
-    if (!isArrayLike(t.orderFrom)) throw new ClothError('options.orderFrom', t.orderFrom, 'must be an array of particle indices')
-    for (let k = 0; k < t.orderFrom.length; k++) checkIndex(`options.orderFrom[${k}]`, t.orderFrom[k], n)
+/** Topology options as the builders take them, with every default filled in. */
+export interface CheckedTopologyOptions {
+  bending: BendingModel
+  shear: ShearModel
+  bendSide: BendSide
+  orderFrom?: ArrayLike<number>
+}
+
+/**
+ * Checks the topology options of a builder or `createCloth` (`bending`, `shear`, `bendSide`,
+ * `orderFrom` over `n` particles) on `o`; undefined fields take the builders' defaults. The one
+ * check both entry points use, so the lists of allowed values cannot drift apart.
+ */
+export function checkTopologyOptions(o: TopologyOptions | undefined, n: number, arg = 'options'): CheckedTopologyOptions {
+  if (o === undefined) return { bending: 'line', shear: 'distance', bendSide: 'both' }
+  checkObject(arg, o)
+  const bending = o.bending === undefined ? 'line' : checkOneOf(`${arg}.bending`, o.bending, ['line', 'distance', 'dihedral', 'both', 'none'] as const)
+  const shear = o.shear === undefined ? 'distance' : checkOneOf(`${arg}.shear`, o.shear, ['distance', 'compression', 'none'] as const)
+  const bendSide = o.bendSide === undefined ? 'both' : checkOneOf(`${arg}.bendSide`, o.bendSide, ['both', 'front', 'back'] as const)
+  let orderFrom: ArrayLike<number> | undefined
+  if (o.orderFrom !== undefined) {
+    if (!isArrayLike(o.orderFrom)) throw new ClothError(`${arg}.orderFrom`, o.orderFrom, 'must be an array of particle indices')
+    for (let k = 0; k < o.orderFrom.length; k++) checkIndex(`${arg}.orderFrom[${k}]`, o.orderFrom[k], n)
+    orderFrom = o.orderFrom
   }
-  return t
+  return { bending, shear, bendSide, orderFrom }
+}
+
+/**
+ * Checks an indexed triangle mesh: xyz positions of at least 3 vertices within ±MAX_COORDINATE,
+ * and a non-empty index list whose triangles each name three different vertices. `prefix` goes
+ * before the argument names ('options.' for `createClothFromMesh`). Returns the vertex count.
+ */
+export function checkMeshInput(positions: unknown, indices: unknown, prefix = ''): number {
+  checkBoundedArray(`${prefix}positions`, positions, 3, MAX_COORDINATE)
+  const n = (positions as ArrayLike<number>).length / 3
+  if (n < 3) throw new ClothError(`${prefix}positions`, positions, 'must hold at least 3 vertices')
+  if (!isArrayLike(indices) || indices.length === 0 || indices.length % 3 !== 0) {
+    throw new ClothError(`${prefix}indices`, indices, 'must be a non-empty array of triangle indices (length a multiple of 3)')
+  }
+  for (let k = 0; k < indices.length; k++) checkIndex(`${prefix}indices[${k}]`, indices[k], n)
+  for (let t = 0; t < indices.length; t += 3) {
+    const a = indices[t], b = indices[t + 1], c = indices[t + 2]
+    if (a === b || b === c || a === c) throw new ClothError(`${prefix}indices[${t}..${t + 2}]`, [a, b, c], 'must name three different vertices')
+  }
+  return n
 }
 
 /** Checked `buildGridTopology` (rest data of a rectangular sheet, no world needed). */
@@ -308,29 +345,15 @@ export function buildGridTopology(
   checkInteger('columns', columns, 2, 4096)
   checkInteger('rows', rows, 2, 4096)
   checkOneOf('topology', topology, ['quad', 'triangle'] as const)
-  return buildGridKernel(width, height, columns, rows, resolveMaterial(material, 'material'), topology, topologyOptions(options, columns * rows))
+  return buildGridKernel(width, height, columns, rows, resolveMaterial(material, 'material'), topology, checkTopologyOptions(options, columns * rows))
 }
 
 /** Checked `buildMeshTopology` (rest data of an indexed triangle mesh). */
 export function buildMeshTopology(
   positions: ArrayLike<number>, indices: ArrayLike<number>, material: ClothMaterialSpec | string, options?: TopologyOptions,
 ): ClothTopology {
-  if (!isArrayLike(positions) || positions.length < 9 || positions.length % 3 !== 0) {
-    throw new ClothError('positions', positions, 'must be xyz positions of at least 3 vertices')
-  }
-  for (let i = 0; i < positions.length; i++) {
-    if (!(Math.abs(positions[i]) <= MAX_COORDINATE)) throw new ClothError(`positions[${i}]`, positions[i], `must be a finite number within ±${MAX_COORDINATE}`)
-  }
-  const n = positions.length / 3
-  if (!isArrayLike(indices) || indices.length === 0 || indices.length % 3 !== 0) {
-    throw new ClothError('indices', indices, 'must be a non-empty array of triangle indices (length a multiple of 3)')
-  }
-  for (let k = 0; k < indices.length; k++) checkIndex(`indices[${k}]`, indices[k], n)
-  for (let t = 0; t < indices.length; t += 3) {
-    const a = indices[t], b = indices[t + 1], c = indices[t + 2]
-    if (a === b || b === c || a === c) throw new ClothError(`indices[${t}..${t + 2}]`, [a, b, c], 'must name three different vertices')
-  }
-  return buildMeshKernel(positions, indices, resolveMaterial(material, 'material'), topologyOptions(options, n))
+  const n = checkMeshInput(positions, indices)
+  return buildMeshKernel(positions, indices, resolveMaterial(material, 'material'), checkTopologyOptions(options, n))
 }
 
 /** Checked `dihedralAngle`: the signed angle of hinge (e0, e1, w0, w1) in positions `p`. */

@@ -3,7 +3,6 @@ import type { quat, vec3 } from 'gl-matrix'
 import {
   ClothError,
   MAX_COORDINATE,
-  checkBoundedArray,
   checkFiniteArray,
   checkInteger,
   checkObject,
@@ -12,9 +11,9 @@ import {
   checkOneOf,
   checkPositive,
   checkQuat,
-  checkVec3,
   isArrayLike,
 } from './errors'
+import { checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './checked'
 import { measureStretch, writeRenderMesh } from './kernels/mesh'
 import { createKernelParams } from './kernels/params'
 import { resolveMaterial, type ClothMaterialSpec } from './materials'
@@ -154,26 +153,10 @@ export function createCloth(world: object, options: CreateClothOptions): number 
  */
 export function createClothFromMesh(world: object, options: CreateClothFromMeshOptions): number {
   const state = getClothWorld(world)
-  if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  const positions = checkBoundedArray('options.positions', options.positions, 3, MAX_COORDINATE)
-  const n = (positions.length / 3) | 0
-  if (n < 3) throw new ClothError('options.positions', positions, 'must hold at least 3 vertices')
+  checkObject('options', options)
+  const n = checkMeshInput(options.positions, options.indices, 'options.')
+  const positions = options.positions
   const indices = options.indices
-  if (!isArrayLike(indices) || indices.length === 0 || indices.length % 3 !== 0) {
-    throw new ClothError('options.indices', indices, 'must be a non-empty array of triangle indices (length a multiple of 3)')
-  }
-  for (let k = 0; k < indices.length; k++) {
-    const v = (indices as ArrayLike<number>)[k]
-    if (typeof v !== 'number' || !Number.isInteger(v) || v < 0 || v >= n) {
-      throw new ClothError(`options.indices[${k}]`, v, `must be a vertex index in [0, ${n - 1}]`)
-    }
-  }
-  for (let t = 0; t < indices.length; t += 3) {
-    const a = (indices as ArrayLike<number>)[t], b = (indices as ArrayLike<number>)[t + 1], c = (indices as ArrayLike<number>)[t + 2]
-    if (a === b || b === c || a === c) {
-      throw new ClothError(`options.indices[${t}..${t + 2}]`, [a, b, c], 'must name three different vertices')
-    }
-  }
   let masses: ArrayLike<number> | undefined
   if (options.masses !== undefined) {
     masses = checkFiniteArray('options.masses', options.masses)
@@ -181,7 +164,7 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
     for (let i = 0; i < n; i++) if (!(masses[i] > 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   }
   const common = checkCommon(options, n, state)
-  const topology = buildMeshTopology(positions, indices as ArrayLike<number>, common.material, common.topologyOptions)
+  const topology = buildMeshTopology(positions, indices, common.material, common.topologyOptions)
   return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses)
 }
 
@@ -194,7 +177,7 @@ interface CommonOptions {
   stretchDamping: number
   mass: number | undefined
   tethers: Required<TetherOptions>
-  topologyOptions: { bending: BendingModel; shear: ShearModel; bendSide: BendSide; orderFrom?: ArrayLike<number> }
+  topologyOptions: CheckedTopologyOptions
   guard: GuardSettings
 }
 
@@ -206,20 +189,8 @@ function checkCommon(o: ClothOptions, n: number, state: ClothWorldState): Common
   const damping = o.damping === undefined ? material.damping : checkNonNegative('options.damping', o.damping)
   const stretchDamping = o.stretchDamping === undefined ? material.stretchDamping : checkNonNegative('options.stretchDamping', o.stretchDamping)
   const mass = o.mass === undefined ? undefined : checkPositive('options.mass', o.mass)
-  const bending = o.bending === undefined ? 'line' : checkOneOf('options.bending', o.bending, ['line', 'distance', 'dihedral', 'both', 'none'] as const)
-  const shear = o.shear === undefined ? 'distance' : checkOneOf('options.shear', o.shear, ['distance', 'compression', 'none'] as const)
-  const bendSide = o.bendSide === undefined ? 'both' : checkOneOf('options.bendSide', o.bendSide, ['both', 'front', 'back'] as const)
-  let orderFrom: ArrayLike<number> | undefined
-  if (o.orderFrom !== undefined) {
-    if (!isArrayLike(o.orderFrom)) throw new ClothError('options.orderFrom', o.orderFrom, 'must be an array of particle indices')
-    for (let k = 0; k < o.orderFrom.length; k++) {
-      const v = o.orderFrom[k]
-      if (!Number.isInteger(v) || v < 0 || v >= n) throw new ClothError(`options.orderFrom[${k}]`, v, `must be a particle index in [0, ${n - 1}]`)
-    }
-    orderFrom = o.orderFrom
-  }
   const guard = resolveGuardOptions(o.guard, state.guard.defaults, 'options.guard')
-  return { material, iterations, substeps, solver, damping, stretchDamping, mass, tethers: checkTetherOptions(o.tethers, 'options.tethers'), topologyOptions: { bending, shear, bendSide, orderFrom }, guard }
+  return { material, iterations, substeps, solver, damping, stretchDamping, mass, tethers: checkTetherOptions(o.tethers, 'options.tethers'), topologyOptions: checkTopologyOptions(o, n), guard }
 }
 
 function checkTetherOptions(t: boolean | TetherOptions | undefined, arg: string): Required<TetherOptions> {

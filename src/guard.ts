@@ -15,7 +15,6 @@ import {
   G_REACH,
   G_SPEED2,
   GUARD_PARAM_COUNT,
-  HEALTH_BOUNDS,
   HEALTH_NONFINITE,
   HEALTH_SPEED,
 } from './kernels/guard'

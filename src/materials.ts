@@ -117,7 +117,8 @@ export function defineMaterial(
 
 /**
  * Accepts a preset name ('silk', 'COTTON', ...), a preset object or any object with the material
- * fields, and returns a validated material. Throws ClothError for unknown names or bad values.
+ * fields, and returns a validated, frozen material (a copy when the object given is not frozen).
+ * Throws ClothError for unknown names or bad values.
  */
 export function resolveMaterial(material: unknown, argument = 'options.material'): ClothMaterialSpec {
   if (material === undefined) return ClothMaterial.COTTON
@@ -136,8 +137,11 @@ export function resolveMaterial(material: unknown, argument = 'options.material'
   if (Object.isFrozen(material) && (Object.values(ClothMaterial) as unknown[]).includes(material)) {
     return material as ClothMaterialSpec
   }
-  validateMaterial(material as Record<string, unknown>, argument)
-  return material as ClothMaterialSpec
+  // a frozen copy: the solver reads the material every substep, so a later edit of the caller's
+  // object must not reach it unvalidated
+  const m = Object.isFrozen(material) ? material : Object.freeze({ ...material })
+  validateMaterial(m as Record<string, unknown>, argument)
+  return m as ClothMaterialSpec
 }
 
 function validateMaterial(m: Record<string, unknown>, argument: string): void {

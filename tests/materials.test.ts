@@ -23,6 +23,19 @@ describe('materials', () => {
     expect(Object.isFrozen(m)).toBe(true)
   })
 
+  it('a plain material object is copied and frozen: editing it later cannot reach the solver', () => {
+    const plain = { ...ClothMaterial.COTTON, name: 'mine' }
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 4, material: plain })
+    plain.friction = NaN
+    plain.density = -1
+    const held = getClothState(world, cloth).material
+    expect(Object.isFrozen(held)).toBe(true)
+    expect(held.friction).toBe(ClothMaterial.COTTON.friction)
+    expect(held.density).toBe(ClothMaterial.COTTON.density)
+    expect(() => resolveMaterial(plain)).toThrow(/friction|density/)
+  })
+
   it('rubber stretches visibly more than leather under the same load', () => {
     const drop = (material: string) => {
       const world = makeWorld()

@@ -184,5 +184,11 @@ describe('exported kernels and builders check their arguments', () => {
     rejects(() => buildTethers(pos(), 4, [0, 1], 1, [7], 'euclidean', 2, 0), 'anchors[0]')
     rejects(() => buildTethers(pos(), 4, [0, 1], 1, [0], 'straight' as never, 2, 0), 'mode')
     expect(buildGridTopology(1, 1, 4, 4, 'cotton').particleCount).toBe(16)
+    // every bending model createCloth accepts, the builders accept too (one shared check)
+    for (const bending of ['line', 'distance', 'dihedral', 'both', 'none'] as const) {
+      const t = buildGridTopology(1, 1, 4, 4, 'cotton', 'quad', { bending })
+      expect(t.lineCount > 0).toBe(bending === 'line')
+      expect(t.hingeCount > 0).toBe(bending === 'dihedral' || bending === 'both')
+    }
   })
 })

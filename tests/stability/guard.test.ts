@@ -24,7 +24,6 @@ import {
   installClothPlugin,
   onClothReset,
   pinParticle,
-  pinRow,
   setClothGuard,
   setTransform,
   stepCloth,
