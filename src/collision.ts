@@ -234,6 +234,11 @@ export function colliderLayersMatch(C: ColliderStore, eid: number, cc: ClothColl
   return (C.layer[eid] & cc.mask) !== 0 && (C.mask[eid] & cc.layer) !== 0
 }
 
+/** Whether two cloths' layers and masks let them collide with each other (both ways). */
+export function clothLayersMatch(a: ClothCollision, b: ClothCollision): boolean {
+  return (a.layer & b.mask) !== 0 && (b.layer & a.mask) !== 0
+}
+
 /**
  * Once per fixed step (the collide phase's first substep): for each running cloth that could
  * touch a collider (layers) or collides with itself, its particle bounds grown by how far

@@ -1,5 +1,5 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
-import { B_MAX_DEV, B_MEAN_V, growCollisionStores } from './collision'
+import { B_MAX_DEV, B_MEAN_V, clothLayersMatch, growCollisionStores } from './collision'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkNonNegative, checkPositive } from './errors'
 import {
   S_DIST,
@@ -208,13 +208,13 @@ export function releaseSelfCollision(state: ClothWorldState, c: ClothState): voi
 export function buildSelfCollisionPairs(state: ClothWorldState): void {
   const cw = state.collision
   const sp = cw.selfParams
-  const dt = state.fixedTimeStep
   const group = cw.selfCloths
   for (let a = 0; a < group.length; a++) {
     const c = group[a]
     if (c.idle) continue // keeps its last hash (it has not moved since)
     const st = c.collision!.self!
     const D = st.thickness
+    const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
     let travel = TRAVEL_GAIN * c.collision!.bounds[B_MAX_DEV] * dt + TRAVEL_FLOOR * D
     let intervals = Math.ceil(travel / (TRAVEL_CAP * D))
     const most = c.substeps < MAX_REBUILDS ? c.substeps : MAX_REBUILDS
@@ -237,14 +237,15 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
       const B = group[b]
       if (A.idle && B.idle) continue
       const cb = B.collision!
-      if ((ca.layer & cb.mask) === 0 || (cb.layer & ca.mask) === 0) continue
+      if (!clothLayersMatch(ca, cb)) continue
       const sb = cb.self!
       const ba = ca.bounds, bb = cb.bounds
       const D = 0.5 * (st.thickness + sb.thickness)
       if (ba[0] > bb[3] + D || bb[0] > ba[3] + D || ba[1] > bb[4] + D || bb[1] > ba[4] + D || ba[2] > bb[5] + D || bb[2] > ba[5] + D) continue
       // both cloths' travel over the whole step plus their mean motion toward each other
       const vx = ba[B_MEAN_V] - bb[B_MEAN_V], vy = ba[B_MEAN_V + 1] - bb[B_MEAN_V + 1], vz = ba[B_MEAN_V + 2] - bb[B_MEAN_V + 2]
-      let R = D + st.values[3] + sb.values[3] + 1.25 * Math.sqrt(vx * vx + vy * vy + vz * vz) * dt
+      const dtA = A.h * A.substeps, dtB = B.h * B.substeps
+      let R = D + st.values[3] + sb.values[3] + 1.25 * Math.sqrt(vx * vx + vy * vy + vz * vz) * (dtA > dtB ? dtA : dtB)
       if (R > D + 2 * sb.values[0]) R = D + 2 * sb.values[0]
       sp[S_RADIUS] = R
       sp[S_INV_CELL] = 1 / sb.values[0]

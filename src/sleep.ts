@@ -1,5 +1,5 @@
 import { ClothError, checkNonNegative, checkPositive } from './errors'
-import { colliderLayersMatch, colliderReaches } from './collision'
+import { clothLayersMatch, colliderLayersMatch, colliderReaches } from './collision'
 import { P_MAX_V2 } from './kernels/params'
 import { particleBounds } from './kernels/mesh'
 import { getCloth } from './pins'
@@ -196,7 +196,7 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
       const o = group[q]
       if (o === c || o.sleeping || o.lod.frozen) continue
       const cb = o.collision!
-      if ((ca.layer & cb.mask) === 0 || (cb.layer & ca.mask) === 0) continue
+      if (!clothLayersMatch(ca, cb)) continue
       const ob = cb.bounds
       const D = self.thickness + cb.self!.thickness
       if (ob[0] > b[3] + D || b[0] > ob[3] + D || ob[1] > b[4] + D || b[1] > ob[4] + D || ob[2] > b[5] + D || b[2] > ob[5] + D) continue

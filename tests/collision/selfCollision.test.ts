@@ -13,6 +13,8 @@ import {
   setTransform,
   stepCloth,
 } from '../../src/index'
+import { buildSelfCollisionPairs } from '../../src/selfCollision'
+import { getClothWorld } from '../../src/state'
 import { hashBytes, makeWorld } from '../helpers'
 import { flatSheet, maxSpeed } from './scenes'
 
@@ -148,6 +150,20 @@ describe('self-collision', () => {
     resetClothStats(world)
     for (let f = 0; f < 10; f++) stepCloth(world, 1 / 60)
     expect(getClothStats(world).selfCollisionTests).toBe(0)
+  })
+
+  it('allows for the travel of the cloth’s own step: a cloth stepping every 2nd step gets more room', () => {
+    const world = groundWorld()
+    const cloth = foldedSheet(world, true)
+    for (let f = 0; f < 20; f++) stepCloth(world, 1 / 60)
+    const c = getClothState(world, cloth)
+    const values = c.collision!.self!.values // [cell, travel per interval, intervals, travel]
+    const travel = values[3]
+    expect(travel).toBeGreaterThan(0)
+    // as the budget sets a cloth that steps every 2nd fixed step: the same substeps over 2/60 s
+    c.h *= 2
+    buildSelfCollisionPairs(getClothWorld(world))
+    expect(values[3]).toBeGreaterThan(1.2 * travel)
   })
 
   it('is deterministic: the same folds give the same bytes', () => {
