@@ -204,6 +204,7 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
   c.params[P_STEP_FRACTION] = (k + 1) / n
   const pos = c.pos
   const from = state.kinematics.stepFrom, to = state.kinematics.stepTo
+  let poseSlot = -1 // the target whose pose `pose` holds (a pinned row shares one target)
   for (let q = 0; q < c.pins.length; q++) {
     const pin = c.pins[q]
     let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
@@ -234,7 +235,11 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
       if (sz > 0) lz *= sz
     }
     // the target's pose (k + 1)/n of the way through the step
-    interpolatePose(from, to, 7 * P.slot[pin], c.params, P_STEP_FRACTION, pose, 0)
+    const slot = P.slot[pin]
+    if (slot !== poseSlot) {
+      interpolatePose(from, to, 7 * slot, c.params, P_STEP_FRACTION, pose, 0)
+      poseSlot = slot
+    }
     const px = pose[0], py = pose[1], pz = pose[2], qx = pose[3], qy = pose[4], qz = pose[5], qw = pose[6]
     // v' = v + w·t + q × t, t = 2·q × v
     const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)

@@ -29,10 +29,11 @@ export function clothSolve<W extends object>(world: W): W {
     // steps (pins, unpins, tears, restores), so one copy per step keeps them current
     if (c.subIndex === 0) spreadInverseMasses(c.invMass, c.invMass3, c.count)
     if (accumulate) {
-      c.distLambda.fill(0)
-      c.compLambda.fill(0)
-      c.lineLambda.fill(0)
-      c.hingeLambda.fill(0)
+      // the live constraints only (a tearable cloth reserves room for more)
+      c.distLambda.fill(0, 0, t.distCount)
+      c.compLambda.fill(0, 0, t.compCount)
+      c.lineLambda.fill(0, 0, t.lineCount)
+      c.hingeLambda.fill(0, 0, t.hingeCount)
     }
     const hingeLambda = accumulate ? c.hingeLambda : null
     const lineLambda = accumulate ? c.lineLambda : null
