@@ -190,12 +190,6 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   wakeClothState(state, c)
 }
 
-/** A cloth's collision thickness (particle radius), m. */
-export function clothThickness(c: ClothState): number {
-  const t = c.collision!.thickness
-  return t > 0 ? t : c.material.thickness
-}
-
 /**
  * Once per fixed step (the sync phase): each collider's bounds swept over the step, from its
  * body's pose at the step's start and end (read by the broadphase and by the sleep test).

@@ -80,9 +80,8 @@ export interface ClothGuardState {
   /** Positions at the last good step, and how many particles they cover. */
   safe: Float64Array
   safeCount: number
-  /** Positions at creation (the rest shape as placed in the world). */
+  /** Positions at creation (the rest shape as placed in the world; torn-off particles added as they appear). */
   rest: Float64Array
-  restCount: number
   /** Good steps since the last copy into `safe`. */
   sinceSafe: number
   /** Consecutive failed checks (0 after a good step). */
@@ -163,7 +162,6 @@ export function createClothGuard(topology: ClothTopology, pos: Float64Array, set
     safe: Float64Array.from(pos),
     safeCount: topology.particleCount,
     rest: Float64Array.from(pos),
-    restCount: topology.particleCount,
     sinceSafe: 0,
     failStreak: 0,
   }
@@ -346,7 +344,7 @@ export function resetCloth(state: ClothWorldState, c: ClothState, reason: number
   const particle = findOffender(c, reason)
   const useRest = g.failStreak > 0 || g.safeCount !== c.count
   const src = useRest ? g.rest : g.safe
-  const srcCount = useRest ? g.restCount : g.safeCount
+  const srcCount = useRest ? c.count : g.safeCount
   g.failStreak++
   placeRigidly(state, c, src, srcCount)
   g.sinceSafe = 0

@@ -18,46 +18,6 @@ export function rotateVec3(
   out[o + 2] = vz + qw * tz + (qx * ty - qy * tx)
 }
 
-/**
- * Normalised spherical interpolation of unit quaternions a → b at t, shortest arc, into out[o..o+3].
- * Falls back to normalised lerp when the two are nearly equal.
- */
-export function slerpQuat(
-  a: Float64Array, ao: number, b: Float64Array, bo: number, t: number,
-  out: Float64Array, o: number,
-): void {
-  const ax = a[ao], ay = a[ao + 1], az = a[ao + 2], aw = a[ao + 3]
-  let bx = b[bo], by = b[bo + 1], bz = b[bo + 2], bw = b[bo + 3]
-  let cos = ax * bx + ay * by + az * bz + aw * bw
-  if (cos < 0) {
-    cos = -cos
-    bx = -bx
-    by = -by
-    bz = -bz
-    bw = -bw
-  }
-  let s0: number, s1: number
-  if (cos > 0.9995) {
-    s0 = 1 - t
-    s1 = t
-  } else {
-    const omega = Math.acos(cos)
-    const sin = Math.sin(omega)
-    s0 = Math.sin((1 - t) * omega) / sin
-    s1 = Math.sin(t * omega) / sin
-  }
-  let x = s0 * ax + s1 * bx, y = s0 * ay + s1 * by, z = s0 * az + s1 * bz, w = s0 * aw + s1 * bw
-  const l = Math.sqrt(x * x + y * y + z * z + w * w)
-  x /= l
-  y /= l
-  z /= l
-  w /= l
-  out[o] = x
-  out[o + 1] = y
-  out[o + 2] = z
-  out[o + 3] = w
-}
-
 /** Writes q normalised (identity if degenerate) into out[o..o+3]. */
 export function normalizeQuat(x: number, y: number, z: number, w: number, out: Float64Array, o: number): void {
   const l = Math.sqrt(x * x + y * y + z * z + w * w)

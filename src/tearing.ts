@@ -448,7 +448,6 @@ function splitParticle(c: ClothState, T: ClothTear, v: number, o: number, mode: 
     // goes back to its rest layout, every piece in place
     guardRest[3 * nv + j] = guardRest[3 * v + j]
   }
-  c.guard.restCount = nv + 1
   // share the mass by rest area, neither part below 20 % (extreme mass ratios hurt Gauss-Seidel)
   let frac = areaAll > 0 ? areaPlus / areaAll : 0.5
   if (frac < 0.2) frac = 0.2

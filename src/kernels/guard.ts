@@ -16,7 +16,7 @@ export const G_FINITE = 0
 export const G_REACH = 1
 /** Square of the allowed rms relative speed, m²/s²; 0 = off. */
 export const G_SPEED2 = 2
-/** Measured by the last check: rms relative speed², m²/s² (for tests and diagnostics). */
+/** Measured by the last check: rms relative speed², m²/s² (diagnostics). */
 export const G_OUT_SPEED2 = 3
 /** Measured by the last check: how far the cloth reached beyond the allowed region, m (≤ 0: inside). */
 export const G_OUT_EXCESS = 4

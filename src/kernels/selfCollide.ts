@@ -13,38 +13,37 @@
  * Scalars travel in a parameter block (slots below).
  */
 
-/** Hash cell size, m, and its inverse. */
-export const S_CELL = 0
-export const S_INV_CELL = 1
+/** Inverse of the hash cell size, 1/m. */
+export const S_INV_CELL = 0
 /** Pair search radius, m. */
-export const S_RADIUS = 2
+export const S_RADIUS = 1
 /** Collision distance between two particles, m. */
-export const S_DIST = 3
+export const S_DIST = 2
 /** Static and kinetic friction between touching particles. */
-export const S_MU_S = 4
-export const S_MU_K = 5
+export const S_MU_S = 3
+export const S_MU_K = 4
 /** Inverse-mass scale of the first and second cloth (0 while a cloth sits a substep out). */
-export const S_W_A = 6
-export const S_W_B = 7
+export const S_W_A = 5
+export const S_W_B = 6
 /** Largest motion of a particle relative to its cloth's mean per substep, m (the clamp). */
-export const S_LIMIT = 8
+export const S_LIMIT = 7
 /**
  * Inverse-mass scale of a particle that touched a collider in the previous substep (0.2: five
  * times heavier). A cloth lying on the ground then holds up the layers above it instead of being
  * pushed into the ground and back by every contact, so stacks and folds settle (NvCloth and Unity
  * call this the collision mass scale).
  */
-export const S_CONTACT_SCALE = 9
+export const S_CONTACT_SCALE = 8
 /**
  * Separation per substep, m, a pair may gain from the push-out before the rest is taken out of its
  * velocity (the depenetration speed × h). Below it the push counts as a contact force: a resting
  * stack is held up by the overlaps the ground correction recreates every substep, and these must
  * turn into velocity (and friction load). Above it an old overlap is resolved without a pop.
  */
-export const S_SLOP = 10
+export const S_SLOP = 9
 /** Rest distance, m, below which a self pair is never gathered (mesh neighbours). */
-export const S_REST_FILTER = 11
-export const SELF_PARAM_COUNT = 12
+export const S_REST_FILTER = 10
+export const SELF_PARAM_COUNT = 11
 
 const H1 = 92837111, H2 = 689287499, H3 = 283923481
 

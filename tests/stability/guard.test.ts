@@ -31,7 +31,7 @@ import {
   type ClothPluginOptions,
   type ClothResetEvent,
 } from '../../src/index'
-import { HEALTH_BOUNDS, HEALTH_NONFINITE, HEALTH_OK, HEALTH_SPEED, checkPieceHealth } from '../../src/kernels/guard'
+import { G_OUT_EXCESS, HEALTH_BOUNDS, HEALTH_NONFINITE, HEALTH_OK, HEALTH_SPEED, checkPieceHealth } from '../../src/kernels/guard'
 import { getClothWorld } from '../../src/state'
 import { hashBytes } from '../helpers'
 import { geodesicDiameter, hangingSheet, inspect, inspectPieces } from './harness'
@@ -115,7 +115,7 @@ describe('health check of a torn cloth (per piece)', () => {
     expect(checkClothHealth(pos, vel, invMass, 7, g)).toBe(2) // (as one piece: out of bounds)
     pos[3 * 4] = 2.6 // piece 1 now spans 2.6 m in x: more than the reach
     expect(check()).toBe(HEALTH_BOUNDS)
-    expect(g[4]).toBeCloseTo(0.6, 12)
+    expect(g[G_OUT_EXCESS]).toBeCloseTo(0.6, 12)
     pos[3 * 4] = 0.5
     pos[3 * 2 + 1] = 2 - 2.01 // a free particle of the pinned piece 2.01 m below the pins' box
     expect(check()).toBe(HEALTH_BOUNDS)
