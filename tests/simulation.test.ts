@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest'
-import { ClothSimulation, getClothState } from '../src/index'
+import { ClothSimulation, getClothState, getPins } from '../src/index'
 
 describe('ClothSimulation facade', () => {
   it('wraps a private world: pin a row, step, read the mesh', () => {
@@ -14,8 +14,11 @@ describe('ClothSimulation facade', () => {
     expect(mesh.vertexCount).toBe(100)
     expect(mesh.triangleCount).toBe(162)
     expect(sim.getStretch().max).toBeLessThan(0.05)
-    // the facade is the ECS API underneath
-    expect(getClothState(sim.world, sim.cloth).pos).toBe(getClothState(sim.world, sim.cloth).pos)
+    // the facade is the ECS API underneath: its positions are a view of the world's cloth state
+    const state = getClothState(sim.world, sim.cloth)
+    expect(sim.positions.buffer).toBe(state.pos.buffer)
+    expect(sim.particleCount).toBe(state.count)
+    expect(sim.pinRow(1).every((pin) => getPins(sim.world, sim.cloth).includes(pin))).toBe(true)
   })
 
   it('pins a particle at a world position and releases it', () => {

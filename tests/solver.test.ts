@@ -10,10 +10,15 @@ import {
   pinRow,
   stepCloth,
 } from '../src/index'
-import { allFinite, makeWorld, momentum, rng } from './helpers'
+import { allFinite, lowestY, makeWorld, momentum, rng } from './helpers'
 
+/**
+ * A sheet hanging from its top row (or two corners), in a world without the explosion guard: these
+ * tests measure the solver alone, and the guard would put back into shape what they check (a 1 × 1
+ * sheet of 32 rows without tethers hangs stably at up to 4× its length, past the guard's bounds).
+ */
 function hangingSheet(opts: { substeps: number; iterations: number; tethers?: boolean; solver?: 'xpbd' | 'pbd'; material?: any; resolution?: number; corners?: boolean }) {
-  const world = makeWorld()
+  const world = makeWorld({ guard: false })
   const n = opts.resolution ?? 24
   const cloth = createCloth(world, {
     width: 1, height: 1, resolution: n, substeps: opts.substeps, iterations: opts.iterations,
@@ -123,10 +128,11 @@ describe('without tethers', () => {
     const { world, cloth } = hangingSheet({ substeps: 1, iterations: 1, tethers: false, corners: true, resolution: 32 })
     for (let f = 0; f < 300; f++) stepCloth(world, 1 / 60)
     expect(allFinite(world, cloth)).toBe(true)
-    const c = getClothState(world, cloth)
-    let lowest = Infinity
-    for (let i = 0; i < c.count; i++) lowest = Math.min(lowest, c.pos[3 * i + 1])
-    expect(lowest).toBeGreaterThan(-60) // hanging, not falling away
+    const low300 = lowestY(world, cloth)
+    expect(low300).toBeGreaterThan(-6) // hanging (measured: 4.1–4.3 m below the pins), not falling away
+    for (let f = 0; f < 300; f++) stepCloth(world, 1 / 60)
+    expect(allFinite(world, cloth)).toBe(true)
+    expect(Math.abs(lowestY(world, cloth) - low300)).toBeLessThan(0.5) // and settled, not creeping
   })
 })
 

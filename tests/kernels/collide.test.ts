@@ -1,6 +1,7 @@
 import { fc, test } from '@fast-check/vitest'
 import { describe, expect, it } from 'vitest'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE } from '../../components/Collider'
+import { ClothError } from '../../src/errors'
 import { buildConvexHull } from '../../src/hull'
 import {
   COLLIDE_SCRATCH,
@@ -332,8 +333,9 @@ describe('properties', () => {
       let hull
       try {
         hull = buildConvexHull(pts.flat())
-      } catch {
-        return // coplanar or coincident points: rejected with ClothError, tested elsewhere
+      } catch (e) {
+        expect(e).toBeInstanceOf(ClothError) // coplanar or coincident points, rejected with a clear error
+        return
       }
       for (let k = 0; k < hull.planeCount; k++) {
         const [nx, ny, nz, d] = [hull.planes[4 * k], hull.planes[4 * k + 1], hull.planes[4 * k + 2], hull.planes[4 * k + 3]]

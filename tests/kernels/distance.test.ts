@@ -64,6 +64,9 @@ describe('solveDistances', () => {
     const p = pair(0.25, 0.25 + 1e-9)
     solveDistances(p.pos, p.w3, p.offsets, p.rest, p.comp, params(3600), 0, 1)
     expect(Array.from(p.pos).every(Number.isFinite)).toBe(true)
+    expect(p.pos[3] - p.pos[0]).toBeGreaterThan(2.9e-9) // apart: about 3× per projection while collapsed
+    for (let i = 0; i < 60; i++) solveDistances(p.pos, p.w3, p.offsets, p.rest, p.comp, params(3600), 0, 1)
+    expect(p.pos[3] - p.pos[0]).toBeCloseTo(1, 9) // and back to its rest length
   })
 
   it('with compliance, converges to the XPBD force balance regardless of iteration count', () => {

@@ -99,14 +99,14 @@ describe('aerodynamics', () => {
 
   it('lift: a plate at an angle to the wind is pushed across it by ½ρ·C_l·A·U²·cos θ·sin θ', () => {
     const theta = Math.PI / 6 // wind 30° off the plate normal
-    const force = (lift: number) => {
+    const force = (lift: number, angle = theta) => {
       const world = makeWorld({ gravity: [0, 0, 0] })
       const material = defineMaterial({ name: 'plate', lift, drag: 1 }, 'canvas')
       const n = 10
       const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 1, 0], material })
       const c = getClothState(world, cloth)
       for (let i = 0; i < c.count; i++) pinParticle(world, cloth, i) // a rigid plate in the x-y plane
-      createWindZone(world, { direction: [Math.sin(theta), 0, Math.cos(theta)], strength: 10 })
+      createWindZone(world, { direction: [Math.sin(angle), 0, Math.cos(angle)], strength: 10 })
       const sum: [number, number, number] = [0, 0, 0]
       const steps = stepMeasuring(world, c, sum)
       return sum.map((x) => x / steps)
@@ -120,8 +120,11 @@ describe('aerodynamics', () => {
     const expected = 0.5 * 1.2 * 0.5 * 1 * 100 * Math.cos(theta) * Math.sin(theta)
     expect(lift).toBeGreaterThan(0)
     expect(lift).toBeCloseTo(expected, 1)
-    // head on, lift vanishes
+    // drag pushes along the wind; head on (wind along the normal) lift vanishes: no force across
     expect(dot(without, [Math.sin(theta), 0, Math.cos(theta)])).toBeGreaterThan(0)
+    const headOn = force(0.5, 0)
+    expect(headOn[2]).toBeGreaterThan(0)
+    expect(Math.abs(headOn[0])).toBeLessThan(1e-9 * headOn[2])
   })
 
   it('extreme wind (1000 m/s, turbulent) stays finite and within the speed limit: the clamp never overshoots the air', () => {
