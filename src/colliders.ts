@@ -284,9 +284,9 @@ function composePose(state: ClothWorldState, eid: number, src: Float64Array, so:
   let ox = C.offset[3 * eid], oy = C.offset[3 * eid + 1], oz = C.offset[3 * eid + 2]
   if (T.sx && T.sy && T.sz) {
     const sx = T.sx[body], sy = T.sy[body], sz = T.sz[body]
-    if (sx > 0) ox *= sx
-    if (sy > 0) oy *= sy
-    if (sz > 0) oz *= sz
+    if (sx > 0 && sx < Infinity) ox *= sx
+    if (sy > 0 && sy < Infinity) oy *= sy
+    if (sz > 0 && sz < Infinity) oz *= sz
   }
   const qx = src[so + 3], qy = src[so + 4], qz = src[so + 5], qw = src[so + 6]
   const tx = 2 * (qy * oz - qz * oy), ty = 2 * (qz * ox - qx * oz), tz = 2 * (qx * oy - qy * ox)

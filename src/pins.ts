@@ -230,9 +230,9 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
     }
     if (sxs && sys && szs) {
       const sx = sxs[tgt], sy = sys[tgt], sz = szs[tgt]
-      if (sx > 0) lx *= sx
-      if (sy > 0) ly *= sy
-      if (sz > 0) lz *= sz
+      if (sx > 0 && sx < Infinity) lx *= sx
+      if (sy > 0 && sy < Infinity) ly *= sy
+      if (sz > 0 && sz < Infinity) lz *= sz
     }
     // the target's pose (k + 1)/n of the way through the step
     const slot = P.slot[pin]

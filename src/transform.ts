@@ -80,13 +80,16 @@ export function getTransform(world: object, eid: number, outPosition?: vec3 | Wr
   return true
 }
 
-/** Scale of an entity's transform (1 where the source has none). */
+/**
+ * Scale of an entity's transform along an axis: used when finite and > 0, else 1 (also where the
+ * source has no scale). Pin placement and collider poses apply the same rule inline per substep.
+ */
 export function readScale(state: ClothWorldState, eid: number, axis: 0 | 1 | 2): number {
   const t = state.transforms
   const arr = axis === 0 ? t.sx : axis === 1 ? t.sy : t.sz
   if (!arr) return 1
   const s = arr[eid]
-  return Number.isFinite(s) && s !== 0 ? s : 1
+  return s > 0 && s < Infinity ? s : 1
 }
 
 /** Throws ClothError unless `eid` is a live entity of `world`. */

@@ -6,6 +6,7 @@ import {
   clothPredict,
   clothSync,
   createCloth,
+  getClothComponents,
   getClothState,
   getClothStretch,
   getPins,
@@ -27,6 +28,21 @@ function expected(p: vec3, q: quat, offset: vec3): vec3 {
 }
 
 describe('pins', () => {
+  it('a target whose host store holds a non-positive scale pins as unscaled, where the particle was pinned', () => {
+    const world = makeWorld()
+    const { Transform } = getClothComponents(world)
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 8 })
+    const c = getClothState(world, cloth)
+    const target = addEntity(world)
+    setTransform(world, target, [0.2, 0.5, 0])
+    Transform.sx[target] = -2 // a host writing its own stores: a mirror scale is ignored (treated as 1)
+    Transform.sy[target] = 0
+    const at = [c.pos[0], c.pos[1], c.pos[2]]
+    pinParticle(world, cloth, 0, target, undefined, { blendTime: 0 })
+    for (let f = 0; f < 10; f++) stepCloth(world, 1 / 60)
+    for (let k = 0; k < 3; k++) expect(c.pos[k]).toBeCloseTo(at[k], 12)
+  })
+
   it('a world pin holds its particle exactly, step after step', () => {
     const world = makeWorld()
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 8 })
