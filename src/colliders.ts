@@ -247,8 +247,6 @@ export function releaseCollider(state: ClothWorldState, eid: number): void {
   C.slot[eid] = -1
   C.hulls[eid] = undefined
   clearActiveColliders(state)
-  // the last collider gone: nothing rests on a collider any more
-  if (cw.colliders.length === 0) for (let q = 0; q < cw.selfCloths.length; q++) cw.selfCloths[q].collision!.self!.touched.fill(0)
 }
 
 /**

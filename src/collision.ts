@@ -294,7 +294,8 @@ export function collideSubstep(state: ClothWorldState): void {
 
 function collideColliders(state: ClothWorldState): void {
   const cw = state.collision
-  if (cw.colliders.length === 0) return
+  // with no collider a self-colliding cloth still forgets its collider contacts below
+  if (cw.colliders.length === 0 && cw.selfCloths.length === 0) return
   const C = cw.Collider
   const f = cw.frame, s = cw.scratch
   const stats = state.stats
