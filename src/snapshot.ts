@@ -141,17 +141,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
     s.pinData[d + 7] = P.blendTime[pin]
     if (target === 0 || !firstTargetIndex(P, c.pins, q, target)) continue
     s.targets[t] = target
-    const slot = k.slotOf[target]
-    const o = 7 * slot, e = TARGET_DATA * t
-    for (let j = 0; j < 7; j++) {
-      s.targetData[e + j] = k.sampleFrom[o + j]
-      s.targetData[e + 7 + j] = k.sampleTo[o + j]
-      s.targetData[e + 14 + j] = k.stepFrom[o + j]
-      s.targetData[e + 21 + j] = k.stepTo[o + j]
-    }
-    for (let j = 0; j < 10; j++) s.targetData[e + 28 + j] = k.jump[10 * slot + j]
-    s.targetData[e + 38] = k.jumped[slot]
-    s.targetData[e + 39] = k.forceJump[slot]
+    saveSlot(k, k.slotOf[target], s.targetData, TARGET_DATA * t)
     t++
   }
   w.settings = fit64(s.settings, 10)
@@ -525,6 +515,25 @@ function checkSnapshot(s: unknown, arg: string): void {
   }
   for (let q = 0; q < x.tearTethers.length; q++) {
     if (!(x.tearTethers[q] >= 0 && x.tearTethers[q] < n)) throw new ClothError(arg, s, 'holds a tether on a particle out of range')
+  }
+  for (let i = 0; i < n; i++) if (!(x.invMass[i] >= 0)) throw new ClothError(`${arg}.invMass[${i}]`, x.invMass[i], 'must be ≥ 0')
+  const v = x.settings
+  if (!(Number.isInteger(v[0]) && v[0] >= 1 && Number.isInteger(v[1]) && v[1] >= 1 && v[2] > 0 && v[3] >= 0 && v[4] >= 0 && v[6] >= 0 && Number.isInteger(v[7]) && v[7] >= 1)) {
+    throw new ClothError(`${arg}.settings`, v, 'must be the settings saved by saveClothState (substeps, iterations ≥ 1, h > 0, ...)')
+  }
+  const t = x.tethers
+  if (
+    (x.tetherMode !== 'euclidean' && x.tetherMode !== 'geodesic') ||
+    typeof t !== 'object' || t === null || !(t.particle instanceof Int32Array) || !(t.anchor instanceof Int32Array) || !(t.rest instanceof Float64Array) ||
+    !Number.isInteger(t.count) || t.count < 0 || t.count > t.particle.length || t.count > t.anchor.length || t.count > t.rest.length
+  ) {
+    throw new ClothError(`${arg}.tethers`, t, 'must be the tethers saved by saveClothState')
+  }
+  // (a tearable cloth's tethers are live arrays rebuilt as it tears; it restores from tearTethers)
+  if (x.tear.length === 0) for (let q = 0; q < t.count; q++) {
+    if (!(t.particle[q] >= 0 && t.particle[q] < n && t.anchor[q] >= 0 && t.anchor[q] < n && t.rest[q] >= 0 && t.rest[q] < Infinity)) {
+      throw new ClothError(`${arg}.tethers`, t, `holds a bad tether at ${q} (particles out of range or a bad rest length)`)
+    }
   }
   const g = x.guardSettings
   if (

@@ -227,6 +227,18 @@ describe('snapshots', () => {
     expect(argOf(() => restoreClothState(world, scene.cloths[0], other))).toBe('state')
     expect(argOf(() => restoreClothState(world, scene.cloths[0], {} as ClothSnapshot))).toBe('state')
     expect(argOf(() => restoreClothState(world, scene.cloths[0], { ...snap, pos: snap.pos.slice(1) }))).toBe('state')
+    const negative = { ...snap, invMass: Float64Array.from(snap.invMass) }
+    negative.invMass[3] = -1
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], negative))).toBe('state.invMass[3]')
+    const noSubsteps = { ...snap, settings: Float64Array.from(snap.settings) }
+    noSubsteps.settings[0] = 0
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], noSubsteps))).toBe('state.settings')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], { ...snap, tethers: undefined as never }))).toBe('state.tethers')
+    stepCloth(world, 1 / 60) // tethers are built at the first step
+    const stepped = saveClothState(world, scene.cloths[0])
+    expect(stepped.tethers.count).toBeGreaterThan(0)
+    const far = { ...stepped, tethers: { ...stepped.tethers, anchor: stepped.tethers.anchor.map(() => 1e6) } }
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], far))).toBe('state.tethers')
     const nan = { ...snap, vel: Float64Array.from(snap.vel) }
     nan.vel[5] = NaN
     expect(argOf(() => restoreClothState(world, scene.cloths[0], nan))).toBe('state')
