@@ -1,4 +1,5 @@
 import { addEntity, createWorld, hasComponent, observe, onRemove } from 'bitecs'
+import { particleBounds } from './kernels/mesh'
 import { createCloth } from './cloth'
 import { addSphereCollider } from './colliders'
 import { ClothError, checkInteger, checkObject, checkPositive } from './errors'
@@ -140,7 +141,8 @@ const V_STRETCH = 12 // target: max stretch (0 = none)
 const V_MS = 13 // target: ms per step (0 = none)
 const V_PRIO = 14
 const V_FC = 15 // centre when it froze (3)
-const V_COUNT = 18
+const V_BOX = 18 // the particles' bounds, min xyz and max xyz (6)
+const V_COUNT = 24
 
 /** Per-cloth level-of-detail state (`ClothState.lod`). */
 export interface ClothLod {
@@ -756,20 +758,10 @@ function measureCentre(state: ClothWorldState, c: ClothState): void {
     }
     return
   }
-  const pos = c.pos
-  let x0 = pos[0], y0 = pos[1], z0 = pos[2], x1 = x0, y1 = y0, z1 = z0
-  for (let i = 1; i < c.count; i++) {
-    const x = pos[3 * i], y = pos[3 * i + 1], z = pos[3 * i + 2]
-    if (x < x0) x0 = x
-    else if (x > x1) x1 = x
-    if (y < y0) y0 = y
-    else if (y > y1) y1 = y
-    if (z < z0) z0 = z
-    else if (z > z1) z1 = z
-  }
-  v[V_CX] = 0.5 * (x0 + x1)
-  v[V_CX + 1] = 0.5 * (y0 + y1)
-  v[V_CX + 2] = 0.5 * (z0 + z1)
+  particleBounds(c.pos, c.count, v, V_BOX)
+  v[V_CX] = 0.5 * (v[V_BOX] + v[V_BOX + 3])
+  v[V_CX + 1] = 0.5 * (v[V_BOX + 1] + v[V_BOX + 4])
+  v[V_CX + 2] = 0.5 * (v[V_BOX + 2] + v[V_BOX + 5])
 }
 
 /** Sets the counts a cloth runs (and its substep length). */

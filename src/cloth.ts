@@ -3,6 +3,7 @@ import type { quat, vec3 } from 'gl-matrix'
 import {
   ClothError,
   MAX_COORDINATE,
+  checkAtMost,
   checkFiniteArray,
   checkInteger,
   checkObject,
@@ -118,8 +119,8 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
 export function createCloth(world: object, options: CreateClothOptions): number {
   const state = getClothWorld(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  const width = checkSize('options.width', options.width)
-  const height = checkSize('options.height', options.height)
+  const width = checkAtMost('options.width', checkPositive('options.width', options.width), MAX_COORDINATE, ' m')
+  const height = checkAtMost('options.height', checkPositive('options.height', options.height), MAX_COORDINATE, ' m')
   let columns: number, rows: number
   if (isArrayLike(options.resolution)) {
     const r = options.resolution as ArrayLike<number>
@@ -393,11 +394,6 @@ const ORIGIN = [0, 0, 0]
 /** Largest inverse mass, 1/kg (particles of at least 1e-12 kg). */
 const MAX_INV_MASS = 1e12
 
-function checkSize(argument: string, value: unknown): number {
-  const v = checkPositive(argument, value)
-  if (v > MAX_COORDINATE) throw new ClothError(argument, value, `must be at most ${MAX_COORDINATE} m`)
-  return v
-}
 const IDENTITY = [0, 0, 0, 1]
 
 function normalized(q: ArrayLike<number>): number[] {

@@ -36,7 +36,7 @@ export interface WindZoneOptions {
   position?: Readonly<vec3> | ArrayLike<number>
   /** Rotation of a box zone (its Transform's rotation). Default identity. */
   rotation?: Readonly<quat> | ArrayLike<number>
-  /** Box: full extents [x, y, z] (or one number for a cube), m. Sphere: the radius, m. Default 2. */
+  /** Box: full extents [x, y, z] (or one number for a cube), m. Sphere: the radius, m. Default: 2 m across (box extents 2, sphere radius 1). */
   size?: number | Readonly<vec3> | ArrayLike<number>
   /** Distance beyond the box or sphere over which the wind fades to nothing (smoothstep), m. Default 0.5. */
   falloff?: number
@@ -151,7 +151,7 @@ export function createWindZone(world: object, options: WindZoneOptions): number 
   const rotation = options.rotation === undefined ? ZERO_ROTATION : checkQuat('options.rotation', options.rotation)
   if (options.direction === undefined) throw new ClothError('options.direction', undefined, 'is required (a 3-vector)')
   if (options.strength === undefined) throw new ClothError('options.strength', undefined, 'is required (m/s)')
-  const checked = checkZoneOptions(options, shape, true)
+  const checked = checkZoneOptions(options, shape)
 
   const eid = addEntity(world as never)
   growStores(state, eid)
@@ -193,7 +193,7 @@ export function setWindZone(world: object, zone: number, options: Partial<Omit<W
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const Z = state.components.WindZone
   const shape = Z.shape[zone] === 0 ? 'global' : Z.shape[zone] === 1 ? 'box' : 'sphere'
-  applyZoneOptions(Z, zone, checkZoneOptions(options, shape, false))
+  applyZoneOptions(Z, zone, checkZoneOptions(options, shape))
   state.wind.compiled = false
 }
 
@@ -541,7 +541,7 @@ interface CheckedZone {
   airDensity?: number
 }
 
-function checkZoneOptions(o: Partial<WindZoneOptions>, shape: WindShape, creating: boolean): CheckedZone {
+function checkZoneOptions(o: Partial<WindZoneOptions>, shape: WindShape): CheckedZone {
   const out: CheckedZone = {}
   if (o.direction !== undefined) {
     const d = checkVec3('options.direction', o.direction)
@@ -567,7 +567,7 @@ function checkZoneOptions(o: Partial<WindZoneOptions>, shape: WindShape, creatin
       for (let i = 0; i < 3; i++) if (!(s[i] > 0 && s[i] <= MAX_COORDINATE)) throw new ClothError('options.size', o.size, `must have positive extents of at most ${MAX_COORDINATE} m`)
       out.half = [s[0] / 2, s[1] / 2, s[2] / 2]
     }
-  } else if (creating && shape === 'box') out.half = [1, 1, 1]
+  }
   if (o.falloff !== undefined) out.falloff = checkAtMost('options.falloff', checkNonNegative('options.falloff', o.falloff), MAX_COORDINATE, ' m')
   if (o.seed !== undefined) out.seed = checkInteger('options.seed', o.seed, 0, 0xffffffff)
   if (o.airDensity !== undefined) out.airDensity = checkAtMost('options.airDensity', checkNonNegative('options.airDensity', o.airDensity), MAX_AIR_DENSITY, ' kg/m³')
