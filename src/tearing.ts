@@ -694,7 +694,6 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
   c.renderedVersion = -1
   c.topology = t
 
-  const K = Math.max(1, Math.min(16, c.tethersPerParticle))
   c.tear = {
     enabled: true,
     topology: t,
@@ -712,8 +711,7 @@ function reserve(c: ClothState, extra: number, maxTears: number): void {
     cand: new Int32Array(2 * maxTears + 4),
     candRatio: new Float64Array(2 * maxTears + 4),
     params: new Float64Array(3),
-    tethers: { particle: new Int32Array(P * K), anchor: new Int32Array(P * K), rest: new Float64Array(P * K), count: 0 },
-    scratch: createAnchorScratch(P, E, K),
+    ...tetherStore(P, E, c.tethersPerParticle),
     piece: new Int32Array(P),
     pieceCount: 1,
     pieceRoot: new Int32Array(P),
@@ -957,11 +955,13 @@ function hingeSet(t: TearTopology, mesh: MeshIndex): HingeSet {
  */
 export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void {
   const T = c.tear!
+  // more tethers per particle than reserved (setClothTethers, a restored snapshot): reserve again
+  if (c.tethersPerParticle > T.scratch.kCap) reserveTearTethers(T, c.tethersPerParticle)
   const t = T.topology
   const s = T.scratch
   const out = T.tethers
   const n = c.count
-  const K = Math.max(1, Math.min(c.tethersPerParticle, s.kCap))
+  const K = c.tethersPerParticle
   let A = 0
   for (let i = 0; i < n; i++) if (c.pinCount[i] > 0) s.anchors[A++] = i
   out.count = 0
@@ -993,6 +993,19 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
     }
   }
   out.count = m
+}
+
+/** Reserves a tearable cloth's tether arrays again for `perParticle` tethers per particle at its particle capacity. */
+function reserveTearTethers(T: ClothTear, perParticle: number): void {
+  Object.assign(T, tetherStore(T.particleCapacity, T.topology.edges.length / 2, perParticle))
+}
+
+/** Tether arrays and their scratch for P particles, E mesh edges and K tethers per particle. */
+function tetherStore(P: number, E: number, K: number): { tethers: TetherSet; scratch: AnchorScratch } {
+  return {
+    tethers: { particle: new Int32Array(P * K), anchor: new Int32Array(P * K), rest: new Float64Array(P * K), count: 0 },
+    scratch: createAnchorScratch(P, E, K),
+  }
 }
 
 /** Tears so far of a tearable cloth (0 for any other cloth). */

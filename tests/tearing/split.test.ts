@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest'
 import {
   createCloth, drainClothTears, getClothMesh, getClothState, getClothStats, getClothTearCount, makeTearable, onClothTear,
-  setTransform, stepCloth,
+  pinRow, setClothTethers, setTransform, stepCloth,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { meshPieces, pieceCount } from './util'
@@ -67,6 +67,19 @@ describe('tearing', () => {
     // the pieces have relaxed: nothing is still stretched across the tear
     expect(getClothStats(world).tears).toBe(c.count - n * n)
     expect(events.length).toBe(c.count - n * n)
+  })
+
+  it('a tearable cloth given more tethers per particle than it reserved builds them all', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 8, tethers: { perParticle: 1 } })
+    pinRow(world, cloth, 0)
+    makeTearable(world, cloth)
+    stepCloth(world, 1 / 60)
+    const free = 8 * 8 - 8
+    expect(getClothState(world, cloth).tethers.count).toBe(free)
+    setClothTethers(world, cloth, { perParticle: 4 })
+    stepCloth(world, 1 / 60)
+    expect(getClothState(world, cloth).tethers.count).toBe(4 * free)
   })
 
   it('the same load on a cloth without Tearable never tears and pays nothing for strain checks', () => {
