@@ -23,7 +23,7 @@ import {
   stepCloth,
 } from '../../src/index'
 import { hashBytes, lowestY, makeWorld } from '../helpers'
-import { clearance, flatSheet, maxSpeed, prismPoints, signedDistance, type Shape } from './scenes'
+import { clearance, flatSheet, ground, maxSpeed, prismPoints, signedDistance, type Shape } from './scenes'
 
 glMatrix.setMatrixArrayType(Array) // float64 arithmetic for the expected values
 
@@ -286,9 +286,7 @@ describe('colliders', () => {
         }
         for (const e of getColliders(world)) removeEntity(world, e)
       }
-      const ground = addEntity(world)
-      setTransform(world, ground, [0, 0, 0])
-      addPlaneCollider(world, ground)
+      ground(world)
       const ball = addEntity(world)
       setTransform(world, ball, [0, 0.4, 0])
       addSphereCollider(world, ball, { radius: 0.25 })

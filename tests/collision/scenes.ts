@@ -2,7 +2,7 @@
 // scene builders shared by the collision test files.
 import { addEntity } from 'bitecs'
 import { quat, vec3 } from 'gl-matrix'
-import { createCloth, getClothState, getColliderPose, type CreateClothOptions } from '../../src/index'
+import { addPlaneCollider, createCloth, getClothState, getColliderPose, setTransform, type CreateClothOptions } from '../../src/index'
 
 /** Shapes as the tests know them (dimensions as given to the add*Collider calls). */
 export type Shape =
@@ -93,4 +93,39 @@ export function flatSheet(world: object, x: number, y: number, z: number, size: 
 /** A new entity. */
 export function entity(world: object): number {
   return addEntity(world as never)
+}
+
+/**
+ * A cols × rows sheet folded like an accordion into `layers` layers (rows split evenly) `d` apart,
+ * particles `d` apart in each layer, the lowest layer at height `y0`, columns from `x0` along x;
+ * previous positions equal the positions (at rest). Self-collision is left to the caller.
+ */
+export function accordionSheet(
+  world: object,
+  o: { cols: number; rows: number; layers: number; d: number; y0: number; x0?: number; material?: CreateClothOptions['material'] },
+): number {
+  const { cols, rows, layers, d, y0 } = o
+  const x0 = o.x0 ?? 0
+  const cloth = createCloth(world, { width: d * (cols - 1), height: d * (rows - 1), resolution: [cols, rows], material: o.material })
+  const c = getClothState(world, cloth)
+  const per = rows / layers
+  for (let r = 0; r < rows; r++) {
+    const layer = Math.floor(r / per), k = r % per
+    for (let col = 0; col < cols; col++) {
+      const i = r * cols + col
+      c.pos[3 * i] = x0 + col * d
+      c.pos[3 * i + 1] = y0 + layer * d
+      c.pos[3 * i + 2] = (layer % 2 === 0 ? k : per - 1 - k) * d
+    }
+  }
+  c.prev.set(c.pos)
+  return cloth
+}
+
+/** A ground plane at y = 0 on its own entity; returns the entity. */
+export function ground(world: object): number {
+  const e = addEntity(world as never)
+  setTransform(world, e, [0, 0, 0])
+  addPlaneCollider(world, e)
+  return e
 }

@@ -1,8 +1,6 @@
-import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   ClothError,
-  addPlaneCollider,
   createCloth,
   disableSelfCollision,
   enableSelfCollision,
@@ -10,13 +8,12 @@ import {
   getClothStats,
   hasSelfCollision,
   resetClothStats,
-  setTransform,
   stepCloth,
 } from '../../src/index'
 import { buildSelfCollisionPairs } from '../../src/selfCollision'
 import { getClothWorld } from '../../src/state'
 import { hashBytes, makeWorld } from '../helpers'
-import { flatSheet, maxSpeed } from './scenes'
+import { accordionSheet, flatSheet, ground, maxSpeed } from './scenes'
 
 const COLS = 16, ROWS = 24, LAYERS = 4, WIDTH = 0.6
 const SPACING = WIDTH / (COLS - 1)
@@ -24,9 +21,7 @@ const SPACING = WIDTH / (COLS - 1)
 /** A world with a ground plane at y = 0. */
 function groundWorld() {
   const world = makeWorld()
-  const ground = addEntity(world)
-  setTransform(world, ground, [0, 0, 0])
-  addPlaneCollider(world, ground)
+  ground(world)
   return world
 }
 
@@ -35,20 +30,7 @@ function groundWorld() {
  * shape stays flat), dropped onto the ground from 15 cm.
  */
 function foldedSheet(world: object, self: boolean) {
-  const cloth = createCloth(world, { width: WIDTH, height: SPACING * (ROWS - 1), resolution: [COLS, ROWS] })
-  const c = getClothState(world, cloth)
-  const per = ROWS / LAYERS
-  for (let r = 0; r < ROWS; r++) {
-    const layer = Math.floor(r / per), k = r % per
-    const z = layer % 2 === 0 ? k * SPACING : (per - 1 - k) * SPACING
-    for (let col = 0; col < COLS; col++) {
-      const i = r * COLS + col
-      c.pos[3 * i] = -WIDTH / 2 + col * SPACING
-      c.pos[3 * i + 1] = 0.15 + layer * SPACING
-      c.pos[3 * i + 2] = z
-    }
-  }
-  c.prev.set(c.pos)
+  const cloth = accordionSheet(world, { cols: COLS, rows: ROWS, layers: LAYERS, d: SPACING, y0: 0.15, x0: -WIDTH / 2 })
   if (self) enableSelfCollision(world, cloth) // thickness: the particle spacing
   return cloth
 }

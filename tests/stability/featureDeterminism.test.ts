@@ -4,13 +4,14 @@
 import { addComponent, addEntity, createWorld, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, addBoxCollider, addPlaneCollider, addSphereCollider, createCloth, createWindZone, enableSelfCollision, getClothComponents, getClothState,
+  ClothError, addBoxCollider, addSphereCollider, createCloth, createWindZone, enableSelfCollision, getClothComponents, getClothState,
   getClothStats, getClothTearCount, gustWind, installClothPlugin, makeTearable, pinParticle, removeCollider, restoreClothState,
   saveClothState, setTransform, stepCloth, type ClothSnapshot,
 } from '../../src/index'
 import { hashBytes, rng } from '../helpers'
 import { hangingSheet } from './harness'
 import { heroWithBody, poseLegs } from './scenes'
+import { accordionSheet, ground } from '../collision/scenes'
 
 /**
  * A character with body colliders and a self-colliding cape; a tearable sheet pulled apart by two
@@ -298,25 +299,11 @@ describe('snapshots with colliders, wind and tearing', () => {
   it('rewinds which particles rest on a collider (they count heavier against the layers above)', () => {
     undoes(
       (w) => {
-        const ground = addEntity(w)
-        setTransform(w, ground, [0, 0, 0])
-        addPlaneCollider(w, ground)
+        const g = ground(w)
         // a sheet folded like an accordion into 3 layers a particle spacing apart, on the ground
-        const n = 8, rows = 12, d = 0.05
-        const cloth = createCloth(w, { width: d * (n - 1), height: d * (rows - 1), resolution: [n, rows] })
-        const c = getClothState(w, cloth)
-        for (let r = 0; r < rows; r++) {
-          const layer = Math.floor(r / 4), k = r % 4
-          for (let col = 0; col < n; col++) {
-            const i = r * n + col
-            c.pos[3 * i] = col * d
-            c.pos[3 * i + 1] = 0.012 + layer * d
-            c.pos[3 * i + 2] = (layer % 2 === 0 ? k : 3 - k) * d
-          }
-        }
-        c.prev.set(c.pos)
+        const cloth = accordionSheet(w, { cols: 8, rows: 12, layers: 3, d: 0.05, y0: 0.012 })
         enableSelfCollision(w, cloth)
-        return { cloths: [cloth], ground }
+        return { cloths: [cloth], ground: g }
       },
       (w, s) => setTransform(w, s.ground, [0, 0, 0]),
       (w, s) => setTransform(w, s.ground, [0, -5, 0]), // the ground away: nothing rests on it

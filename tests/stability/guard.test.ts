@@ -7,7 +7,6 @@ import { describe, expect, it } from 'vitest'
 import {
   ClothError,
   addCapsuleCollider,
-  addPlaneCollider,
   addSphereCollider,
   checkClothHealth,
   createCloth,
@@ -36,6 +35,7 @@ import { getClothWorld } from '../../src/state'
 import { hashBytes } from '../helpers'
 import { geodesicDiameter, hangingSheet, inspect, inspectPieces } from './harness'
 import { heroWithBody, heroWithCape, poseLegs, walk } from './scenes'
+import { ground } from '../collision/scenes'
 
 glMatrix.setMatrixArrayType(Array)
 
@@ -388,13 +388,6 @@ describe('events and options', () => {
 })
 
 describe('with colliders, wind and tearing', () => {
-  /** A ground plane at y = 0. */
-  function ground(world: object) {
-    const g = addEntity(world)
-    setTransform(world, g, [0, 0, 0])
-    addPlaneCollider(world, g)
-  }
-
   it('torn pieces that fall away from their pins are judged by their own shape: no reset', () => {
     // Before the bounds were measured per piece, the first piece to fall farther than 2 sizes from
     // the pins reset the whole cloth, and then every step after (the reset pose fell again)

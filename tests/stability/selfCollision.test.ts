@@ -1,13 +1,14 @@
 // Torture suite, part 6: self-collision under abuse: a sheet crumpled into a ball, frames of 10 s,
 // a self-colliding cloth teleported 1 km. See harness.ts for what every case must show.
-import { addEntity, createWorld } from 'bitecs'
+import { createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  addPlaneCollider, createCloth, defineMaterial, enableSelfCollision, getClothState, getClothStats, installClothPlugin, setTransform, stepCloth, teleportCloth,
+  createCloth, defineMaterial, enableSelfCollision, getClothState, getClothStats, installClothPlugin, setTransform, stepCloth, teleportCloth,
 } from '../../src/index'
 import { rng } from '../helpers'
 import { expectStable, hangingSheet, rmsSpeed, runTorture, type Scene } from './harness'
 import { heroWithCape, walk } from './scenes'
+import { accordionSheet, flatSheet, ground } from '../collision/scenes'
 
 /**
  * Crumples a cloth's free particles into a ball around `center`: the sheet shrunk to `scale` of
@@ -93,10 +94,8 @@ describe('a sheet crumpled into a ball', () => {
     let fastest = 0
     const r = runTorture({
       build: (world) => {
-        const ground = addEntity(world)
-        setTransform(world, ground, [0, 0, 0])
-        addPlaneCollider(world, ground)
-        const sheet = createCloth(world, { width: 1, height: 1, resolution: 10, position: [0, 0.02, -0.5], rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2] })
+        ground(world)
+        const sheet = flatSheet(world, 0, 0.02, 0, 1, 10)
         enableSelfCollision(world, sheet)
         return { cloths: [sheet] }
       },
@@ -137,24 +136,11 @@ describe('self-collision after contact', () => {
     // used to be cleared only while some collider was in range, so a sheet lifted off the ground
     // kept them: its pairs pushed lopsidedly in mid-air and it drifted sideways on its own.
     const world = installClothPlugin(createWorld())
-    const ground = addEntity(world)
-    setTransform(world, ground, [0, 0, 0])
-    addPlaneCollider(world, ground)
-    const n = 8, rows = 12, d = 0.05
+    ground(world)
     const material = defineMaterial({ name: 'undamped', damping: 0, stretchDamping: 0 })
-    const sheet = createCloth(world, { width: d * (n - 1), height: d * (rows - 1), resolution: [n, rows], material })
-    const c = getClothState(world, sheet)
-    for (let r = 0; r < rows; r++) {
-      const layer = Math.floor(r / 4), k = r % 4
-      for (let col = 0; col < n; col++) {
-        const i = r * n + col
-        c.pos[3 * i] = col * d
-        c.pos[3 * i + 1] = 0.012 + layer * d
-        c.pos[3 * i + 2] = (layer % 2 === 0 ? k : 3 - k) * d
-      }
-    }
-    c.prev.set(c.pos)
+    const sheet = accordionSheet(world, { cols: 8, rows: 12, layers: 3, d: 0.05, y0: 0.012, material })
     enableSelfCollision(world, sheet)
+    const c = getClothState(world, sheet)
     for (let f = 0; f < 60; f++) stepCloth(world, 1 / 60)
     teleportCloth(world, sheet, [0, 3, 0]) // lifted 3 m: the ground is out of range
     stepCloth(world, 1 / 60) // (its first substep still sees who touched the ground in the last one)

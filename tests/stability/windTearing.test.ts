@@ -4,11 +4,12 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  addBoxCollider, addCapsuleCollider, addConvexHullCollider, addPlaneCollider, addSphereCollider, createCloth, createWindZone,
+  addBoxCollider, addCapsuleCollider, addConvexHullCollider, addSphereCollider, createCloth, createWindZone,
   getClothTearCount, gustWind, makeTearable, pinParticle, removeWindZone, setTransform, setWindZone, type TearableOptions,
 } from '../../src/index'
 import { expectStable, hangingSheet, runTorture, type Scene } from './harness'
 import { heroWithCape, walk } from './scenes'
+import { ground as groundPlane } from '../collision/scenes'
 
 type Zoned = Scene<{ cloths: number[]; zone: number }>
 
@@ -95,9 +96,7 @@ describe('wind of 1000 m/s', () => {
 
 /** A ground plane at y = 0, and optionally colliders on it for falling pieces to land on. */
 function ground(world: object, colliders: boolean) {
-  const g = addEntity(world)
-  setTransform(world, g, [0, 0, 0])
-  addPlaneCollider(world, g)
+  groundPlane(world)
   if (!colliders) return
   const ball = addEntity(world)
   setTransform(world, ball, [0, 0.5, 0.1])
