@@ -201,6 +201,21 @@ export function expectStable(r: TortureResult): void {
   }
 }
 
+/**
+ * A known weakness, asserted exactly: the case stays finite, inside its region and within its reset
+ * allowance (everything `expectStable` asks), yet does not recover: its drape error, speed or
+ * stretch after settling is over the limit. It fails when the solver learns to recover (then move
+ * the case up into the suite with `expectStable`) and when the case breaks in any other way.
+ */
+export function expectStuck(r: TortureResult): void {
+  expect(r.finite, `non-finite values from frame ${r.firstNonFinite}`).toBe(true)
+  expect(r.worstExcess, `a particle left the allowed region by ${r.worstExcess} m at frame ${r.worstFrame}`).toBeLessThanOrEqual(0)
+  expect(r.resets, 'guard resets').toBeLessThanOrEqual(r.spec.resets)
+  const draped = r.spec.recover !== 'drape' || r.drapeError < r.spec.drapeTolerance
+  const rested = r.spec.recover === 'bounded' || (r.endSpeed < r.spec.restSpeed && r.endStretch < r.spec.restStretch)
+  expect(draped && rested, `recovered: drape error ${r.drapeError}, speed ${r.endSpeed}, stretch ${r.endStretch}`).toBe(false)
+}
+
 // ---------------------------------------------------------------------------------------------
 // Measures
 
