@@ -333,7 +333,7 @@ function render(): void {
     const base = instance.colors?.get(cloth) ?? [0.78, 0.76, 0.7]
     renderer.drawDynamic(clothKey(cloth), getClothMesh(world, cloth), stretchColors(cloth, base))
     particles += c.count
-    constraints += c.topology.distCount + c.topology.compCount + c.topology.hingeCount + c.tethers.count
+    constraints += c.topology.distCount + c.topology.compCount + c.topology.hingeCount + c.tethers.set.count
     maxStretch = Math.max(maxStretch, getClothStretch(world, cloth).max)
   }
   lastStats = { particles, constraints, maxStretch }

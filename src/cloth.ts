@@ -13,27 +13,24 @@ import {
   checkPositive,
   checkQuat,
   isArrayLike,
-} from './errors'
-import { checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './checked'
-import { measureStretch, writeRenderMesh } from './kernels/mesh'
+} from './core/errors'
+import { normalizedQuat, rotateVec3 } from './core/math'
+import { measureStretch } from './kernels/mesh'
 import { createKernelParams } from './kernels/params'
-import { resolveMaterial, type ClothMaterialSpec } from './materials'
-import { rotateVec3 } from './math'
-import { getCloth } from './pins'
-import { createClothGuard, resolveGuardOptions, type ClothGuardOptions, type GuardSettings } from './guard'
-import { getClothWorld, type ClothMesh, type ClothState, type ClothWorldState } from './state'
-import { EMPTY_TETHERS, buildTethers, type TetherMode } from './tethers'
-import { rebuildTearTethers } from './tearing'
-import {
-  buildGridTopology,
-  buildMeshTopology,
-  type BendSide,
-  type BendingModel,
-  type ClothTopology,
-  type ShearModel,
-} from './topology'
-import { createClothSleep, wakeClothState } from './sleep'
-import { createClothLod, setWantedQuality } from './budget'
+import { resolveMaterial, type ClothMaterialSpec } from './model/materials'
+import { checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './model/options'
+import { EMPTY_TETHERS, buildTethers, type TetherMode } from './model/tethers'
+import { buildGridTopology, buildMeshTopology } from './model/builders'
+import type { BendSide, BendingModel, ClothTopology, ShearModel } from './model/topology'
+import { getCloth, getClothWorld } from './world/access'
+import type { ClothState, ClothWorldState } from './world/state'
+import { wakeClothState } from './world/wake'
+import { createClothBudget, setWantedQuality } from './features/budget/api'
+import type { ClothGuardOptions, GuardSettings } from './features/guard/types'
+import { createClothGuard, resolveGuardOptions } from './features/guard/api'
+import { createClothCollision } from './features/collision/api'
+import { createClothSleep } from './features/sleep/api'
+import { rebuildTearTethers } from './features/tearing/tethers'
 
 /** Long-range attachment settings. */
 export interface TetherOptions {
@@ -132,7 +129,7 @@ export function createCloth(world: object, options: CreateClothOptions): number 
   }
   const topo = options.topology === undefined ? 'quad' : checkOneOf('options.topology', options.topology, ['quad', 'triangle'] as const)
   const position = options.position === undefined ? ORIGIN : checkPoint('options.position', options.position)
-  const rotation = options.rotation === undefined ? IDENTITY : normalized(checkQuat('options.rotation', options.rotation))
+  const rotation = options.rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('options.rotation', options.rotation))
   const common = checkCommon(options, columns * rows, state)
   const topology = buildGridTopology(width, height, columns, rows, common.material, topo, common.topologyOptions)
 
@@ -248,40 +245,37 @@ function spawnCloth(
     invMass3: new Float64Array(3 * n),
     pinCount: new Uint16Array(n),
     accel: null,
-    distLambda: new Float64Array(topology.distCount),
-    compLambda: new Float64Array(topology.compCount),
-    lineLambda: new Float64Array(topology.lineCount),
-    hingeLambda: new Float64Array(topology.hingeCount),
-    tethers: EMPTY_TETHERS,
-    useTethers: o.tethers.enabled,
-    tetherMode: o.tethers.mode,
-    tetherSlack: o.tethers.slack,
-    tethersPerParticle: o.tethers.perParticle,
-    tethersDirty: false,
-    pins: [],
+    piece: null,
+    pieceCount: 1,
     substeps: o.substeps,
     iterations: o.iterations,
     solver: o.solver,
     damping: o.damping,
     stretchDamping: o.stretchDamping,
-    subIndex: -1,
     h: state.fixedTimeStep / o.substeps,
-    params: createKernelParams(),
-    skipTeleport: false,
-    version: 0,
-    renderedVersion: -1,
-    renderPos: new Float32Array(3 * n),
-    renderNormal: new Float32Array(3 * n),
-    renderIndex: Uint32Array.from(topology.triangles),
-    mesh: null,
-    wind: null,
-    tear: null,
-    guard: createClothGuard(topology, pos, o.guard),
-    sleeping: false,
-    sleep: createClothSleep(state.sleep.defaults),
-    sleepBounds: new Float64Array(6),
+    subIndex: -1,
     idle: false,
-    lod: createClothLod(o.substeps, o.iterations),
+    params: createKernelParams(),
+    distLambda: new Float64Array(topology.distCount),
+    compLambda: new Float64Array(topology.compCount),
+    lineLambda: new Float64Array(topology.lineCount),
+    hingeLambda: new Float64Array(topology.hingeCount),
+    version: 0,
+    tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false },
+    render: {
+      positions: new Float32Array(3 * n),
+      normals: new Float32Array(3 * n),
+      indices: Uint32Array.from(topology.triangles),
+      version: -1,
+      mesh: null,
+    },
+    sleep: createClothSleep(state.sleep.defaults),
+    pins: { list: [], skipTeleport: false },
+    wind: null,
+    collision: createClothCollision(Math.max(4, state.collision.colliders.length)),
+    budget: createClothBudget(o.substeps, o.iterations),
+    guard: createClothGuard(topology, pos, o.guard),
+    tear: null,
   }
   state.components.Cloth.state[eid] = c
   state.cloths.push(c)
@@ -291,9 +285,10 @@ function spawnCloth(
 
 /** Rebuilds a cloth's tethers from its current pins (called by the sync phase when pins changed). */
 export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
-  c.tethersDirty = false
-  if (!c.useTethers) {
-    c.tethers = EMPTY_TETHERS
+  const ct = c.tethers
+  ct.dirty = false
+  if (!ct.enabled) {
+    ct.set = EMPTY_TETHERS
     return
   }
   if (c.tear !== null) {
@@ -303,34 +298,8 @@ export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   const anchors: number[] = []
   for (let i = 0; i < c.count; i++) if (c.pinCount[i] > 0) anchors.push(i)
   const t = c.topology
-  c.tethers = buildTethers(t.restPositions, c.count, t.edges, t.edgeCount, anchors, c.tetherMode, c.tethersPerParticle, c.tetherSlack)
+  ct.set = buildTethers(t.restPositions, c.count, t.edges, t.edgeCount, anchors, ct.mode, ct.perParticle, ct.slack)
   state.stats.tetherRebuilds++
-}
-
-/**
- * The cloth's render mesh: float32 positions and unit normals per live particle and the triangle
- * indices, as views sized to the live counts. The same arrays come back every call (refreshed when
- * the cloth moved), so uploading them each frame allocates nothing.
- */
-export function getClothMesh(world: object, cloth: number): ClothMesh {
-  const c = getCloth(getClothWorld(world), cloth)
-  const triCount = c.topology.triangleCount
-  let mesh = c.mesh
-  if (!mesh || mesh.vertexCount !== c.count || mesh.triangleCount !== triCount || mesh.positions.buffer !== c.renderPos.buffer) {
-    mesh = c.mesh = {
-      positions: c.renderPos.subarray(0, 3 * c.count),
-      normals: c.renderNormal.subarray(0, 3 * c.count),
-      indices: c.renderIndex.subarray(0, 3 * triCount),
-      vertexCount: c.count,
-      triangleCount: triCount,
-    }
-    c.renderedVersion = -1
-  }
-  if (c.renderedVersion !== c.version) {
-    writeRenderMesh(c.pos, c.count, c.renderIndex, triCount, c.renderPos, c.renderNormal)
-    c.renderedVersion = c.version
-  }
-  return mesh
 }
 
 /** The cloth's internal state (particle arrays, rest data, pins). Read freely; write with care. */
@@ -351,8 +320,8 @@ export function setClothQuality(world: object, cloth: number, quality: { substep
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
   checkObject('quality', quality)
-  const substeps = quality.substeps === undefined ? c.lod.wantSubsteps : checkInteger('quality.substeps', quality.substeps, 1, 256)
-  const iterations = quality.iterations === undefined ? c.lod.wantIterations : checkInteger('quality.iterations', quality.iterations, 1, 256)
+  const substeps = quality.substeps === undefined ? c.budget.wantSubsteps : checkInteger('quality.substeps', quality.substeps, 1, 256)
+  const iterations = quality.iterations === undefined ? c.budget.wantIterations : checkInteger('quality.iterations', quality.iterations, 1, 256)
   setWantedQuality(state, c, substeps, iterations)
   wakeClothState(state, c)
 }
@@ -362,13 +331,14 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
   if (typeof tethers !== 'boolean') checkObject('tethers', tethers)
-  const current: TetherOptions = { enabled: c.useTethers, mode: c.tetherMode, slack: c.tetherSlack, perParticle: c.tethersPerParticle }
+  const ct = c.tethers
+  const current: TetherOptions = { enabled: ct.enabled, mode: ct.mode, slack: ct.slack, perParticle: ct.perParticle }
   const t = checkTetherOptions(typeof tethers === 'boolean' ? { ...current, enabled: tethers } : { ...current, ...tethers }, 'tethers')
-  c.useTethers = t.enabled
-  c.tetherMode = t.mode
-  c.tetherSlack = t.slack
-  c.tethersPerParticle = t.perParticle
-  c.tethersDirty = true
+  ct.enabled = t.enabled
+  ct.mode = t.mode
+  ct.slack = t.slack
+  ct.perParticle = t.perParticle
+  ct.dirty = true
   wakeClothState(state, c)
 }
 
@@ -395,8 +365,3 @@ const ORIGIN = [0, 0, 0]
 const MAX_INV_MASS = 1e12
 
 const IDENTITY = [0, 0, 0, 1]
-
-function normalized(q: ArrayLike<number>): number[] {
-  const l = Math.hypot(q[0], q[1], q[2], q[3])
-  return [q[0] / l, q[1] / l, q[2] / l, q[3] / l]
-}

@@ -5,11 +5,11 @@
  * `stepCloth(world, dt)` each frame, or schedule the exported phase systems yourself.
  */
 export { installClothPlugin, getClothComponents, getClothStats, resetClothStats } from './plugin'
-export { stepCloth } from './step'
+export { stepCloth } from '../systems/step'
+export { getClothMesh } from './mesh'
 export {
   createCloth,
   createClothFromMesh,
-  getClothMesh,
   getClothState,
   getCloths,
   getClothStretch,
@@ -21,10 +21,10 @@ export {
   type CreateClothFromMeshOptions,
   type TetherOptions,
 } from './cloth'
-export { pinParticle, pinRow, unpin, getPins, teleportCloth, type PinOptions } from './pins'
-export { setTransform, getTransform } from './transform'
-export { ClothMaterial, defineMaterial, resolveMaterial, type ClothMaterialSpec, type ClothMaterialName } from './materials'
-export { ClothError } from './errors'
+export { pinParticle, pinRow, unpin, getPins, teleportCloth, type PinOptions } from './features/pins/api'
+export { setTransform, getTransform } from './world/transform'
+export { ClothMaterial, defineMaterial, resolveMaterial, type ClothMaterialSpec, type ClothMaterialName } from './model/materials'
+export { ClothError } from './core/errors'
 export { ClothSimulation, type ClothSimulationOptions } from './simulation'
 export {
   createWindZone,
@@ -34,21 +34,15 @@ export {
   getWindZones,
   sampleWind,
   type WindZoneOptions,
-  type WindShape,
   type GustOptions,
-} from './wind'
-export {
-  makeTearable,
-  onClothTear,
-  drainClothTears,
-  getClothTearCount,
-  type TearableOptions,
-  type ClothTearEvent,
-  type ClothTearListener,
-} from './tearing'
-export type { ClothMesh, ClothPluginOptions, ClothState, ClothStats, ClothWorldState, TransformSource } from './state'
-export type { ClothTopology, BendingModel, BendSide, ShearModel } from './topology'
-export type { TetherMode } from './tethers'
+} from './features/wind/api'
+export type { WindShape } from './features/wind/types'
+export { makeTearable, getClothTearCount, type TearableOptions } from './features/tearing/api'
+export { onClothTear, drainClothTears } from './features/tearing/events'
+export type { ClothTearEvent, ClothTearListener } from './features/tearing/types'
+export type { ClothMesh, ClothPluginOptions, ClothSleepOptions, ClothState, ClothStats, ClothWorldState, TransformSource } from './world/state'
+export type { ClothTopology, BendingModel, BendSide, ShearModel } from './model/topology'
+export type { TetherMode } from './model/tethers'
 
 // Components and systems, for engines that query or schedule them directly.
 export type { TransformStore } from '../components/Transform'
@@ -78,37 +72,28 @@ export { buildGridTopology, buildMeshTopology, dihedralAngle } from './checked'
 export { buildTethers } from './checked'
 
 // Explosion guard and snapshots (hard cases stay numerically stable).
-export {
-  onClothReset,
-  drainClothResets,
-  setClothGuard,
-  getClothGuard,
-  type ClothGuardOptions,
-  type ClothResetEvent,
-  type ClothResetReason,
-} from './guard'
+export { onClothReset, drainClothResets, setClothGuard, getClothGuard } from './features/guard/api'
+export type { ClothGuardOptions, ClothResetEvent, ClothResetReason } from './features/guard/types'
 export { clothGuard } from '../systems/clothGuard'
 export { checkClothHealth } from './checked'
 export { saveClothState, restoreClothState, type ClothSnapshot } from './snapshot'
 
 // Sleeping: still cloths cost nothing until disturbed.
-export { setClothSleep, wakeCloth, isClothSleeping, type ClothSleepOptions } from './sleep'
+export { setClothSleep, wakeCloth, isClothSleeping } from './features/sleep/api'
 
 // Quality targets, the world budget and level of detail.
+export { setClothQualityTarget, setClothBudget, calibrateClothCost } from './calibrate'
 export {
-  setClothQualityTarget,
-  setClothBudget,
   setClothVisible,
   getClothLod,
   getClothBudgetStats,
-  calibrateClothCost,
-  SUBSTEP_LADDER,
   type ClothQualityTarget,
   type ClothBudgetOptions,
   type ClothLodInfo,
   type ClothBudgetStats,
   type ClothCostCalibration,
-} from './budget'
+} from './features/budget/api'
+export { SUBSTEP_LADDER } from './features/budget/levels'
 
 // Collisions: colliders, layers, self-collision.
 export {
@@ -127,9 +112,9 @@ export {
   type BoxColliderOptions,
   type ConvexHullColliderOptions,
   type PlaneColliderOptions,
-} from './colliders'
-export { setClothCollision, getCollisionComponents, type ClothCollisionOptions } from './collision'
-export { enableSelfCollision, disableSelfCollision, hasSelfCollision, type SelfCollisionOptions } from './selfCollision'
-export { buildConvexHull, MAX_HULL_PLANES } from './hull'
+} from './features/collision/colliders'
+export { setClothCollision, getCollisionComponents, type ClothCollisionOptions } from './features/collision/api'
+export { enableSelfCollision, disableSelfCollision, hasSelfCollision, type SelfCollisionOptions } from './features/collision/selfCollision'
+export { buildConvexHull, MAX_HULL_PLANES } from './model/hull'
 export { SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_BOX, SHAPE_HULL, SHAPE_PLANE, type ColliderStore, type ConvexHull } from '../components/Collider'
 export type { SelfCollisionStore } from '../components/SelfCollision'

@@ -1,20 +1,22 @@
 import { observe, onAdd, onRemove, removeEntity, entityExists } from 'bitecs'
 import { createClothStore } from '../components/Cloth'
 import { createPinStore } from '../components/Pin'
-import { createTransformStore, resetTransform, type TransformStore } from '../components/Transform'
-import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3 } from './errors'
-import { ensureStoreCapacity } from './store'
-import { $cloth, createStats, findClothWorld, getClothWorld, type ClothPluginOptions, type ClothWorldState, type TransformSource } from './state'
-import { releasePin } from './pins'
-import { createKinematics } from './kinematics'
+import { createTransformStore, resetTransform } from '../components/Transform'
 import { createWindZoneStore } from '../components/WindZone'
 import { createTearableStore } from '../components/Tearable'
-import { createWindWorld, installWind } from './wind'
-import { createTearWorld, installTearing } from './tearing'
-import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './guard'
-import { createCollisionWorld, installCollision } from './collision'
-import { DEFAULT_SLEEP, createSleepWorld, resolveSleepOptions } from './sleep'
-import { createQualityWorld, installQuality } from './budget'
+import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3 } from './core/errors'
+import { findClothWorld, getClothWorld } from './world/access'
+import { growStores, transformSourceOf } from './world/capacity'
+import { createKinematics } from './world/kinematics'
+import { $cloth, type ClothPluginOptions, type ClothState, type ClothWorldState, type TransformSource } from './world/state'
+import { createStats } from './world/stats'
+import { releasePin } from './features/pins/api'
+import { createWindWorld, installWind } from './features/wind/api'
+import { createCollisionWorld, installCollision } from './features/collision/api'
+import { createBudgetWorld, installBudget } from './features/budget/api'
+import { DEFAULT_SLEEP, createSleepWorld, resolveSleepOptions } from './features/sleep/api'
+import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './features/guard/api'
+import { createTearWorld, installTearing } from './features/tearing/api'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -45,7 +47,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   const sleep = resolveSleepOptions(options.sleep, DEFAULT_SLEEP, 'options.sleep')
 
   const Transform = createTransformStore(capacity)
-  const Cloth = createClothStore()
+  const Cloth = createClothStore<ClothState>()
   const Pin = createPinStore(capacity)
   const WindZone = createWindZoneStore(capacity)
   const Tearable = createTearableStore(capacity)
@@ -66,12 +68,12 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     substep: 0,
     substepCount: 0,
     stats: createStats(),
-    wind,
-    tearing: createTearWorld(),
-    guard: createGuardWorld(guard),
-    collision: createCollisionWorld(capacity),
     sleep: createSleepWorld(sleep),
-    quality: createQualityWorld(),
+    wind,
+    collision: createCollisionWorld(capacity),
+    budget: createBudgetWorld(),
+    guard: createGuardWorld(guard),
+    tearing: createTearWorld(),
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
@@ -84,8 +86,9 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   // its pins and state with it.
   observe(w, onRemove(state.transforms.component), (eid: number) => {
     for (const cloth of state.cloths) {
-      for (let k = cloth.pins.length - 1; k >= 0; k--) {
-        const pin = cloth.pins[k]
+      const pins = cloth.pins.list
+      for (let k = pins.length - 1; k >= 0; k--) {
+        const pin = pins[k]
         if (Pin.target[pin] === eid && entityExists(w, pin)) removeEntity(w, pin)
       }
     }
@@ -94,18 +97,19 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   observe(w, onRemove(Cloth), (eid: number) => {
     const cloth = Cloth.state[eid]
     if (!cloth) return
-    for (let k = cloth.pins.length - 1; k >= 0; k--) {
-      const pin = cloth.pins[k]
+    const pins = cloth.pins.list
+    for (let k = pins.length - 1; k >= 0; k--) {
+      const pin = pins[k]
       if (entityExists(w, pin)) removeEntity(w, pin)
     }
     Cloth.state[eid] = undefined
-    if (cloth.sleeping) {
-      cloth.sleeping = false
+    if (cloth.sleep.asleep) {
+      cloth.sleep.asleep = false
       state.sleep.count--
     }
-    if (cloth.lod.hasTarget) {
-      cloth.lod.hasTarget = false
-      state.quality.targets--
+    if (cloth.budget.hasTarget) {
+      cloth.budget.hasTarget = false
+      state.budget.targets--
     }
     const i = state.cloths.indexOf(cloth)
     if (i >= 0) state.cloths.splice(i, 1)
@@ -113,25 +117,8 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   installWind(world, state)
   installTearing(world, state)
   installCollision(world, state)
-  installQuality(world, state)
+  installBudget(world, state)
   return world
-}
-
-/** Makes every entity-indexed store large enough for `eid`. */
-export function growStores(state: ClothWorldState, eid: number): void {
-  if (eid < state.capacity) return
-  const c = state.capacity
-  const { Transform, Pin, WindZone, Tearable } = state.components
-  ensureStoreCapacity(Transform, c, eid)
-  ensureStoreCapacity(WindZone, c, eid)
-  ensureStoreCapacity(Tearable, c, eid)
-  state.capacity = ensureStoreCapacity(Pin, c, eid)
-  // the default transform source aliases the Transform store's arrays: keep them in step
-  if (state.transforms.component === Transform) Object.assign(state.transforms, transformSourceOf(Transform))
-}
-
-function transformSourceOf(t: TransformStore): TransformSource {
-  return { component: t, px: t.px, py: t.py, pz: t.pz, qx: t.qx, qy: t.qy, qz: t.qz, qw: t.qw, sx: t.sx, sy: t.sy, sz: t.sz }
 }
 
 /** The stores this world's plugin uses (Transform, Cloth, Pin, WindZone, Tearable), for queries and direct reads. */

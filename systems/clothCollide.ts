@@ -1,5 +1,5 @@
-import { beginCollisionStep, collideSubstep } from '../src/collision'
-import { getClothWorld } from '../src/state'
+import { beginCollisionStep, collideSubstep } from '../src/features/collision/step'
+import { getClothWorld } from '../src/world/access'
 
 /**
  * Collide phase, every substep, after the constraint solve: particle–particle contacts of cloths

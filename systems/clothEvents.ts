@@ -1,5 +1,5 @@
-import { getClothWorld } from '../src/state'
-import { dispatchTearEvents } from '../src/tearing'
+import { getClothWorld } from '../src/world/access'
+import { dispatchTearEvents } from '../src/features/tearing/events'
 
 /**
  * Events phase, once per fixed step after the substeps: hands the step's tear events to the

@@ -1,5 +1,6 @@
-import { getClothWorld, localSubstep } from '../src/state'
-import { applyWind } from '../src/wind'
+import { getClothWorld } from '../src/world/access'
+import { localSubstep } from '../src/world/stats'
+import { applyWind } from '../src/features/wind/step'
 
 /**
  * Forces phase, every substep: fills each cloth's extra per-particle acceleration (aerodynamics

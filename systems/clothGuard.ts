@@ -1,6 +1,7 @@
-import { checkGuardHealth, deliverResets, guardActive, keepSafePose, resetCloth } from '../src/guard'
+import { guardActive } from '../src/features/guard/api'
+import { checkGuardHealth, deliverResets, keepSafePose, restoreSafePose } from '../src/features/guard/step'
 import { HEALTH_OK } from '../src/kernels/guard'
-import { getClothWorld } from '../src/state'
+import { getClothWorld } from '../src/world/access'
 
 /**
  * Guard phase, once per fixed step after the last substep: checks each cloth's health (finite,
@@ -19,7 +20,7 @@ export function clothGuard<W extends object>(world: W): W {
     state.stats.guardChecks++
     const health = checkGuardHealth(c)
     if (health === HEALTH_OK) keepSafePose(c)
-    else resetCloth(state, c, health)
+    else restoreSafePose(state, c, health)
   }
   deliverResets(state)
   return world

@@ -1,7 +1,7 @@
 import { predictPositions } from '../src/kernels/integrate'
 import { setSubstepParams } from '../src/kernels/params'
-import { placePins } from '../src/pins'
-import { getClothWorld } from '../src/state'
+import { placePins } from '../src/features/pins/step'
+import { getClothWorld } from '../src/world/access'
 
 /**
  * Predict phase, every substep: fills the cloth's kernel parameters for the substep, integrates
@@ -18,7 +18,7 @@ export function clothPredict<W extends object>(world: W): W {
     setSubstepParams(c.params, c.h, c.damping, state.gravity, state.maxSpeed)
     predictPositions(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, c.count)
     state.stats.particlesIntegrated += c.count
-    if (c.pins.length > 0) placePins(state, c, k, c.substeps)
+    if (c.pins.list.length > 0) placePins(state, c, k, c.substeps)
   }
   return world
 }

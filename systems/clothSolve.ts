@@ -2,7 +2,7 @@ import { solveLineBending } from '../src/kernels/bending'
 import { solveDihedrals } from '../src/kernels/dihedral'
 import { solveCompression, solveDistances, solveDistancesXpbd, spreadInverseMasses } from '../src/kernels/distance'
 import { solveTethers } from '../src/kernels/tether'
-import { getClothWorld } from '../src/state'
+import { getClothWorld } from '../src/world/access'
 
 /**
  * Solve phase, every substep: Gauss-Seidel sweeps over each cloth's constraints, `iterations`
@@ -21,7 +21,7 @@ export function clothSolve<W extends object>(world: W): W {
     if (c.subIndex < 0) continue
     const t = c.topology
     const p = c.params
-    const tethers = c.tethers
+    const tethers = c.tethers.set
     // XPBD with several iterations accumulates multipliers from zero each substep; with one
     // iteration (or classic PBD) they are always zero and the cheaper loops skip them
     const accumulate = c.solver === 'xpbd' && c.iterations > 1

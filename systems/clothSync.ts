@@ -1,11 +1,11 @@
 import { rebuildTethers } from '../src/cloth'
-import { beginKinematicStep, sampleFrame } from '../src/kinematics'
-import { followTargetJumps } from '../src/pins'
-import { getClothWorld } from '../src/state'
-import { advanceWind } from '../src/wind'
-import { sweepColliders } from '../src/collision'
-import { wakeSleepers } from '../src/sleep'
-import { updateQuality, wantStepTiming } from '../src/budget'
+import { beginKinematicStep, sampleFrame } from '../src/world/kinematics'
+import { getClothWorld } from '../src/world/access'
+import { followTargetJumps } from '../src/features/pins/step'
+import { advanceWind } from '../src/features/wind/step'
+import { sweepColliders } from '../src/features/collision/step'
+import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
+import { wakeSleepers } from '../src/features/sleep/step'
 
 /**
  * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
@@ -28,14 +28,14 @@ export function clothSync<W extends object>(world: W): W {
   if (state.collision.colliders.length > 0) sweepColliders(state)
   advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   wakeSleepers(state) // nothing while no cloth sleeps
-  updateQuality(state) // quality targets and the world budget (nothing without them)
+  updateBudget(state) // quality targets and the world budget (nothing without them)
   wantStepTiming(state)
   let total = 0
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
-    const lod = c.lod
-    let idle = c.sleeping || lod.frozen
+    const lod = c.budget
+    let idle = c.sleep.asleep || lod.frozen
     if (!idle && lod.stepEvery > 1) {
       // a far cloth runs one step of stepEvery × the fixed step, then sits the others out
       if (++lod.phase < lod.stepEvery) idle = true
@@ -44,13 +44,13 @@ export function clothSync<W extends object>(world: W): W {
     c.idle = idle
     if (idle) {
       c.subIndex = -1 // sits the whole step out (read by the guard, which runs after the substeps)
-      if (c.sleeping) state.stats.sleepingSteps++
+      if (c.sleep.asleep) state.stats.sleepingSteps++
       else state.stats.lodSkippedSteps++
       continue
     }
     if (c.substeps > total) total = c.substeps
     if (frameStart) followTargetJumps(state, c)
-    if (c.tethersDirty) rebuildTethers(state, c)
+    if (c.tethers.dirty) rebuildTethers(state, c)
   }
   state.substepCount = total
   state.substep = 0

@@ -1,10 +1,10 @@
-import { getClothWorld } from '../src/state'
-import { tearCloth } from '../src/tearing'
+import { getClothWorld } from '../src/world/access'
+import { tearStep } from '../src/features/tearing/step'
 
 /**
  * Tear phase, on each cloth's last substep of a step, after collisions: measures the structural
  * edges of tearable cloths on their final pose and splits the mesh where an edge stayed
- * over-stretched (see `src/tearing.ts`). A cloth without `Tearable` costs one null check.
+ * over-stretched (see `src/features/tearing/`). A cloth without `Tearable` costs one null check.
  */
 export function clothTear<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -12,7 +12,7 @@ export function clothTear<W extends object>(world: W): W {
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     if (c.tear === null || c.subIndex !== c.substeps - 1) continue
-    tearCloth(state, c)
+    tearStep(state, c)
   }
   return world
 }

@@ -1,8 +1,8 @@
 import { updateVelocities } from '../src/kernels/integrate'
 import { dampPairs } from '../src/kernels/damping'
 import { P_STRETCH_DAMP } from '../src/kernels/params'
-import { getClothWorld } from '../src/state'
-import { updateSleep } from '../src/sleep'
+import { getClothWorld } from '../src/world/access'
+import { updateSleep } from '../src/features/sleep/step'
 
 /**
  * Writeback phase, every substep: reads velocities back from the substep's motion (v = Δx/h,

@@ -1,5 +1,5 @@
-import { checkInteger } from '../src/errors'
-import { getClothWorld } from '../src/state'
+import { checkInteger } from '../src/core/errors'
+import { getClothWorld } from '../src/world/access'
 import { clothCollide } from './clothCollide'
 import { clothForces } from './clothForces'
 import { clothGuard } from './clothGuard'
@@ -9,7 +9,7 @@ import { clothSync } from './clothSync'
 import { clothTear } from './clothTear'
 import { clothWriteback } from './clothWriteback'
 import { clothEvents } from './clothEvents'
-import { Q_MEASURED, Q_T0 } from '../src/budget'
+import { Q_MEASURED, Q_T0 } from '../src/features/budget/types'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -39,10 +39,10 @@ export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide,
 /** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
 export function clothFixedStep<W extends object>(world: W): W {
   const state = getClothWorld(world)
-  const timing = state.quality.timing
+  const timing = state.budget.timing
   clothSync(world)
   // a time budget that adapts times one step before each allocation (from here: sync decides)
-  const timed = state.quality.timeNext
+  const timed = state.budget.timeNext
   if (timed) timing[Q_T0] = performance.now()
   for (let s = 0; s < state.substepCount; s++) {
     state.substep = s

@@ -26,7 +26,7 @@ import {
   unpin,
   wakeCloth,
 } from '../src/index'
-import { getClothWorld } from '../src/state'
+import { getClothWorld } from '../src/world/access'
 import { hashBytes, lowestY, makeWorld } from './helpers'
 
 const DT = 1 / 60
@@ -215,7 +215,7 @@ describe('sleeping', () => {
     const changes: Array<() => void> = [
       () => setClothQuality(world, cloth, { iterations: 3 }),
       () => pinParticle(world, cloth, c.count - 1),
-      () => unpin(world, getClothState(world, cloth).pins[0]),
+      () => unpin(world, getClothState(world, cloth).pins.list[0]),
       () => teleportCloth(world, cloth, [0, 0, 0.001]),
       () => wakeCloth(world, cloth),
     ]

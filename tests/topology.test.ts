@@ -1,5 +1,6 @@
 import { describe, expect, it } from 'vitest'
-import { BEND, SHEAR, STRETCH, buildGridTopology, buildMeshTopology } from '../src/topology'
+import { buildGridTopology, buildMeshTopology } from '../src/model/builders'
+import { BEND, SHEAR, STRETCH } from '../src/model/topology'
 import { ClothMaterial, createCloth, createClothFromMesh, getClothState } from '../src/index'
 import { makeWorld } from './helpers'
 

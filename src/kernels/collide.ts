@@ -1,4 +1,4 @@
-import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE } from '../../components/Collider'
+import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE } from '../core/shapes'
 
 /**
  * Particle–collider contact kernels. One call handles one cloth against one collider for one

@@ -55,7 +55,7 @@ function bareSolver(c: ClothState): () => void {
   const { pos, prev, vel, invMass, invMass3 } = c
   const p = createKernelParams()
   const n = c.substeps, h = DT / n
-  const tethers = c.tethers
+  const tethers = c.tethers.set
   const gravity = [0, -9.81, 0]
   return () => {
     spreadInverseMasses(invMass, invMass3, c.count)

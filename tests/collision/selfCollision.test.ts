@@ -10,8 +10,8 @@ import {
   resetClothStats,
   stepCloth,
 } from '../../src/index'
-import { buildSelfCollisionPairs } from '../../src/selfCollision'
-import { getClothWorld } from '../../src/state'
+import { buildSelfCollisionPairs } from '../../src/features/collision/selfCollision'
+import { getClothWorld } from '../../src/world/access'
 import { hashBytes, makeWorld } from '../helpers'
 import { accordionSheet, flatSheet, ground, maxSpeed } from './scenes'
 

@@ -1,8 +1,8 @@
 import { fc, test } from '@fast-check/vitest'
 import { describe, expect, it } from 'vitest'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE } from '../../components/Collider'
-import { ClothError } from '../../src/errors'
-import { buildConvexHull } from '../../src/hull'
+import { ClothError } from '../../src/core/errors'
+import { buildConvexHull } from '../../src/model/hull'
 import {
   COLLIDE_SCRATCH,
   FRAME_SIZE,

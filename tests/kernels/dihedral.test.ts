@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest'
 import { solveDihedrals } from '../../src/kernels/dihedral'
-import { dihedralAngle } from '../../src/topology'
+import { dihedralAngle } from '../../src/model/topology'
 import { P_INV_H2, createKernelParams } from '../../src/kernels/params'
 
 /** Kernel parameters with 1/h² set (the only scalar these kernels read). */

@@ -315,7 +315,7 @@ describe('snapshots with colliders, wind and tearing', () => {
     const s = buildScene(world)
     record(world, s, makeInputs(4), 40)
     const c = getClothState(world, s.sheet)
-    const copy = () => ({ n: c.tethers.count, p: Array.from(c.tethers.particle.subarray(0, c.tethers.count)), a: Array.from(c.tethers.anchor.subarray(0, c.tethers.count)), r: Array.from(c.tethers.rest.subarray(0, c.tethers.count)) })
+    const copy = () => ({ n: c.tethers.set.count, p: Array.from(c.tethers.set.particle.subarray(0, c.tethers.set.count)), a: Array.from(c.tethers.set.anchor.subarray(0, c.tethers.set.count)), r: Array.from(c.tethers.set.rest.subarray(0, c.tethers.set.count)) })
     const saved = copy()
     expect(saved.n).toBeGreaterThan(0)
     const snap = saveClothState(world, s.sheet)

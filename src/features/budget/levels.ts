@@ -1,0 +1,106 @@
+import type { ClothState, ClothWorldState } from '../../world/state'
+import type { BudgetSettings } from './types'
+
+/** Substep counts the controllers choose from. */
+export const SUBSTEP_LADDER: readonly number[] = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64]
+
+
+/** Smallest ladder count ≥ x (the last rung when none is). */
+export function ladderAtLeast(x: number): number {
+  for (let k = 0; k < SUBSTEP_LADDER.length; k++) if (SUBSTEP_LADDER[k] >= x) return SUBSTEP_LADDER[k]
+  return SUBSTEP_LADDER[SUBSTEP_LADDER.length - 1]
+}
+
+/** Largest ladder count < s (1 at the bottom). */
+export function ladderBelow(s: number): number {
+  let best = 1
+  for (let k = 0; k < SUBSTEP_LADDER.length; k++) if (SUBSTEP_LADDER[k] < s) best = SUBSTEP_LADDER[k]
+  return best
+}
+
+/**
+ * Levels of a cloth that wants S substeps and I iterations, from the top: level L (the top) is
+ * S × I; down from there the ladder's substep counts below S; then, at one substep, iterations
+ * halved down to 1; then, if the budget's `farStepEvery` allows it (never for self-colliding cloths),
+ * stepping every 2nd and every 4th fixed step.
+ * Writes s, i, e (stepEvery) to cfg[0..2].
+ */
+export function levelConfig(c: ClothState, level: number, cfg: Float64Array): void {
+  const S = c.budget.wantSubsteps, I = c.budget.wantIterations
+  const below = substepsBelow(S) // ladder rungs below S
+  const halvings = iterationHalvings(I)
+  // level ≥ halvings + 2: substep rungs (the top one is S itself)
+  const k = level - (halvings + 2)
+  if (k >= 0) {
+    cfg[0] = k < below ? SUBSTEP_LADDER[k] : S
+    cfg[1] = I
+    cfg[2] = 1
+    return
+  }
+  cfg[0] = 1
+  if (level >= 2) {
+    // level 2 + h: iterations I >> (halvings − h)
+    const h = level - 2
+    const it = I >> (halvings - h)
+    cfg[1] = it > 1 ? it : 1
+    cfg[2] = 1
+    return
+  }
+  cfg[1] = 1
+  cfg[2] = level === 1 ? 2 : 4
+}
+
+function substepsBelow(S: number): number {
+  let n = 0
+  while (n < SUBSTEP_LADDER.length && SUBSTEP_LADDER[n] < S) n++
+  return n
+}
+
+function iterationHalvings(I: number): number {
+  let h = 0
+  while (I >> (h + 1) >= 1) h++
+  return h
+}
+
+/** The top level of a cloth (its wanted quality), and its lowest. */
+export function topLevel(c: ClothState): number {
+  return iterationHalvings(c.budget.wantIterations) + 2 + substepsBelow(c.budget.wantSubsteps)
+}
+
+export function bottomLevel(c: ClothState, b: BudgetSettings): number {
+  // a self-colliding cloth keeps stepping every step: its contacts need the travel limits of one
+  if (c.collision.self !== null) return 2
+  return b.farStepEvery === 4 ? 0 : b.farStepEvery === 2 ? 1 : 2
+}
+
+/** Cost of one fixed step at (s, i, e), ns, into cfg[3]; log quality into cfg[4]. */
+export function configCost(c: ClothState, s: number, i: number, e: number, cal: Float64Array, cfg: Float64Array): void {
+  const t = c.topology
+  const projections = t.distCount + t.compCount + 0.8 * t.lineCount + 3 * t.hingeCount
+  const cc = c.collision
+  const colliderTests = c.count * (cc.activeCount + (cc.self !== null ? 2 : 0))
+  const perSub = cal[0] * c.count + cal[1] * (i * projections + 0.6 * c.tethers.set.count) + cal[2] * colliderTests + cal[3]
+  cfg[3] = (perSub * s) / e
+  cfg[4] = 2 * Math.log(s) + Math.log(i) - 2 * Math.log(e)
+}
+
+export function levelCost(c: ClothState, level: number, cal: Float64Array, cfg: Float64Array): void {
+  levelConfig(c, level, cfg)
+  configCost(c, cfg[0], cfg[1], cfg[2], cal, cfg)
+}
+
+/** The lowest level that still runs one substep at full iterations. */
+export function halvingsTop(c: ClothState): number {
+  return iterationHalvings(c.budget.wantIterations) + 2
+}
+
+/** Sets the counts a cloth runs (and its substep length). */
+export function applyConfig(state: ClothWorldState, c: ClothState, s: number, i: number, e: number): void {
+  const si = s | 0, ii = i | 0, ei = e | 0
+  if (c.substeps === si && c.iterations === ii && c.budget.stepEvery === ei) return
+  c.substeps = si
+  c.iterations = ii
+  if (c.budget.stepEvery !== ei) c.budget.phase = 0
+  c.budget.stepEvery = ei
+  c.h = (state.fixedTimeStep * ei) / si
+}

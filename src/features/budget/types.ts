@@ -1,0 +1,77 @@
+/**
+ * State of the budget feature: quality targets, the world budget and level of detail are one
+ * mechanism (it picks each cloth's substeps and iterations), with one name: budget.
+ */
+
+/** World budget settings, resolved (see `ClothBudgetOptions`). */
+export interface BudgetSettings {
+  msPerFrame: number
+  adapt: boolean
+  farStepEvery: number
+  viewer: number
+  near: number
+  far: number
+  cull: number
+  freezeInvisible: boolean
+  interval: number
+}
+
+/** Per-world budget state (`ClothWorldState.budget`). */
+export interface BudgetWorld {
+  /** The world budget, or null when none is set. */
+  settings: BudgetSettings | null
+  /** Cloths with a quality target. */
+  targets: number
+  /** Steps until the next allocation. */
+  countdown: number
+  /** Cost model: nsPerParticle, nsPerProjection, nsPerColliderTest, nsPerClothSubstep. */
+  calibration: Float64Array | null
+  /** Viewer pose scratch, level configuration scratch (s, i, e, cost, logq). */
+  pose: Float64Array
+  cfg: Float64Array
+  /** Time the next fixed step (set by the sync phase, read by `clothFixedStep`). */
+  timeNext: boolean
+  /** Timing: [Q_T0] start of the timed step, [Q_MEASURED] its ms, [Q_PREDICTED] the model's ns per step, [Q_FACTOR] correction. */
+  timing: Float64Array
+}
+
+/** Slots of `BudgetWorld.timing` (read around every timed step: a typed array never boxes). */
+export const Q_T0 = 0
+export const Q_MEASURED = 1
+export const Q_PREDICTED = 2
+export const Q_FACTOR = 3
+
+/** Per-cloth budget state (`ClothState.budget`). */
+export interface ClothBudget {
+  /** Quality asked for (by `setClothQuality`, creation or the quality target). */
+  wantSubsteps: number
+  wantIterations: number
+  /** Runs every n-th fixed step; `phase` counts the steps since it last ran. */
+  stepEvery: number
+  phase: number
+  frozen: boolean
+  visible: boolean
+  /** Quality target: on, its substep bounds, its largest stretch and time per step (0 = none). */
+  hasTarget: boolean
+  minSubsteps: number
+  maxSubsteps: number
+  maxStretch: number
+  msPerStep: number
+  /** Checks in a row the stretch stayed well under the target. */
+  lowChecks: number
+  /** Level chosen by the allocation (see `levelConfig`), and the level applied last (−1: none yet). */
+  level: number
+  applied: number
+  /** Distance from the viewer at the last allocation, m, and the priority it gives. */
+  distance: number
+  priority: number
+  /** Centre of the particles' bounds at the last allocation, and where it was when the cloth froze. */
+  centre: Float64Array
+  frozenCentre: Float64Array
+  /** Entity, kinematic slot and pose (px py pz qx qy qz qw) of the freeze's reference target (−1: none). */
+  refEntity: number
+  refSlot: number
+  refPose: Float64Array
+  /** Measurement scratch: the particles' bounds (6), then the largest edge strain. */
+  measure: Float64Array
+}

@@ -1,0 +1,218 @@
+import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
+import type { quat, vec3 } from 'gl-matrix'
+import { ClothError, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from '../../core/errors'
+import { normalizedQuat, rotateVec3 } from '../../core/math'
+import { getCloth, getClothWorld } from '../../world/access'
+import { growStores } from '../../world/capacity'
+import { trackEntity, untrackEntity } from '../../world/kinematics'
+import { moveClothRigidly } from '../../world/rigid'
+import type { ClothWorldState } from '../../world/state'
+import { checkEntity, readScale } from '../../world/transform'
+import { wakeClothState } from '../../world/wake'
+
+/** Options of `pinParticle`. */
+export interface PinOptions {
+  /**
+   * When an explicit offset puts the pin away from where the particle is, the particle glides to
+   * it over this many seconds instead of jumping. Default 0.25 s; 0 snaps.
+   */
+  blendTime?: number
+}
+
+const tmp = new Float64Array(16)
+const IDENTITY = [0, 0, 0, 1]
+
+/**
+ * Pins one particle. With a `target` entity (which must have a Transform), the particle follows
+ * the target every substep at `offset` in the target's local frame (rotation and scale applied).
+ * Without a target it stays at `offset` in world space. When `offset` is omitted the particle is
+ * held where it is now, so pinning at runtime causes no jump; an explicit offset is blended in
+ * over `blendTime`. Returns the pin entity (remove it, or call `unpin`, to release the particle).
+ */
+export function pinParticle(
+  world: object,
+  cloth: number,
+  index: number,
+  target?: number | null,
+  offset?: Readonly<vec3> | ArrayLike<number>,
+  options: PinOptions = {},
+): number {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  checkIndex('index', index, c.count)
+  const tgt = target ?? 0
+  if (tgt !== 0) {
+    checkEntity(world, 'target', tgt)
+    if (!hasComponent(world as never, tgt, state.transforms.component)) {
+      throw new ClothError('target', tgt, 'must have a Transform (call setTransform first)')
+    }
+  }
+  if (offset !== undefined) checkPoint('offset', offset)
+  checkObject('options', options)
+  const blendTime = options.blendTime === undefined ? 0.25 : checkNonNegative('options.blendTime', options.blendTime)
+
+  const pin = addEntity(world as never)
+  growStores(state, pin)
+  const P = state.components.Pin
+  P.cloth[pin] = cloth
+  P.particle[pin] = index
+  P.target[pin] = tgt
+  // the pin continues from the target's pose at the end of the last step (the simulation's now)
+  const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
+  P.slot[pin] = slot
+  const k = state.kinematics
+  if (slot >= 0) for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j]
+
+  // where the particle is now, in the target's frame
+  toLocal(state, tgt, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
+  P.blendFrom[3 * pin] = tmp[0]
+  P.blendFrom[3 * pin + 1] = tmp[1]
+  P.blendFrom[3 * pin + 2] = tmp[2]
+  if (offset === undefined) {
+    P.ox[pin] = tmp[0]
+    P.oy[pin] = tmp[1]
+    P.oz[pin] = tmp[2]
+    P.blendLeft[pin] = 0
+  } else {
+    P.ox[pin] = offset[0]
+    P.oy[pin] = offset[1]
+    P.oz[pin] = offset[2]
+    P.blendLeft[pin] = blendTime
+  }
+  P.blendTime[pin] = blendTime
+
+  addComponent(world as never, pin, P)
+  c.pins.list.push(pin)
+  wakeClothState(state, c)
+  if (c.pinCount[index]++ === 0) {
+    c.invMass[index] = 0
+    c.tethers.dirty = true
+  }
+  return pin
+}
+
+/**
+ * Pins every particle of one grid row (row 0 is the top edge) to `target`, or in place when no
+ * target is given. Each particle keeps its current position relative to the target. Returns the
+ * pin entities, left to right.
+ */
+export function pinRow(world: object, cloth: number, row: number, target?: number | null): number[] {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  const { columns, rows } = c.topology
+  if (rows === 0) throw new ClothError('cloth', cloth, 'was not built as a grid (pinRow needs createCloth)')
+  checkInteger('row', row, 0, rows - 1)
+  const pins: number[] = []
+  for (let col = 0; col < columns; col++) pins.push(pinParticle(world, cloth, row * columns + col, target))
+  return pins
+}
+
+/** Releases a pin (removes its entity). The particle keeps its current velocity: no pop. */
+export function unpin(world: object, pin: number): void {
+  const state = getClothWorld(world)
+  if (typeof pin !== 'number' || !entityExists(world as never, pin) || !hasComponent(world as never, pin, state.components.Pin)) {
+    throw new ClothError('pin', pin, 'must be a pin entity of this world')
+  }
+  removeEntity(world as never, pin)
+}
+
+/** The pin entities holding a cloth, in creation order (a copy). */
+export function getPins(world: object, cloth: number): number[] {
+  return getCloth(getClothWorld(world), cloth).pins.list.slice()
+}
+
+/** Called when a Pin component goes away: frees the particle and forgets the pin. */
+export function releasePin(state: ClothWorldState, pin: number): void {
+  const P = state.components.Pin
+  const c = state.components.Cloth.state[P.cloth[pin]]
+  if (!c) return
+  const list = c.pins.list
+  const k = list.indexOf(pin)
+  if (k < 0) return
+  list.splice(k, 1)
+  wakeClothState(state, c)
+  if (P.slot[pin] >= 0) untrackEntity(state, P.target[pin])
+  P.slot[pin] = -1
+  const i = P.particle[pin]
+  if (--c.pinCount[i] === 0) {
+    c.invMass[i] = c.baseInvMass[i]
+    c.tethers.dirty = true
+  }
+}
+
+/** Writes the target-local coordinates of world point (x, y, z) into out[o..o+2]. */
+function toLocal(
+  state: ClothWorldState, target: number, pose: Float64Array, po: number,
+  x: number, y: number, z: number, out: Float64Array, o: number,
+): void {
+  if (target === 0) {
+    out[o] = x
+    out[o + 1] = y
+    out[o + 2] = z
+    return
+  }
+  // inverse rotation: conjugate quaternion
+  rotateVec3(-pose[po + 3], -pose[po + 4], -pose[po + 5], pose[po + 6], x - pose[po], y - pose[po + 1], z - pose[po + 2], out, o)
+  out[o] /= readScale(state, target, 0)
+  out[o + 1] /= readScale(state, target, 1)
+  out[o + 2] /= readScale(state, target, 2)
+}
+
+/**
+ * Teleports a cloth: moves it rigidly by `translation`, rotated by `rotation` about `pivot`
+ * (default: the cloth's centroid), keeping its shape and velocities (rotated). World-space pins
+ * move with it. Pins on targets start the next step at their targets' new pose, without
+ * interpolation and without the automatic teleport detection (so moving the character and calling
+ * this does not move the cloth twice).
+ *
+ * Moving a character far in one frame without calling this also works: the plugin detects the
+ * jump (`teleportDistance`) and carries the cloth along by the target's motion.
+ */
+export function teleportCloth(
+  world: object,
+  cloth: number,
+  translation: Readonly<vec3> | ArrayLike<number>,
+  rotation?: Readonly<quat> | ArrayLike<number>,
+  pivot?: Readonly<vec3> | ArrayLike<number>,
+): void {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  checkPoint('translation', translation)
+  const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))
+  let px = 0, py = 0, pz = 0
+  if (pivot !== undefined) {
+    checkPoint('pivot', pivot)
+    px = pivot[0]
+    py = pivot[1]
+    pz = pivot[2]
+  } else if (c.count > 0) {
+    for (let i = 0; i < c.count; i++) {
+      px += c.pos[3 * i]
+      py += c.pos[3 * i + 1]
+      pz += c.pos[3 * i + 2]
+    }
+    px /= c.count
+    py /= c.count
+    pz /= c.count
+  }
+  moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, px + translation[0], py + translation[1], pz + translation[2])
+  const P = state.components.Pin
+  for (const pin of c.pins.list) {
+    if (P.target[pin] !== 0) continue
+    rotateVec3(rx, ry, rz, rw, P.ox[pin] - px, P.oy[pin] - py, P.oz[pin] - pz, tmp, 0)
+    P.ox[pin] = px + translation[0] + tmp[0]
+    P.oy[pin] = py + translation[1] + tmp[1]
+    P.oz[pin] = pz + translation[2] + tmp[2]
+    const b = 3 * pin
+    rotateVec3(rx, ry, rz, rw, P.blendFrom[b] - px, P.blendFrom[b + 1] - py, P.blendFrom[b + 2] - pz, tmp, 0)
+    P.blendFrom[b] = px + translation[0] + tmp[0]
+    P.blendFrom[b + 1] = py + translation[1] + tmp[1]
+    P.blendFrom[b + 2] = pz + translation[2] + tmp[2]
+  }
+  // the targets' next sample is a jump (whatever its size): the pins start from the new place
+  const k = state.kinematics
+  for (const pin of c.pins.list) if (P.slot[pin] >= 0) k.forceJump[P.slot[pin]] = 1
+  c.pins.skipTeleport = true
+  state.stats.teleports++
+  wakeClothState(state, c)
+}

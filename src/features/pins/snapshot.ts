@@ -1,0 +1,134 @@
+import { entityExists, hasComponent, removeEntity } from 'bitecs'
+import { allFinite, fit32, fit64 } from '../../core/arrays'
+import { ClothError } from '../../core/errors'
+import { SLOT_DATA, restoreSlot, saveSlot } from '../../world/kinematics'
+import type { ClothState, ClothWorldState } from '../../world/state'
+import { pinParticle } from './api'
+
+/** The pins' section of a snapshot (see `saveClothState`). */
+export interface PinsSnapshot {
+  pinCount: Uint16Array
+  /** Per pin, in order: entity, particle, target (0 = world point). */
+  pins: Int32Array
+  /** Per pin: ox, oy, oz, blendFrom xyz, blendLeft, blendTime. */
+  pinData: Float64Array
+  /** Distinct target entities of the pins. */
+  targets: Int32Array
+  /** Per target: sampleFrom, sampleTo, stepFrom, stepTo (7 each), jump (10), jumped, forceJump. */
+  targetData: Float64Array
+}
+
+const PIN_DATA = 8
+
+/** Saves the cloth's pins and the motion history of their targets. */
+export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot): void {
+  const n = c.count
+  const P = state.components.Pin
+  const k = state.kinematics
+  const pins = c.pins.list
+  const np = pins.length
+  // distinct targets, in pin order
+  let nt = 0
+  for (let q = 0; q < np; q++) {
+    const t = P.target[pins[q]]
+    if (t !== 0 && firstTargetIndex(P, pins, q, t)) nt++
+  }
+  s.pinCount = s.pinCount && s.pinCount.length === n ? s.pinCount : new Uint16Array(n)
+  for (let i = 0; i < n; i++) s.pinCount[i] = c.pinCount[i]
+  s.pins = fit32(s.pins, 3 * np)
+  s.pinData = fit64(s.pinData, PIN_DATA * np)
+  s.targets = fit32(s.targets, nt)
+  s.targetData = fit64(s.targetData, SLOT_DATA * nt)
+  let t = 0
+  for (let q = 0; q < np; q++) {
+    const pin = pins[q]
+    const target = P.target[pin]
+    s.pins[3 * q] = pin
+    s.pins[3 * q + 1] = P.particle[pin]
+    s.pins[3 * q + 2] = target
+    const d = PIN_DATA * q
+    s.pinData[d] = P.ox[pin]
+    s.pinData[d + 1] = P.oy[pin]
+    s.pinData[d + 2] = P.oz[pin]
+    s.pinData[d + 3] = P.blendFrom[3 * pin]
+    s.pinData[d + 4] = P.blendFrom[3 * pin + 1]
+    s.pinData[d + 5] = P.blendFrom[3 * pin + 2]
+    s.pinData[d + 6] = P.blendLeft[pin]
+    s.pinData[d + 7] = P.blendTime[pin]
+    if (target === 0 || !firstTargetIndex(P, pins, q, target)) continue
+    s.targets[t] = target
+    saveSlot(k, k.slotOf[target], s.targetData, SLOT_DATA * t)
+    t++
+  }
+}
+
+/** Throws ClothError unless the pins' section is complete and usable in `world` for `n` particles. */
+export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot, arg: string, n: number): void {
+  if (
+    !(s.pinCount instanceof Uint16Array) || s.pinCount.length !== n || !(s.pins instanceof Int32Array) || s.pins.length % 3 !== 0 ||
+    !(s.pinData instanceof Float64Array) || s.pinData.length !== (PIN_DATA * s.pins.length) / 3 ||
+    !(s.targets instanceof Int32Array) || !(s.targetData instanceof Float64Array) || s.targetData.length !== SLOT_DATA * s.targets.length
+  ) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
+  }
+  if (!allFinite(s.pinData) || !allFinite(s.targetData)) throw new ClothError(arg, s, 'holds a non-finite number')
+  const np = s.pins.length / 3
+  for (let q = 0; q < np; q++) {
+    const target = s.pins[3 * q + 2]
+    if (target !== 0 && (!entityExists(world as never, target) || !hasComponent(world as never, target, state.transforms.component))) {
+      throw new ClothError(arg, s, `pins entity ${target}, which no longer exists or has no Transform`)
+    }
+    if (!(s.pins[3 * q + 1] >= 0 && s.pins[3 * q + 1] < n)) throw new ClothError(arg, s, 'holds a pin on a particle out of range')
+  }
+}
+
+/**
+ * Makes the cloth's pins those of the snapshot (same particles, targets, order): pins added since
+ * are removed, pins removed since are created again. Runs before the particles are restored.
+ */
+export function restorePinEntities(world: object, state: ClothWorldState, c: ClothState, s: PinsSnapshot): void {
+  const P = state.components.Pin
+  const np = s.pins.length / 3
+  const pins = c.pins.list
+  let same = pins.length === np
+  for (let q = 0; same && q < np; q++) {
+    const pin = pins[q]
+    same = pin === s.pins[3 * q] && P.particle[pin] === s.pins[3 * q + 1] && P.target[pin] === s.pins[3 * q + 2]
+  }
+  if (same) return
+  for (let q = pins.length - 1; q >= 0; q--) {
+    const pin = pins[q]
+    if (entityExists(world as never, pin)) removeEntity(world as never, pin)
+  }
+  for (let q = 0; q < np; q++) {
+    const target = s.pins[3 * q + 2]
+    const d = PIN_DATA * q
+    pinParticle(world, c.eid, s.pins[3 * q + 1], target === 0 ? null : target, [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]], { blendTime: 0 })
+  }
+}
+
+/** Restores the pins' data, the particles' pin counts and the targets' motion history. */
+export function restorePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot): void {
+  const P = state.components.Pin
+  const pins = c.pins.list
+  c.pinCount.set(s.pinCount)
+  for (let q = 0; q < pins.length; q++) {
+    const pin = pins[q]
+    const d = PIN_DATA * q
+    P.ox[pin] = s.pinData[d]
+    P.oy[pin] = s.pinData[d + 1]
+    P.oz[pin] = s.pinData[d + 2]
+    P.blendFrom[3 * pin] = s.pinData[d + 3]
+    P.blendFrom[3 * pin + 1] = s.pinData[d + 4]
+    P.blendFrom[3 * pin + 2] = s.pinData[d + 5]
+    P.blendLeft[pin] = s.pinData[d + 6]
+    P.blendTime[pin] = s.pinData[d + 7]
+  }
+  const k = state.kinematics
+  for (let t = 0; t < s.targets.length; t++) restoreSlot(k, k.slotOf[s.targets[t]], s.targetData, SLOT_DATA * t)
+}
+
+function firstTargetIndex(P: { target: Uint32Array }, pins: number[], q: number, t: number): boolean {
+  for (let r = 0; r < q; r++) if (P.target[pins[r]] === t) return false
+  return true
+}

@@ -1,0 +1,93 @@
+import { P_H, P_STEP_FRACTION } from '../../kernels/params'
+import { interpolatePose } from '../../world/kinematics'
+import { moveClothRigidly } from '../../world/rigid'
+import type { ClothState, ClothWorldState } from '../../world/state'
+
+/** Pose scratch of placePins: the target's pose at the substep's fraction of the step. */
+const pose = new Float64Array(7)
+
+/**
+ * At a frame sample: if one of the cloth's pin targets jumped (teleported), carry the whole cloth
+ * along by the same rigid transform, keeping its shape and (rotated) velocity. The kinematics
+ * module has already moved the target's earlier poses, so the pins continue from the new place.
+ */
+export function followTargetJumps(state: ClothWorldState, c: ClothState): void {
+  const k = state.kinematics
+  const P = state.components.Pin
+  const pins = c.pins.list
+  if (!c.pins.skipTeleport) {
+    for (let q = 0; q < pins.length; q++) {
+      const slot = P.slot[pins[q]]
+      if (slot < 0 || k.jumped[slot] === 0) continue
+      const j = 10 * slot
+      const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
+      moveClothRigidly(c, cx, cy, cz, k.jump[j + 3], k.jump[j + 4], k.jump[j + 5], k.jump[j + 6], cx + k.jump[j + 7], cy + k.jump[j + 8], cz + k.jump[j + 9])
+      state.stats.teleports++
+      break
+    }
+  }
+  c.pins.skipTeleport = false
+}
+
+/**
+ * Places the pinned particles of a cloth for local substep k of n: the target's pose is
+ * interpolated (position lerp, rotation slerp) to (k + 1)/n of the way through the step, so a fast
+ * character drags its cloth smoothly instead of in one jerk per step. Scalars travel in typed
+ * arrays: calling helpers with double arguments would box them (allocate) on every call.
+ * `advance` false places them as they stand (the guard, after a reset): the blends of pins added
+ * or moved at run time do not move on, and no pin update is counted.
+ */
+export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number, advance = true): void {
+  const P = state.components.Pin
+  const T = state.transforms
+  const sxs = T.sx, sys = T.sy, szs = T.sz
+  const h = c.params[P_H]
+  c.params[P_STEP_FRACTION] = (k + 1) / n
+  const pos = c.pos
+  const from = state.kinematics.stepFrom, to = state.kinematics.stepTo
+  let poseSlot = -1 // the target whose pose `pose` holds (a pinned row shares one target)
+  const pins = c.pins.list
+  for (let q = 0; q < pins.length; q++) {
+    const pin = pins[q]
+    let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
+    const left = P.blendLeft[pin]
+    if (left > 0) {
+      const total = P.blendTime[pin]
+      const nextLeft = !advance ? left : left > h ? left - h : 0
+      P.blendLeft[pin] = nextLeft
+      const u = total > 0 ? 1 - nextLeft / total : 1
+      const s = u * u * (3 - 2 * u) // smoothstep: no velocity kick at either end
+      const b = 3 * pin
+      lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * s
+      ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * s
+      lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * s
+    }
+    const i = 3 * P.particle[pin]
+    const tgt = P.target[pin]
+    if (tgt === 0) {
+      pos[i] = lx
+      pos[i + 1] = ly
+      pos[i + 2] = lz
+      continue
+    }
+    if (sxs && sys && szs) {
+      const sx = sxs[tgt], sy = sys[tgt], sz = szs[tgt]
+      if (sx > 0 && sx < Infinity) lx *= sx
+      if (sy > 0 && sy < Infinity) ly *= sy
+      if (sz > 0 && sz < Infinity) lz *= sz
+    }
+    // the target's pose (k + 1)/n of the way through the step
+    const slot = P.slot[pin]
+    if (slot !== poseSlot) {
+      interpolatePose(from, to, 7 * slot, c.params, P_STEP_FRACTION, pose, 0)
+      poseSlot = slot
+    }
+    const px = pose[0], py = pose[1], pz = pose[2], qx = pose[3], qy = pose[4], qz = pose[5], qw = pose[6]
+    // v' = v + w·t + q × t, t = 2·q × v
+    const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)
+    pos[i] = px + lx + qw * tx + (qy * tz - qz * ty)
+    pos[i + 1] = py + ly + qw * ty + (qz * tx - qx * tz)
+    pos[i + 2] = pz + lz + qw * tz + (qx * ty - qy * tx)
+  }
+  if (advance) state.stats.pinUpdates += pins.length
+}

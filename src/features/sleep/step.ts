@@ -1,0 +1,90 @@
+import { P_MAX_V2 } from '../../kernels/params'
+import { particleBounds } from '../../kernels/mesh'
+import type { ClothState, ClothWorldState } from '../../world/state'
+import { wakeClothState } from '../../world/wake'
+import { clothLayersMatch, colliderLayersMatch, colliderReaches } from '../collision/reach'
+import { windReaches } from '../wind/step'
+
+/**
+ * Writeback phase, after a cloth's last substep: advances its stillness timer from the fastest
+ * particle of the substep (`params[P_MAX_V2]`) and puts it to sleep once it was still long enough.
+ */
+export function updateSleep(state: ClothWorldState, c: ClothState): void {
+  const s = c.sleep
+  if (!s.enabled) return
+  if (!(c.params[P_MAX_V2] <= s.speed2)) {
+    s.still = 0
+    return
+  }
+  s.still += c.h * c.substeps // the cloth's step (longer when it steps every n-th)
+  if (s.still < s.delay) return
+  s.still = 0
+  // the box it would sleep in (what the wake tests look at)
+  particleBounds(c.pos, c.count, s.bounds, 0)
+  // still in a steady wind: the wind may change any time, so stay awake (and test again after
+  // another delay)
+  if (state.wind.zones.length > 0 && windReaches(state, s.bounds)) return
+  s.asleep = true
+  state.sleep.count++
+  c.vel.fill(0, 0, 3 * c.count)
+  const g = state.gravity
+  state.sleep.gravity[0] = g[0]
+  state.sleep.gravity[1] = g[1]
+  state.sleep.gravity[2] = g[2]
+}
+
+/**
+ * Sync phase, after the transforms, collider sweeps and wind zones of the step are known: wakes
+ * every sleeping cloth that something now disturbs. Nothing to do (one comparison) while no cloth
+ * sleeps.
+ */
+export function wakeSleepers(state: ClothWorldState): void {
+  const sw = state.sleep
+  if (sw.count === 0) return
+  const cloths = state.cloths
+  const g = state.gravity, sg = sw.gravity
+  const gravityChanged = g[0] !== sg[0] || g[1] !== sg[1] || g[2] !== sg[2]
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    if (c.sleep.asleep && (gravityChanged || disturbed(state, c))) wakeClothState(state, c)
+  }
+}
+
+function disturbed(state: ClothWorldState, c: ClothState): boolean {
+  const k = state.kinematics
+  const P = state.components.Pin
+  const pins = c.pins.list
+  for (let q = 0; q < pins.length; q++) {
+    const pin = pins[q]
+    const slot = P.slot[pin]
+    if ((slot >= 0 && k.moved[slot] === 1) || P.blendLeft[pin] > 0) return true
+  }
+  const b = c.sleep.bounds
+  const cw = state.collision
+  const colliders = cw.colliders
+  if (colliders.length > 0) {
+    const C = cw.Collider
+    const cc = c.collision
+    for (let q = 0; q < colliders.length; q++) {
+      const e = colliders[q]
+      if (k.moved[C.slot[e]] === 1 && colliderLayersMatch(C, e, cc) && colliderReaches(C, e, b, c)) return true
+    }
+  }
+  if (state.wind.zones.length > 0 && windReaches(state, b)) return true
+  const self = c.collision.self
+  if (self !== null) {
+    const group = cw.selfCloths
+    const ca = c.collision
+    for (let q = 0; q < group.length; q++) {
+      const o = group[q]
+      if (o === c || o.sleep.asleep || o.budget.frozen) continue
+      const cb = o.collision
+      if (!clothLayersMatch(ca, cb)) continue
+      const ob = cb.bounds
+      const D = self.thickness + cb.self!.thickness
+      if (ob[0] > b[3] + D || b[0] > ob[3] + D || ob[1] > b[4] + D || b[1] > ob[4] + D || ob[2] > b[5] + D || b[2] > ob[5] + D) continue
+      return true
+    }
+  }
+  return false
+}

@@ -1,0 +1,73 @@
+import { ClothError } from '../../core/errors'
+import { getClothWorld } from '../../world/access'
+import type { ClothWorldState } from '../../world/state'
+import { EV, type ClothTearEvent, type ClothTearListener } from './types'
+
+/**
+ * Calls `listener` for every tear, right after the fixed step it happened in (inside `stepCloth` or
+ * `clothFixedStep`, with the step complete). The event object is reused: copy what you keep.
+ * Returns a function that unsubscribes.
+ */
+export function onClothTear(world: object, listener: ClothTearListener): () => void {
+  const state = getClothWorld(world)
+  if (typeof listener !== 'function') throw new ClothError('listener', listener, 'must be a function')
+  const list = state.tearing.listeners
+  list.push(listener)
+  return () => {
+    const i = list.indexOf(listener)
+    if (i >= 0) list.splice(i, 1)
+  }
+}
+
+/**
+ * Hands the queued tear events (every tear since the last drain, oldest first) to `fn` and empties
+ * the queue; for engines that poll in their own systems. The event object is reused. Returns the
+ * number of events. The queue keeps 256 events; older undrained ones are kept and newer dropped.
+ */
+export function drainClothTears(world: object, fn: ClothTearListener): number {
+  const tw = getClothWorld(world).tearing
+  if (typeof fn !== 'function') throw new ClothError('fn', fn, 'must be a function')
+  const n = tw.queueCount
+  tw.queueCount = 0
+  for (let i = 0; i < n; i++) fn(readEvent(tw.queue, i, tw.event))
+  return n
+}
+
+function readEvent(buf: Float64Array, i: number, e: ClothTearEvent): ClothTearEvent {
+  const o = i * EV
+  e.cloth = buf[o] | 0
+  e.x = buf[o + 1]
+  e.y = buf[o + 2]
+  e.z = buf[o + 3]
+  e.particle = buf[o + 4] | 0
+  e.newParticle = buf[o + 5] | 0
+  e.strain = buf[o + 6]
+  return e
+}
+
+/**
+ * After a fixed step: moves the step's tears to the drain queue and calls the listeners. Called by
+ * the `clothEvents` system at the end of `clothFixedStep`.
+ */
+export function dispatchTearEvents(state: ClothWorldState): void {
+  const tw = state.tearing
+  const n = tw.pendingCount
+  if (n === 0) return
+  tw.pendingCount = 0
+  const room = (tw.queue.length / EV) | 0
+  for (let i = 0; i < n; i++) {
+    if (tw.queueCount >= room) {
+      tw.dropped++
+      continue
+    }
+    const from = i * EV, to = tw.queueCount * EV
+    for (let j = 0; j < EV; j++) tw.queue[to + j] = tw.pending[from + j]
+    tw.queueCount++
+  }
+  const listeners = tw.listeners
+  if (listeners.length === 0) return
+  for (let i = 0; i < n; i++) {
+    readEvent(tw.pending, i, tw.event)
+    for (let l = 0; l < listeners.length; l++) listeners[l](tw.event)
+  }
+}

@@ -1,0 +1,30 @@
+import { writeRenderMesh } from './kernels/mesh'
+import { getCloth, getClothWorld } from './world/access'
+import type { ClothMesh } from './world/state'
+
+/**
+ * The cloth's render mesh: float32 positions and unit normals per live particle and the triangle
+ * indices, as views sized to the live counts. The same arrays come back every call (refreshed when
+ * the cloth moved), so uploading them each frame allocates nothing.
+ */
+export function getClothMesh(world: object, cloth: number): ClothMesh {
+  const c = getCloth(getClothWorld(world), cloth)
+  const triCount = c.topology.triangleCount
+  const r = c.render
+  let mesh = r.mesh
+  if (!mesh || mesh.vertexCount !== c.count || mesh.triangleCount !== triCount || mesh.positions.buffer !== r.positions.buffer) {
+    mesh = r.mesh = {
+      positions: r.positions.subarray(0, 3 * c.count),
+      normals: r.normals.subarray(0, 3 * c.count),
+      indices: r.indices.subarray(0, 3 * triCount),
+      vertexCount: c.count,
+      triangleCount: triCount,
+    }
+    r.version = -1
+  }
+  if (r.version !== c.version) {
+    writeRenderMesh(c.pos, c.count, r.indices, triCount, r.positions, r.normals)
+    r.version = c.version
+  }
+  return mesh
+}

@@ -1,0 +1,21 @@
+import { ClothError } from '../core/errors'
+import { $cloth, type ClothState, type ClothWorldState } from './state'
+
+/** Returns the plugin state of a world; throws ClothError if the plugin is not installed. */
+export function getClothWorld(world: object): ClothWorldState {
+  const state = typeof world === 'object' && world !== null ? (world as { [$cloth]?: ClothWorldState })[$cloth] : undefined
+  if (!state) throw new ClothError('world', world, 'must be a bitECS world with the cloth plugin installed (call installClothPlugin first)')
+  return state
+}
+
+/** Returns the plugin state of a world, or undefined. */
+export function findClothWorld(world: object): ClothWorldState | undefined {
+  return (world as { [$cloth]?: ClothWorldState })[$cloth]
+}
+
+/** Looks up a cloth's state, or throws ClothError. */
+export function getCloth(state: ClothWorldState, cloth: number): ClothState {
+  const c = typeof cloth === 'number' ? state.components.Cloth.state[cloth] : undefined
+  if (!c) throw new ClothError('cloth', cloth, 'must be a cloth entity of this world')
+  return c
+}

@@ -1,0 +1,27 @@
+import type { TransformStore } from '../../components/Transform'
+import { ensureStoreCapacity } from '../core/store'
+import type { ClothWorldState, TransformSource } from './state'
+
+/**
+ * Makes every entity-indexed store of the world large enough for `eid`: Transform, Pin, WindZone,
+ * Tearable, Collider and SelfCollision, all at one capacity. Called wherever an entity gets a
+ * component of the plugin (never in a step).
+ */
+export function growStores(state: ClothWorldState, eid: number): void {
+  if (eid < state.capacity) return
+  const c = state.capacity
+  const { Transform, Pin, WindZone, Tearable } = state.components
+  ensureStoreCapacity(Transform, c, eid)
+  ensureStoreCapacity(WindZone, c, eid)
+  ensureStoreCapacity(Tearable, c, eid)
+  ensureStoreCapacity(state.collision.Collider, c, eid)
+  ensureStoreCapacity(state.collision.SelfCollision, c, eid)
+  state.capacity = ensureStoreCapacity(Pin, c, eid)
+  // the default transform source aliases the Transform store's arrays: keep them in step
+  if (state.transforms.component === Transform) Object.assign(state.transforms, transformSourceOf(Transform))
+}
+
+/** The plugin's own Transform store as a transform source. */
+export function transformSourceOf(t: TransformStore): TransformSource {
+  return { component: t, px: t.px, py: t.py, pz: t.pz, qx: t.qx, qy: t.qy, qz: t.qz, qw: t.qw, sx: t.sx, sy: t.sy, sz: t.sz }
+}

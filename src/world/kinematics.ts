@@ -1,0 +1,269 @@
+import { ClothError, MAX_COORDINATE } from '../core/errors'
+import { multiplyQuatAt, relativeRotationAt } from '../core/math'
+import { K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
+
+export { K_SINCE_SAMPLE, K_STEP_FRACTION }
+
+/**
+ * Kinematic tracking of entities whose Transform drives the simulation (pin targets, collider
+ * bodies, wind zones): each tracked entity gets a slot; its pose is sampled once per frame and
+ * interpolated in time across the fixed steps of that frame and across the substeps of each step
+ * (see `Kinematics`).
+ */
+
+export function createKinematics(): Kinematics {
+  return {
+    slotOf: new Int32Array(64).fill(-1),
+    eid: new Int32Array(0),
+    refs: new Int32Array(0),
+    count: 0,
+    free: [],
+    sampleFrom: new Float64Array(0),
+    sampleTo: new Float64Array(0),
+    stepFrom: new Float64Array(0),
+    stepTo: new Float64Array(0),
+    jumped: new Uint8Array(0),
+    moved: new Uint8Array(0),
+    forceJump: new Uint8Array(0),
+    jump: new Float64Array(0),
+    time: Float64Array.from([0, 1]),
+    newFrame: true,
+    framed: false,
+  }
+}
+
+const pose = new Float64Array(7)
+
+/**
+ * Starts tracking `eid` (or adds a reference) and returns its slot. A new slot starts at rest at
+ * the entity's current pose.
+ */
+export function trackEntity(state: ClothWorldState, eid: number): number {
+  const k = state.kinematics
+  if (eid >= k.slotOf.length) {
+    let n = k.slotOf.length
+    while (n <= eid) n *= 2
+    const grown = new Int32Array(n).fill(-1)
+    grown.set(k.slotOf)
+    k.slotOf = grown
+  }
+  let slot = k.slotOf[eid]
+  if (slot >= 0) {
+    k.refs[slot]++
+    return slot
+  }
+  slot = k.free.length > 0 ? k.free.pop()! : k.count++
+  if (slot >= k.eid.length) growSlots(k, Math.max(8, 2 * k.eid.length))
+  k.slotOf[eid] = slot
+  k.eid[slot] = eid
+  k.refs[slot] = 1
+  k.jumped[slot] = 0
+  k.moved[slot] = 0
+  k.forceJump[slot] = 0
+  readPoseInto(state, eid, pose)
+  const o = 7 * slot
+  for (let j = 0; j < 7; j++) {
+    k.sampleFrom[o + j] = pose[j]
+    k.sampleTo[o + j] = pose[j]
+    k.stepFrom[o + j] = pose[j]
+    k.stepTo[o + j] = pose[j]
+  }
+  return slot
+}
+
+/** Drops a reference to `eid`'s slot; the slot is freed when nothing uses it. */
+export function untrackEntity(state: ClothWorldState, eid: number): void {
+  const k = state.kinematics
+  const slot = eid < k.slotOf.length ? k.slotOf[eid] : -1
+  if (slot < 0) return
+  if (--k.refs[slot] > 0) return
+  k.slotOf[eid] = -1
+  k.eid[slot] = -1
+  k.free.push(slot)
+}
+
+function growSlots(k: Kinematics, n: number): void {
+  const grow = <T extends Float64Array | Int32Array | Uint8Array>(a: T, stride: number, fill = 0): T => {
+    const b = new (a.constructor as new (n: number) => T)(n * stride)
+    if (fill !== 0) b.fill(fill)
+    b.set(a)
+    return b
+  }
+  k.eid = grow(k.eid, 1, -1)
+  k.refs = grow(k.refs, 1)
+  k.sampleFrom = grow(k.sampleFrom, 7)
+  k.sampleTo = grow(k.sampleTo, 7)
+  k.stepFrom = grow(k.stepFrom, 7)
+  k.stepTo = grow(k.stepTo, 7)
+  k.jumped = grow(k.jumped, 1)
+  k.moved = grow(k.moved, 1)
+  k.forceJump = grow(k.forceJump, 1)
+  k.jump = grow(k.jump, 10)
+}
+
+/**
+ * Reads an entity's pose from the transform source, normalising the rotation. A non-finite value
+ * would poison every cloth it touches, so it is rejected here, where transforms enter the solver.
+ */
+export function readPoseInto(state: ClothWorldState, eid: number, out: Float64Array): void {
+  const t = state.transforms
+  const px = t.px[eid], py = t.py[eid], pz = t.pz[eid]
+  let qx = t.qx[eid], qy = t.qy[eid], qz = t.qz[eid], qw = t.qw[eid]
+  if (!Number.isFinite(px + py + pz + qx + qy + qz + qw) || !(Math.abs(px) <= MAX_COORDINATE && Math.abs(py) <= MAX_COORDINATE && Math.abs(pz) <= MAX_COORDINATE)) {
+    throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], `must be finite, the position within ±${MAX_COORDINATE} m`)
+  }
+  const l = Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+  if (l > 1e-12) {
+    qx /= l; qy /= l; qz /= l; qw /= l
+  } else {
+    qx = 0; qy = 0; qz = 0; qw = 1
+  }
+  out[0] = px; out[1] = py; out[2] = pz
+  out[3] = qx; out[4] = qy; out[5] = qz; out[6] = qw
+}
+
+/**
+ * New frame sample for every tracked entity: the previous sample moves back, the current
+ * Transform is read. A sample farther than the teleport distance from where the entity's last
+ * step velocity would have taken it (or any sample after `forceJump`) is a jump: its rigid
+ * transform is recorded (for the cloths to follow) and the entity's earlier poses are moved by it,
+ * so the interpolation continues from the new place instead of sweeping across the gap.
+ *
+ * The span since the previous sample is `time[K_SINCE_SAMPLE]` inside `stepCloth` and one fixed step
+ * when an engine runs `clothFixedStep` itself.
+ */
+export function sampleFrame(state: ClothWorldState): void {
+  const k = state.kinematics
+  const limit2 = state.teleportDistance * state.teleportDistance
+  const span = k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep
+  const ratio = span / state.fixedTimeStep
+  for (let slot = 0; slot < k.count; slot++) {
+    const eid = k.eid[slot]
+    k.jumped[slot] = 0
+    if (eid < 0) continue
+    readPoseInto(state, eid, pose)
+    const o = 7 * slot
+    // where the last step's velocity would have carried the entity by now
+    const ex = k.sampleTo[o] + (k.stepTo[o] - k.stepFrom[o]) * ratio
+    const ey = k.sampleTo[o + 1] + (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
+    const ez = k.sampleTo[o + 2] + (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
+    const jx = pose[0] - ex, jy = pose[1] - ey, jz = pose[2] - ez
+    if (k.forceJump[slot] === 1 || jx * jx + jy * jy + jz * jz > limit2) {
+      k.forceJump[slot] = 0
+      k.jumped[slot] = 1
+      // rotation jump R = q_new · q_old⁻¹ about the old position, then the translation jump
+      const j = 10 * slot
+      k.jump[j] = k.sampleTo[o]
+      k.jump[j + 1] = k.sampleTo[o + 1]
+      k.jump[j + 2] = k.sampleTo[o + 2]
+      relativeRotationAt(pose, 3, k.sampleTo, o + 3, k.jump, j + 3)
+      k.jump[j + 7] = jx
+      k.jump[j + 8] = jy
+      k.jump[j + 9] = jz
+      applyJump(k.jump, j, k.sampleTo, o)
+      applyJump(k.jump, j, k.stepTo, o)
+      applyJump(k.jump, j, k.stepFrom, o)
+    }
+    for (let c = 0; c < 7; c++) {
+      k.sampleFrom[o + c] = k.sampleTo[o + c]
+      k.sampleTo[o + c] = pose[c]
+    }
+  }
+}
+
+/** Moves a pose (at `po` in `poses`) by the jump transform at `j`: p' = pivot + t + R(p − pivot), q' = R·q. */
+function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: number): void {
+  const cx = jump[j], cy = jump[j + 1], cz = jump[j + 2]
+  const rx = jump[j + 3], ry = jump[j + 4], rz = jump[j + 5], rw = jump[j + 6]
+  const vx = poses[po] - cx, vy = poses[po + 1] - cy, vz = poses[po + 2] - cz
+  const tx = 2 * (ry * vz - rz * vy), ty = 2 * (rz * vx - rx * vz), tz = 2 * (rx * vy - ry * vx)
+  poses[po] = cx + jump[j + 7] + vx + rw * tx + (ry * tz - rz * ty)
+  poses[po + 1] = cy + jump[j + 8] + vy + rw * ty + (rz * tx - rx * tz)
+  poses[po + 2] = cz + jump[j + 9] + vz + rw * tz + (rx * ty - ry * tx)
+  multiplyQuatAt(jump, j + 3, poses, po + 3, poses, po + 3)
+}
+
+/**
+ * Start of a fixed step: every tracked entity's step pose moves on to its pose at the step's end
+ * (`time[K_STEP_FRACTION]` of the way from the previous frame sample to the current one; the
+ * current sample itself when an engine runs steps directly), and records whether it moved.
+ */
+export function beginKinematicStep(k: Kinematics): void {
+  if (!k.framed) k.time[K_STEP_FRACTION] = 1
+  for (let slot = 0; slot < k.count; slot++) {
+    if (k.eid[slot] < 0) continue
+    const o = 7 * slot
+    for (let c = 0; c < 7; c++) k.stepFrom[o + c] = k.stepTo[o + c]
+    interpolatePose(k.sampleFrom, k.sampleTo, o, k.time, K_STEP_FRACTION, k.stepTo, o)
+    let moved = k.jumped[slot]
+    for (let c = 0; c < 7 && moved === 0; c++) if (k.stepFrom[o + c] !== k.stepTo[o + c]) moved = 1
+    k.moved[slot] = moved
+  }
+}
+
+/**
+ * Pose at fraction f = t[ti] between poses `a` and `b` (both at offset `o`) into out[oo..oo+6]:
+ * position lerp, rotation slerp along the shortest arc (nlerp when nearly equal); f ≥ 1 gives b
+ * exactly. (The fraction is read from an array: a double argument would be boxed per call.)
+ */
+export function interpolatePose(a: Float64Array, b: Float64Array, o: number, t: Float64Array, ti: number, out: Float64Array, oo: number): void {
+  const f = t[ti]
+  if (f >= 1) {
+    for (let c = 0; c < 7; c++) out[oo + c] = b[o + c]
+    return
+  }
+  out[oo] = a[o] + (b[o] - a[o]) * f
+  out[oo + 1] = a[o + 1] + (b[o + 1] - a[o + 1]) * f
+  out[oo + 2] = a[o + 2] + (b[o + 2] - a[o + 2]) * f
+  const ax = a[o + 3], ay = a[o + 4], az = a[o + 5], aw = a[o + 6]
+  let bx = b[o + 3], by = b[o + 4], bz = b[o + 5], bw = b[o + 6]
+  let cos = ax * bx + ay * by + az * bz + aw * bw
+  if (cos < 0) {
+    cos = -cos
+    bx = -bx; by = -by; bz = -bz; bw = -bw
+  }
+  let s0 = 1 - f, s1 = f
+  if (cos < 0.9995) {
+    const omega = Math.acos(cos)
+    const sin = Math.sin(omega)
+    s0 = Math.sin((1 - f) * omega) / sin
+    s1 = Math.sin(f * omega) / sin
+  }
+  const qx = s0 * ax + s1 * bx, qy = s0 * ay + s1 * by, qz = s0 * az + s1 * bz, qw = s0 * aw + s1 * bw
+  const inv = 1 / Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+  out[oo + 3] = qx * inv
+  out[oo + 4] = qy * inv
+  out[oo + 5] = qz * inv
+  out[oo + 6] = qw * inv
+}
+
+/** Values saved per tracked entity by `saveSlot`: sampleFrom, sampleTo, stepFrom, stepTo (7 each), jump (10), jumped, forceJump. */
+export const SLOT_DATA = 7 * 4 + 10 + 2
+
+/** Copies a slot's motion history into out[e..e + SLOT_DATA) (snapshots). */
+export function saveSlot(k: Kinematics, slot: number, out: Float64Array, e: number): void {
+  const o = 7 * slot
+  for (let j = 0; j < 7; j++) {
+    out[e + j] = k.sampleFrom[o + j]
+    out[e + 7 + j] = k.sampleTo[o + j]
+    out[e + 14 + j] = k.stepFrom[o + j]
+    out[e + 21 + j] = k.stepTo[o + j]
+  }
+  for (let j = 0; j < 10; j++) out[e + 28 + j] = k.jump[10 * slot + j]
+  out[e + 38] = k.jumped[slot]
+  out[e + 39] = k.forceJump[slot]
+}
+
+/** Puts a slot's motion history back from from[e..e + SLOT_DATA) (snapshots). */
+export function restoreSlot(k: Kinematics, slot: number, from: Float64Array, e: number): void {
+  const o = 7 * slot
+  for (let j = 0; j < 7; j++) {
+    k.sampleFrom[o + j] = from[e + j]
+    k.sampleTo[o + j] = from[e + 7 + j]
+    k.stepFrom[o + j] = from[e + 14 + j]
+    k.stepTo[o + j] = from[e + 21 + j]
+  }
+  for (let j = 0; j < 10; j++) k.jump[10 * slot + j] = from[e + 28 + j]
+  k.jumped[slot] = from[e + 38]
+  k.forceJump[slot] = from[e + 39]
+}

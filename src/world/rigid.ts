@@ -1,0 +1,42 @@
+import { quatToMatrix } from '../core/math'
+import type { ClothState } from './state'
+
+/** Scratch of moveClothRigidly: the rotation matrix in [0, 9), the quaternion in [9, 13). */
+const ROTATION = new Float64Array(13)
+
+/**
+ * Moves a cloth rigidly: x' = to + R·(x − from) for positions and previous positions, v' = R·v,
+ * so the motion carries no velocity and the shape is kept exactly. Used by teleports (explicit and
+ * detected), by a frozen cloth that thaws, and by the guard's rigid placement.
+ */
+export function moveClothRigidly(
+  c: ClothState,
+  fromX: number, fromY: number, fromZ: number,
+  rx: number, ry: number, rz: number, rw: number,
+  toX: number, toY: number, toZ: number,
+): void {
+  // rotation matrix of the unit quaternion, once
+  const M = ROTATION
+  M[9] = rx
+  M[10] = ry
+  M[11] = rz
+  M[12] = rw
+  quatToMatrix(M, 9, M, 0)
+  const m00 = M[0], m01 = M[1], m02 = M[2], m10 = M[3], m11 = M[4], m12 = M[5], m20 = M[6], m21 = M[7], m22 = M[8]
+  const { pos, prev, vel } = c
+  for (let i = 0; i < 3 * c.count; i += 3) {
+    let x = pos[i] - fromX, y = pos[i + 1] - fromY, z = pos[i + 2] - fromZ
+    pos[i] = toX + m00 * x + m01 * y + m02 * z
+    pos[i + 1] = toY + m10 * x + m11 * y + m12 * z
+    pos[i + 2] = toZ + m20 * x + m21 * y + m22 * z
+    x = prev[i] - fromX; y = prev[i + 1] - fromY; z = prev[i + 2] - fromZ
+    prev[i] = toX + m00 * x + m01 * y + m02 * z
+    prev[i + 1] = toY + m10 * x + m11 * y + m12 * z
+    prev[i + 2] = toZ + m20 * x + m21 * y + m22 * z
+    x = vel[i]; y = vel[i + 1]; z = vel[i + 2]
+    vel[i] = m00 * x + m01 * y + m02 * z
+    vel[i + 1] = m10 * x + m11 * y + m12 * z
+    vel[i + 2] = m20 * x + m21 * y + m22 * z
+  }
+  c.version++
+}

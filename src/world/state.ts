@@ -1,0 +1,363 @@
+import type { ClothStore } from '../../components/Cloth'
+import type { PinStore } from '../../components/Pin'
+import type { TransformStore } from '../../components/Transform'
+import type { WindZoneStore } from '../../components/WindZone'
+import type { TearableStore } from '../../components/Tearable'
+import type { ClothMaterialSpec } from '../model/materials'
+import type { TetherMode, TetherSet } from '../model/tethers'
+import type { ClothTopology } from '../model/topology'
+import type { ClothPins } from '../features/pins/types'
+import type { ClothWind, WindWorld } from '../features/wind/types'
+import type { ClothCollision, CollisionWorld } from '../features/collision/types'
+import type { BudgetWorld, ClothBudget } from '../features/budget/types'
+import type { ClothGuardOptions, ClothGuardState, GuardWorld } from '../features/guard/types'
+import type { ClothTear, TearWorld } from '../features/tearing/types'
+
+/**
+ * The plugin's state types: one `ClothState` per cloth (particle arrays, shared rest data, solver
+ * settings, then one sub-object per feature) and one `ClothWorldState` per world (settings,
+ * stores, cloths in creation order, then one sub-object per feature). Feature state types live in
+ * `src/features/<feature>/types.ts`; sleeping is the exception, declared here, because every
+ * feature wakes cloths (`wakeClothState`).
+ */
+
+/**
+ * Where the plugin reads world transforms from. The plugin's own `Transform` store fits this
+ * shape; an engine with its own stores passes them here (any entity-indexed arrays), plus the
+ * component whose presence marks an entity as having a transform.
+ */
+export interface TransformSource {
+  /** The component that marks entities with a transform (checked with hasComponent). */
+  component: object
+  px: ArrayLike<number>
+  py: ArrayLike<number>
+  pz: ArrayLike<number>
+  qx: ArrayLike<number>
+  qy: ArrayLike<number>
+  qz: ArrayLike<number>
+  qw: ArrayLike<number>
+  /** Optional scale; 1 when absent. */
+  sx?: ArrayLike<number>
+  sy?: ArrayLike<number>
+  sz?: ArrayLike<number>
+}
+
+/** Options of `installClothPlugin`. */
+export interface ClothPluginOptions {
+  /** Gravity, m/s². Default [0, −9.81, 0]. */
+  gravity?: ArrayLike<number>
+  /** Fixed simulation step, s. Default 1/60. Each step runs each cloth's own substeps. */
+  fixedTimeStep?: number
+  /**
+   * Most fixed steps one `stepCloth` call may run (the accumulator keeps the rest, and time beyond
+   * this many steps is dropped, so a 10 s hitch never becomes one giant step). Default 4.
+   */
+  maxStepsPerFrame?: number
+  /** Read transforms from the host engine's stores instead of the plugin's `Transform`. */
+  transforms?: TransformSource
+  /** A pin target moving farther than this in one fixed step counts as a teleport, m. Default 2. */
+  teleportDistance?: number
+  /** Particle speed limit, m/s (a runaway guard, not a physical limit). Default 250. */
+  maxSpeed?: number
+  /** Initial entity capacity of the plugin's stores; they grow on demand. Default 1024. */
+  capacity?: number
+  /** Density of the air for aerodynamics, kg/m³ (a wind zone may override it). Default 1.2. */
+  airDensity?: number
+  /**
+   * Explosion guard defaults for the cloths of this world (see `ClothGuardOptions`); false turns it
+   * off. Default on: finite, bounds 2 × the cloth's size, speed half of `maxSpeed`.
+   */
+  guard?: boolean | ClothGuardOptions
+  /**
+   * Sleeping defaults for the cloths of this world (see `ClothSleepOptions`); false turns it off.
+   * Default on: a cloth whose particles all stay below 1 cm/s for 1 s sleeps until disturbed.
+   */
+  sleep?: boolean | ClothSleepOptions
+}
+
+/** Counters of the work each phase did, accumulated since install (or the last reset). */
+export interface ClothStats {
+  /** Fixed steps run. */
+  steps: number
+  /** Global substeps run (the largest substep count of the cloths in each step). */
+  substeps: number
+  /** Particle predictions (free particles integrated). */
+  particlesIntegrated: number
+  /** Distance constraint projections (stretch, shear, bend springs, compression-only). */
+  distanceProjections: number
+  /** Dihedral hinge projections. */
+  dihedralProjections: number
+  /** Line-bending (three-particle) projections. */
+  lineProjections: number
+  /** Tether projections (including inactive ones, which cost a distance test). */
+  tetherProjections: number
+  /** Pinned-particle placements. */
+  pinUpdates: number
+  /** Tether rebuilds after pin changes. */
+  tetherRebuilds: number
+  /** Cloths moved by a teleport (automatic or explicit). */
+  teleports: number
+  /** Triangles processed by the aerodynamics kernel. */
+  windTriangles: number
+  /** Edge strain checks by the tearing phase. */
+  strainChecks: number
+  /** Particle–collider tests. */
+  colliderTests: number
+  /** Particle pairs examined by self-collision. */
+  selfCollisionTests: number
+  /** Tears (particle splits) by the tearing phase. */
+  tears: number
+  /** Cloth health checks by the explosion guard (one per cloth per step). */
+  guardChecks: number
+  /** Cloths reset by the explosion guard. */
+  guardResets: number
+  /** Steps cloths spent asleep (one per sleeping cloth per step). */
+  sleepingSteps: number
+  /** Sleeping cloths woken. */
+  wakes: number
+  /** Steps cloths sat out by level of detail (frozen, or between the steps of a cloth stepping every n-th). */
+  lodSkippedSteps: number
+}
+
+/** Long-range attachments of a cloth (`ClothState.tethers`): settings and the live set. */
+export interface ClothTethers {
+  /** The tethers the solver runs (rebuilt when pins change, or the cloth tears). */
+  set: TetherSet
+  enabled: boolean
+  mode: TetherMode
+  slack: number
+  perParticle: number
+  /** Rebuild at the next step (pins changed, settings changed, the cloth tore). */
+  dirty: boolean
+}
+
+/** Render buffers of a cloth (`ClothState.render`): float32, sized for the particle/triangle capacity. */
+export interface ClothRender {
+  positions: Float32Array
+  normals: Float32Array
+  indices: Uint32Array
+  /** The `ClothState.version` the buffers were written at (−1: stale). */
+  version: number
+  /** Cached views handed out by getClothMesh (sized to the live counts). */
+  mesh: ClothMesh | null
+}
+
+/** Options of `setClothSleep` and of the plugin's `sleep` option. */
+export interface ClothSleepOptions {
+  /** Whether the cloth may fall asleep. Default true. */
+  enabled?: boolean
+  /** Speed every particle must stay below, m/s. Default 0.01. */
+  speed?: number
+  /** How long the cloth must stay that slow before it sleeps, s. Default 1. */
+  delay?: number
+}
+
+/** Resolved sleep settings (world defaults). */
+export interface SleepSettings {
+  enabled: boolean
+  speed: number
+  delay: number
+}
+
+/** Sleep settings and state of one cloth (`ClothState.sleep`). */
+export interface ClothSleep {
+  /** Asleep: every phase skips the cloth until something wakes it. */
+  asleep: boolean
+  enabled: boolean
+  /** Speed² every particle must stay below, (m/s)², and for how long, s. */
+  speed2: number
+  delay: number
+  /** How long the cloth has been that slow, s. */
+  still: number
+  /** Particle bounds when it fell asleep (min xyz, max xyz), for the wake tests. */
+  bounds: Float64Array
+}
+
+/** Per-world sleep bookkeeping (`ClothWorldState.sleep`). */
+export interface SleepWorld {
+  /** Settings new cloths start with. */
+  defaults: SleepSettings
+  /** Cloths asleep now. */
+  count: number
+  /** Gravity when the last cloth fell asleep (a change wakes every sleeper). */
+  gravity: Float64Array
+}
+
+/** Everything one cloth instance owns: particle state in flat typed arrays plus shared rest data. */
+export interface ClothState {
+  /** The cloth's entity. */
+  eid: number
+  /** Creation sequence number; the solver visits cloths in this order, never in query order. */
+  seq: number
+  /** Rest data (shared, read-only; a tearable cloth has its own copy). */
+  topology: ClothTopology
+  material: ClothMaterialSpec
+
+  /** Live particles (the arrays may hold room for more: a tearable cloth reserves it). */
+  count: number
+  /** Positions, xyz interleaved, m. */
+  pos: Float64Array
+  /** Positions at the start of the current substep, m. */
+  prev: Float64Array
+  /** Velocities, m/s. */
+  vel: Float64Array
+  /** Inverse masses, 1/kg; 0 while pinned. */
+  invMass: Float64Array
+  /** Inverse masses without pins, 1/kg. */
+  baseInvMass: Float64Array
+  /**
+   * The distance loops' copy of `invMass`, spread to position offsets (`invMass3[3i]` =
+   * `invMass[i]`). The solve phase refreshes it at the first substep of every step, so it follows
+   * pins, unpins, tears and restores made between steps.
+   */
+  invMass3: Float64Array
+  /** Number of pins holding each particle. */
+  pinCount: Uint16Array
+  /** Extra per-particle acceleration for this substep (wind), or null when nothing writes it. */
+  accel: Float64Array | null
+  /** Connected piece of each particle (numbered by their lowest particle), or null: one piece. */
+  piece: Int32Array | null
+  pieceCount: number
+
+  /** Substeps per fixed step. */
+  substeps: number
+  /** Solver iterations per substep. */
+  iterations: number
+  /** 'xpbd' accumulates multipliers (stiffness independent of iterations); 'pbd' does not. */
+  solver: 'xpbd' | 'pbd'
+  /** Velocity damping, 1/s. */
+  damping: number
+  /** Stretch damping, 1/s (see ClothMaterialSpec.stretchDamping). */
+  stretchDamping: number
+  /** Substep length for this cloth, s. */
+  h: number
+  /** Local substep index this global substep, or −1 when the cloth sits this one out. */
+  subIndex: number
+  /** Sits this fixed step out: asleep, frozen, or between the steps of a cloth stepping every n-th. */
+  idle: boolean
+  /** Kernel parameters for the current substep (see `kernels/params.ts`). */
+  params: Float64Array
+  /** XPBD multipliers, one per constraint. */
+  distLambda: Float64Array
+  compLambda: Float64Array
+  lineLambda: Float64Array
+  hingeLambda: Float64Array
+  /** Bumped at the end of every step (and by anything that moves the particles); the render mesh follows it. */
+  version: number
+
+  tethers: ClothTethers
+  render: ClothRender
+  sleep: ClothSleep
+  pins: ClothPins
+  /** Aerodynamics buffers, allocated when a wind zone exists, else null. */
+  wind: ClothWind | null
+  collision: ClothCollision
+  budget: ClothBudget
+  /** Explosion guard: settings, thresholds, last good pose, rest pose. */
+  guard: ClothGuardState
+  /** Tearing state of a tearable cloth (own rest data with reserved capacity), else null. */
+  tear: ClothTear | null
+}
+
+/** GPU-ready mesh of a cloth: views sized to the live particles and triangles. */
+export interface ClothMesh {
+  /** xyz per particle, m. */
+  positions: Float32Array
+  /** Unit normal per particle (area-weighted). */
+  normals: Float32Array
+  /** 3 particle indices per triangle. */
+  indices: Uint32Array
+  vertexCount: number
+  triangleCount: number
+}
+
+/**
+ * Kinematic tracking of entities whose Transform drives the simulation (pin targets now,
+ * colliders later). Each tracked entity gets a slot; its pose is sampled once per frame and
+ * interpolated in time across the fixed steps of that frame and across the substeps of each step.
+ *
+ * A frame of variable length runs 0, 1 or several fixed steps; interpolating by time gives every
+ * step exactly the motion of its own time slice, so pins do not jerk at frame rate.
+ *
+ * Poses are px py pz qx qy qz qw (stride 7). Per slot:
+ * - `sampleFrom`, `sampleTo`: the target's pose at the previous and at the current frame sample;
+ * - `stepFrom`, `stepTo`: its pose at the start and end of the current fixed step.
+ */
+export interface Kinematics {
+  /** Slot of each entity id, −1 when untracked (grown on demand). */
+  slotOf: Int32Array
+  /** Entity of each slot, −1 when free. */
+  eid: Int32Array
+  /** Pins/colliders using each slot. */
+  refs: Int32Array
+  /** Highest slot in use + 1. */
+  count: number
+  /** Free slots (reused last-in first-out, which keeps slot order deterministic). */
+  free: number[]
+  sampleFrom: Float64Array
+  sampleTo: Float64Array
+  stepFrom: Float64Array
+  stepTo: Float64Array
+  /** 1 when the entity jumped (teleported) at the current frame sample. */
+  jumped: Uint8Array
+  /** 1 when the entity's pose changes during the current fixed step (or it jumped): wakes sleepers. */
+  moved: Uint8Array
+  /** 1 to treat the next sample as a jump whatever its distance (set by teleportCloth). */
+  forceJump: Uint8Array
+  /** The jump as a rigid transform: pivot xyz, rotation xyzw, translation xyz (stride 10). */
+  jump: Float64Array
+  /**
+   * Timing scalars, in a typed array so passing them around never allocates:
+   * [K_SINCE_SAMPLE] seconds since the last frame sample; [K_STEP_FRACTION] the fraction of that
+   * span at which the current fixed step ends.
+   */
+  time: Float64Array
+  /** True when the next sync must take a new frame sample. */
+  newFrame: boolean
+  /** True while `stepCloth` runs a frame's steps; outside it, every fixed step samples anew. */
+  framed: boolean
+}
+
+/** Slots of `Kinematics.time`. */
+export const K_SINCE_SAMPLE = 0
+export const K_STEP_FRACTION = 1
+
+/** Per-world plugin state, kept on the world object under a symbol. */
+export interface ClothWorldState {
+  gravity: Float64Array
+  fixedTimeStep: number
+  maxStepsPerFrame: number
+  teleportDistance: number
+  maxSpeed: number
+  /** Time not yet simulated, s. */
+  accumulator: number
+  components: {
+    Transform: TransformStore
+    Cloth: ClothStore<ClothState>
+    Pin: PinStore
+    WindZone: WindZoneStore
+    Tearable: TearableStore
+  }
+  /** Where transforms are read from (the plugin's Transform unless the host gave its own). */
+  transforms: TransformSource
+  /** Capacity of the entity-indexed stores (all of them, the collision stores included). */
+  capacity: number
+  /** Cloths in creation order. */
+  cloths: ClothState[]
+  nextSeq: number
+  /** Tracked transforms (pin targets, collider bodies, wind zones), interpolated across steps and substeps. */
+  kinematics: Kinematics
+  /** Global substep index within the current fixed step, and how many there are. */
+  substep: number
+  substepCount: number
+  stats: ClothStats
+  sleep: SleepWorld
+  wind: WindWorld
+  collision: CollisionWorld<ClothState>
+  budget: BudgetWorld
+  guard: GuardWorld
+  tearing: TearWorld
+}
+
+/** Symbol under which the plugin keeps its state on a world. */
+export const $cloth = Symbol.for('bitecs-cloth')

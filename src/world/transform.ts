@@ -1,0 +1,102 @@
+import { addComponent, entityExists, hasComponent } from 'bitecs'
+import type { quat, vec3 } from 'gl-matrix'
+import { ClothError, checkPoint, checkQuat, checkVec3, isArrayLike } from '../core/errors'
+import { normalizeQuat } from '../core/math'
+import { getClothWorld } from './access'
+import { growStores } from './capacity'
+import type { ClothWorldState } from './state'
+
+type Writable = { [i: number]: number }
+
+/**
+ * Writes an entity's world transform (adding the Transform component if it has none), for hosts
+ * that do not write the stores themselves. The rotation is normalised; position and rotation must
+ * be finite. With host transform stores (`installClothPlugin({ transforms })`), writes into those.
+ */
+export function setTransform(
+  world: object,
+  eid: number,
+  position: Readonly<vec3> | ArrayLike<number>,
+  rotation?: Readonly<quat> | ArrayLike<number>,
+  scale?: Readonly<vec3> | ArrayLike<number>,
+): void {
+  const state = getClothWorld(world)
+  checkEntity(world, 'eid', eid)
+  checkPoint('position', position)
+  if (rotation !== undefined) checkQuat('rotation', rotation)
+  if (scale !== undefined) {
+    checkVec3('scale', scale)
+    for (let i = 0; i < 3; i++) if (!(scale[i] > 0) || scale[i] > 1e6) throw new ClothError('scale', scale, 'must be positive (at most 1e6)')
+  }
+  const src = state.transforms
+  if (!hasComponent(world as never, eid, src.component)) {
+    if (src.component !== state.components.Transform) {
+      throw new ClothError('eid', eid, 'has no transform component of the host engine')
+    }
+    growStores(state, eid)
+    addComponent(world as never, eid, state.components.Transform)
+  }
+  const t = state.transforms
+  ;(t.px as Writable)[eid] = position[0]
+  ;(t.py as Writable)[eid] = position[1]
+  ;(t.pz as Writable)[eid] = position[2]
+  if (rotation !== undefined) {
+    const q = scratch
+    normalizeQuat(rotation[0], rotation[1], rotation[2], rotation[3], q, 0)
+    ;(t.qx as Writable)[eid] = q[0]
+    ;(t.qy as Writable)[eid] = q[1]
+    ;(t.qz as Writable)[eid] = q[2]
+    ;(t.qw as Writable)[eid] = q[3]
+  }
+  if (scale !== undefined && t.sx && t.sy && t.sz) {
+    ;(t.sx as Writable)[eid] = scale[0]
+    ;(t.sy as Writable)[eid] = scale[1]
+    ;(t.sz as Writable)[eid] = scale[2]
+  }
+}
+
+const scratch = new Float64Array(4)
+
+/**
+ * Reads an entity's world position into `outPosition` and rotation into `outRotation` (either may
+ * be omitted). Returns false when the entity has no transform.
+ */
+export function getTransform(world: object, eid: number, outPosition?: vec3 | Writable, outRotation?: quat | Writable): boolean {
+  const state = getClothWorld(world)
+  if (outPosition !== undefined && (!isArrayLike(outPosition) || outPosition.length < 3)) throw new ClothError('outPosition', outPosition, 'must be an array of 3 numbers')
+  if (outRotation !== undefined && (!isArrayLike(outRotation) || outRotation.length < 4)) throw new ClothError('outRotation', outRotation, 'must be an array of 4 numbers')
+  if (!entityExists(world as never, eid) || !hasComponent(world as never, eid, state.transforms.component)) return false
+  const t = state.transforms
+  if (outPosition) {
+    outPosition[0] = t.px[eid]
+    outPosition[1] = t.py[eid]
+    outPosition[2] = t.pz[eid]
+  }
+  if (outRotation) {
+    outRotation[0] = t.qx[eid]
+    outRotation[1] = t.qy[eid]
+    outRotation[2] = t.qz[eid]
+    outRotation[3] = t.qw[eid]
+  }
+  return true
+}
+
+/**
+ * Scale of an entity's transform along an axis: used when finite and > 0, else 1 (also where the
+ * source has no scale). Pin placement and collider poses apply the same rule inline per substep.
+ */
+export function readScale(state: ClothWorldState, eid: number, axis: 0 | 1 | 2): number {
+  const t = state.transforms
+  const arr = axis === 0 ? t.sx : axis === 1 ? t.sy : t.sz
+  if (!arr) return 1
+  const s = arr[eid]
+  return s > 0 && s < Infinity ? s : 1
+}
+
+/** Throws ClothError unless `eid` is a live entity of `world`. */
+export function checkEntity(world: object, argument: string, eid: unknown): number {
+  if (typeof eid !== 'number' || !Number.isInteger(eid) || eid < 0 || !entityExists(world as never, eid)) {
+    throw new ClothError(argument, eid, 'must be an existing entity of this world')
+  }
+  return eid
+}
