@@ -77,13 +77,26 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   }
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
+  observeLifecycle(world, state)
+  installWind(world, state)
+  installTearing(world, state)
+  installCollision(world, state)
+  installBudget(world, state)
+  return world
+}
+
+/**
+ * The plugin's own lifecycle observers: a new Transform gets room and identity values; a removed
+ * pin target releases its pins; a removed pin frees its particle; a removed cloth takes its pins
+ * and state with it.
+ */
+function observeLifecycle(world: object, state: ClothWorldState): void {
   const w = world as never
+  const { Transform, Pin, Cloth } = state.components
   observe(w, onAdd(Transform), (eid: number) => {
     growStores(state, eid)
     resetTransform(state.components.Transform, eid)
   })
-  // A removed pin target releases its pins; a removed pin frees its particle; a removed cloth takes
-  // its pins and state with it.
   observe(w, onRemove(state.transforms.component), (eid: number) => {
     for (const cloth of state.cloths) {
       const pins = cloth.pins.list
@@ -114,11 +127,6 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     const i = state.cloths.indexOf(cloth)
     if (i >= 0) state.cloths.splice(i, 1)
   })
-  installWind(world, state)
-  installTearing(world, state)
-  installCollision(world, state)
-  installBudget(world, state)
-  return world
 }
 
 /** The stores this world's plugin uses (Transform, Cloth, Pin, WindZone, Tearable), for queries and direct reads. */

@@ -55,6 +55,10 @@ export const NOISE_SCRATCH = 24
  * Adds zone `z` (its block starts at `zones[z]`) to the air of particles [0, count): velocity into
  * air[4i..4i+2] and, when the zone sets its own density, the density blend into air[4i+3]
  * (ρ += weight·(ρ_zone − ρ_world)). `scratch` holds NOISE_SCRATCH doubles.
+ *
+ * One long function on purpose: it is the per-particle loop of turbulent wind, and the zone shape
+ * test, falloff and lattice-noise lookup are written inline so that no double crosses a call
+ * boundary (a call V8 does not inline boxes its double arguments, which would allocate per particle).
  */
 export function addZoneAir(
   pos: Float64Array,

@@ -17,19 +17,31 @@ export function buildConvexHull(points: ArrayLike<number>, argument = 'points'):
   const p = checkFiniteArray(argument, points, 3)
   const n = p.length / 3
   if (n < 4) throw new ClothError(argument, points, 'must hold at least 4 points (xyz interleaved)')
-  const X = (i: number) => p[3 * i], Y = (i: number) => p[3 * i + 1], Z = (i: number) => p[3 * i + 2]
   let minX = Infinity, minY = Infinity, minZ = Infinity, maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity
   for (let i = 0; i < n; i++) {
-    minX = Math.min(minX, X(i)); maxX = Math.max(maxX, X(i))
-    minY = Math.min(minY, Y(i)); maxY = Math.max(maxY, Y(i))
-    minZ = Math.min(minZ, Z(i)); maxZ = Math.max(maxZ, Z(i))
+    minX = Math.min(minX, p[3 * i]); maxX = Math.max(maxX, p[3 * i])
+    minY = Math.min(minY, p[3 * i + 1]); maxY = Math.max(maxY, p[3 * i + 1])
+    minZ = Math.min(minZ, p[3 * i + 2]); maxZ = Math.max(maxZ, p[3 * i + 2])
   }
   const scale = Math.hypot(maxX - minX, maxY - minY, maxZ - minZ)
   const eps = 1e-9 * Math.max(scale, 1e-12)
-  const flat = () => new ClothError(argument, points, 'must span a volume (they are coincident, collinear or coplanar)')
-  if (!(scale > 0)) throw flat()
+  const tetra = scale > 0 ? initialTetrahedron(p, n, eps, scale) : null
+  if (tetra === null) throw new ClothError(argument, points, 'must span a volume (they are coincident, collinear or coplanar)')
+  const hull = new HullFaces(p, tetra)
+  for (let q = 0; q < n; q++) if (!tetra.includes(q)) hull.add(q, eps)
+  const out = hull.compact(scale)
+  if (out.planeCount > MAX_HULL_PLANES) {
+    throw new ClothError(argument, points, `has a hull of ${out.planeCount} planes; at most ${MAX_HULL_PLANES} are supported (use fewer points)`)
+  }
+  return out
+}
 
-  // initial tetrahedron: two far-apart points, the farthest from their line, the farthest from that plane
+/**
+ * Four extreme points spanning a volume: two far-apart points, the farthest from their line, the
+ * farthest from that plane; null when the points are (nearly) collinear or coplanar.
+ */
+function initialTetrahedron(p: ArrayLike<number>, n: number, eps: number, scale: number): number[] | null {
+  const X = (i: number) => p[3 * i], Y = (i: number) => p[3 * i + 1], Z = (i: number) => p[3 * i + 2]
   let a = 0
   for (let i = 1; i < n; i++) if (X(i) < X(a)) a = i
   let b = a, best = -1
@@ -46,7 +58,7 @@ export function buildConvexHull(points: ArrayLike<number>, argument = 'points'):
     const d = cx * cx + cy * cy + cz * cz
     if (d > best) { best = d; c = i }
   }
-  if (!(Math.sqrt(best) > eps * scale)) throw flat()
+  if (!(Math.sqrt(best) > eps * scale)) return null
   const nx0 = (Y(b) - Y(a)) * (Z(c) - Z(a)) - (Z(b) - Z(a)) * (Y(c) - Y(a))
   const ny0 = (Z(b) - Z(a)) * (X(c) - X(a)) - (X(b) - X(a)) * (Z(c) - Z(a))
   const nz0 = (X(b) - X(a)) * (Y(c) - Y(a)) - (Y(b) - Y(a)) * (X(c) - X(a))
@@ -57,87 +69,104 @@ export function buildConvexHull(points: ArrayLike<number>, argument = 'points'):
     const d = Math.abs((nx0 * (X(i) - X(a)) + ny0 * (Y(i) - Y(a)) + nz0 * (Z(i) - Z(a))) / l0)
     if (d > best) { best = d; d4 = i }
   }
-  if (!(best > eps)) throw flat()
+  return best > eps ? [a, b, c, d4] : null
+}
 
-  // faces as vertex triples, counter-clockwise seen from outside; plane n·x = d per face
-  const faces: number[][] = []
-  const fn: number[][] = []
-  const alive: boolean[] = []
-  const cx = (X(a) + X(b) + X(c) + X(d4)) / 4, cy = (Y(a) + Y(b) + Y(c) + Y(d4)) / 4, cz = (Z(a) + Z(b) + Z(c) + Z(d4)) / 4
-  const addFace = (i: number, j: number, k: number) => {
+/** The hull under construction: faces as vertex triples, counter-clockwise seen from outside, with their planes n·x = d. */
+class HullFaces {
+  readonly faces: number[][] = []
+  readonly planes: number[][] = []
+  readonly alive: boolean[] = []
+  /** Centroid of the first tetrahedron: inside every face. */
+  private readonly cx: number
+  private readonly cy: number
+  private readonly cz: number
+  private readonly edges = new Map<number, number>()
+
+  constructor(private readonly p: ArrayLike<number>, [a, b, c, d]: number[]) {
+    this.cx = (p[3 * a] + p[3 * b] + p[3 * c] + p[3 * d]) / 4
+    this.cy = (p[3 * a + 1] + p[3 * b + 1] + p[3 * c + 1] + p[3 * d + 1]) / 4
+    this.cz = (p[3 * a + 2] + p[3 * b + 2] + p[3 * c + 2] + p[3 * d + 2]) / 4
+    this.addFace(a, b, c)
+    this.addFace(a, b, d)
+    this.addFace(a, c, d)
+    this.addFace(b, c, d)
+  }
+
+  private addFace(i: number, j: number, k: number): void {
+    const p = this.p
+    const X = (v: number) => p[3 * v], Y = (v: number) => p[3 * v + 1], Z = (v: number) => p[3 * v + 2]
     let nx = (Y(j) - Y(i)) * (Z(k) - Z(i)) - (Z(j) - Z(i)) * (Y(k) - Y(i))
     let ny = (Z(j) - Z(i)) * (X(k) - X(i)) - (X(j) - X(i)) * (Z(k) - Z(i))
     let nz = (X(j) - X(i)) * (Y(k) - Y(i)) - (Y(j) - Y(i)) * (X(k) - X(i))
     const l = Math.hypot(nx, ny, nz) || 1
     nx /= l; ny /= l; nz /= l
-    // keep the interior point (centroid of the first tetrahedron) behind every face
-    if (nx * (cx - X(i)) + ny * (cy - Y(i)) + nz * (cz - Z(i)) > 0) {
-      faces.push([i, k, j])
-      fn.push([-nx, -ny, -nz, -(nx * X(i) + ny * Y(i) + nz * Z(i))])
+    // keep the interior point behind every face
+    if (nx * (this.cx - X(i)) + ny * (this.cy - Y(i)) + nz * (this.cz - Z(i)) > 0) {
+      this.faces.push([i, k, j])
+      this.planes.push([-nx, -ny, -nz, -(nx * X(i) + ny * Y(i) + nz * Z(i))])
     } else {
-      faces.push([i, j, k])
-      fn.push([nx, ny, nz, nx * X(i) + ny * Y(i) + nz * Z(i)])
+      this.faces.push([i, j, k])
+      this.planes.push([nx, ny, nz, nx * X(i) + ny * Y(i) + nz * Z(i)])
     }
-    alive.push(true)
+    this.alive.push(true)
   }
-  addFace(a, b, c)
-  addFace(a, b, d4)
-  addFace(a, c, d4)
-  addFace(b, c, d4)
 
-  const edges = new Map<number, number>()
-  for (let q = 0; q < n; q++) {
-    if (q === a || q === b || q === c || q === d4) continue
-    const qx = X(q), qy = Y(q), qz = Z(q)
+  /** Adds point q: the faces it sees are replaced by a fan from q to their horizon (nothing when q is inside). */
+  add(q: number, eps: number): void {
+    const p = this.p
+    const n = p.length / 3
+    const qx = p[3 * q], qy = p[3 * q + 1], qz = p[3 * q + 2]
+    const edges = this.edges
     edges.clear()
     let visible = 0
-    for (let f = 0; f < faces.length; f++) {
-      if (!alive[f]) continue
-      const m = fn[f]
+    for (let f = 0; f < this.faces.length; f++) {
+      if (!this.alive[f]) continue
+      const m = this.planes[f]
       if (m[0] * qx + m[1] * qy + m[2] * qz - m[3] <= eps) continue
-      alive[f] = false
+      this.alive[f] = false
       visible++
-      const [i, j, k] = faces[f]
+      const [i, j, k] = this.faces[f]
       edges.set(i * n + j, 1)
       edges.set(j * n + k, 1)
       edges.set(k * n + i, 1)
     }
-    if (visible === 0) continue // inside the current hull
+    if (visible === 0) return
     // horizon: directed edges of visible faces whose reverse is not on a visible face
     for (const key of edges.keys()) {
       const i = Math.floor(key / n), j = key % n
       if (edges.has(j * n + i)) continue
-      addFace(i, j, q)
+      this.addFace(i, j, q)
     }
   }
 
-  // vertices used by the live faces, renumbered
-  const remap = new Int32Array(n).fill(-1)
-  const verts: number[] = []
-  const tris: number[] = []
-  const planes: number[] = []
-  for (let f = 0; f < faces.length; f++) {
-    if (!alive[f]) continue
-    for (const v of faces[f]) {
-      if (remap[v] < 0) {
-        remap[v] = verts.length / 3
-        verts.push(X(v), Y(v), Z(v))
+  /** The live faces' vertices renumbered, their triangles, and one plane per set of coplanar faces. */
+  compact(scale: number): ConvexHull {
+    const p = this.p
+    const n = p.length / 3
+    const remap = new Int32Array(n).fill(-1)
+    const verts: number[] = []
+    const tris: number[] = []
+    const planes: number[] = []
+    for (let f = 0; f < this.faces.length; f++) {
+      if (!this.alive[f]) continue
+      for (const v of this.faces[f]) {
+        if (remap[v] < 0) {
+          remap[v] = verts.length / 3
+          verts.push(p[3 * v], p[3 * v + 1], p[3 * v + 2])
+        }
+        tris.push(remap[v])
       }
-      tris.push(remap[v])
-    }
-    const m = fn[f]
-    let dup = false
-    for (let k = 0; k < planes.length; k += 4) {
-      if (m[0] * planes[k] + m[1] * planes[k + 1] + m[2] * planes[k + 2] > 1 - 1e-6 && Math.abs(m[3] - planes[k + 3]) < 1e-6 * scale) {
-        dup = true
-        break
+      const m = this.planes[f]
+      let dup = false
+      for (let k = 0; k < planes.length; k += 4) {
+        if (m[0] * planes[k] + m[1] * planes[k + 1] + m[2] * planes[k + 2] > 1 - 1e-6 && Math.abs(m[3] - planes[k + 3]) < 1e-6 * scale) {
+          dup = true
+          break
+        }
       }
+      if (!dup) planes.push(m[0], m[1], m[2], m[3])
     }
-    if (!dup) planes.push(m[0], m[1], m[2], m[3])
+    return { planes: Float64Array.from(planes), planeCount: planes.length / 4, vertices: Float64Array.from(verts), indices: Uint32Array.from(tris) }
   }
-  const planeCount = planes.length / 4
-  if (planeCount > MAX_HULL_PLANES) {
-    throw new ClothError(argument, points, `has a hull of ${planeCount} planes; at most ${MAX_HULL_PLANES} are supported (use fewer points)`)
-  }
-  return { planes: Float64Array.from(planes), planeCount, vertices: Float64Array.from(verts), indices: Uint32Array.from(tris) }
 }

@@ -164,7 +164,7 @@ const HEADROOM = 0.95
  */
 function fitBudget(state: ClothWorldState, b: BudgetSettings): void {
   // in model nanoseconds, aiming HEADROOM under the budget: the corrected model still errs by a
-  // few % from step to step (64 capes: measured 2 % over a prediction that filled the budget)
+  // few % from step to step
   const budget = (HEADROOM * b.msPerFrame * 1e6) / state.budget.timing[Q_FACTOR]
   const q = state.budget
   const cal = q.calibration!

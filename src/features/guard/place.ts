@@ -17,39 +17,7 @@ export function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64
   // they stand
   placePins(state, c, c.substeps - 1, c.substeps, false)
   const f = fit
-  for (let k = 0; k < fit.length; k++) f[k] = 0
-  let n = 0
-  const pins = c.pins.list
-  for (let q = 0; q < pins.length; q++) {
-    const i = P.particle[pins[q]]
-    if (i >= srcCount) continue
-    const j = 3 * i
-    f[F_CS] += src[j]
-    f[F_CS + 1] += src[j + 1]
-    f[F_CS + 2] += src[j + 2]
-    f[F_CT] += pos[j]
-    f[F_CT + 1] += pos[j + 1]
-    f[F_CT + 2] += pos[j + 2]
-    n++
-  }
-  f[F_Q + 3] = 1
-  if (n > 0) {
-    for (let k = 0; k < 3; k++) {
-      f[F_CS + k] /= n
-      f[F_CT + k] /= n
-    }
-    // cross-covariance S_ab = Σ (s − c_s)_a (t − c_t)_b
-    for (let q = 0; q < pins.length; q++) {
-      const i = P.particle[pins[q]]
-      if (i >= srcCount) continue
-      const j = 3 * i
-      for (let a = 0; a < 3; a++) {
-        const s = src[j + a] - f[F_CS + a]
-        for (let b = 0; b < 3; b++) f[F_S + 3 * a + b] += s * (pos[j + b] - f[F_CT + b])
-      }
-    }
-    hornRotation(f)
-  }
+  const n = fitToPins(P.particle, c.pins.list, src, srcCount, pos, f)
   // (nothing pins the cloth: identity and c_src = c_now = 0, the pose goes back where it was)
   const qx = f[F_Q], qy = f[F_Q + 1], qz = f[F_Q + 2], qw = f[F_Q + 3]
   const csx = f[F_CS], csy = f[F_CS + 1], csz = f[F_CS + 2]
@@ -90,6 +58,47 @@ export function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64
     }
   }
   for (let j = 0; j < 3 * c.count; j++) prev[j] = pos[j]
+}
+
+/**
+ * The rigid motion that best maps the pinned particles' source positions (`src`) onto their
+ * current ones (`pos`): centroids into f[F_CS..], f[F_CT..] and the rotation into f[F_Q..]
+ * (identity when fewer than two pins determine it). Returns the number of pins used.
+ */
+function fitToPins(particle: ArrayLike<number>, pins: number[], src: Float64Array, srcCount: number, pos: Float64Array, f: Float64Array): number {
+  for (let k = 0; k < f.length; k++) f[k] = 0
+  let n = 0
+  for (let q = 0; q < pins.length; q++) {
+    const i = particle[pins[q]]
+    if (i >= srcCount) continue
+    const j = 3 * i
+    f[F_CS] += src[j]
+    f[F_CS + 1] += src[j + 1]
+    f[F_CS + 2] += src[j + 2]
+    f[F_CT] += pos[j]
+    f[F_CT + 1] += pos[j + 1]
+    f[F_CT + 2] += pos[j + 2]
+    n++
+  }
+  f[F_Q + 3] = 1
+  if (n > 0) {
+    for (let k = 0; k < 3; k++) {
+      f[F_CS + k] /= n
+      f[F_CT + k] /= n
+    }
+    // cross-covariance S_ab = Σ (s − c_s)_a (t − c_t)_b
+    for (let q = 0; q < pins.length; q++) {
+      const i = particle[pins[q]]
+      if (i >= srcCount) continue
+      const j = 3 * i
+      for (let a = 0; a < 3; a++) {
+        const s = src[j + a] - f[F_CS + a]
+        for (let b = 0; b < 3; b++) f[F_S + 3 * a + b] += s * (pos[j + b] - f[F_CT + b])
+      }
+    }
+    hornRotation(f)
+  }
+  return n
 }
 
 /**

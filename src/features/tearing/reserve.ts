@@ -5,6 +5,7 @@ import { reserveGuard } from '../guard/api'
 import { ensureClothWind } from '../wind/step'
 import { labelPieces } from './step'
 import { tetherStore } from './tethers'
+import type { ClothTopology } from '../../model/topology'
 import type { HingeSet, LineSet, PairSet, TearTopology } from './types'
 
 /**
@@ -17,30 +18,7 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   const P = c.count + extra
   const room = 4 * extra
   const E = src.edgeCount + room, S = src.stretchCount + room, D = src.distCount + room, C = src.compCount + room
-  const t: TearTopology = {
-    ...src,
-    particleCount: c.count,
-    restPositions: grownArray(src.restPositions, 3 * P),
-    masses: grownArray(src.masses, P),
-    triangles: Uint32Array.from(src.triangles),
-    edges: grownArray(src.edges.subarray(0, 2 * src.edgeCount), 2 * E),
-    edgeRest: grownArray(src.edgeRest.subarray(0, src.edgeCount), E),
-    stretchIds: grownArray(src.stretchIds.subarray(0, 2 * src.stretchCount), 2 * S),
-    stretchRest: grownArray(src.stretchRest.subarray(0, src.stretchCount), S),
-    distOffsets: grownArray(src.distOffsets.subarray(0, 2 * src.distCount), 2 * D),
-    distRest: grownArray(src.distRest.subarray(0, src.distCount), D),
-    distCompliance: grownArray(src.distCompliance.subarray(0, src.distCount), D),
-    distKind: grownArray(src.distKind.subarray(0, src.distCount), D),
-    compIds: grownArray(src.compIds.subarray(0, 2 * src.compCount), 2 * C),
-    compRest: grownArray(src.compRest.subarray(0, src.compCount), C),
-    compCompliance: grownArray(src.compCompliance.subarray(0, src.compCount), C),
-    lineIds: Int32Array.from(src.lineIds.subarray(0, 3 * src.lineCount)),
-    lineRest: Float64Array.from(src.lineRest.subarray(0, src.lineCount)),
-    lineCompliance: Float64Array.from(src.lineCompliance.subarray(0, src.lineCount)),
-    hingeIds: Int32Array.from(src.hingeIds.subarray(0, 4 * src.hingeCount)),
-    hingeRest: Float64Array.from(src.hingeRest.subarray(0, src.hingeCount)),
-    hingeCompliance: Float64Array.from(src.hingeCompliance.subarray(0, src.hingeCount)),
-  }
+  const t = reserveTopology(src, c.count, P, E, S, D, C)
   const mesh = new MeshIndex(t.triangles, t.triangleCount)
   const over = new Uint8Array(E)
   const stretch = pairSet(t.stretchIds, 1, t.stretchCount, S, [t.stretchRest], [], null, mesh, t.restPositions)
@@ -100,6 +78,35 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   reserveGuard(c, P)
   if (c.wind !== null) ensureClothWind(c)
   if (c.collision.self !== null) allocateSelfCollision(state, c)
+}
+
+/** A copy of the shared rest data with room for P particles and E, S, D, C edges, stretch, distance and compression constraints. */
+function reserveTopology(src: ClothTopology, count: number, P: number, E: number, S: number, D: number, C: number): TearTopology {
+  const t: TearTopology = {
+    ...src,
+    particleCount: count,
+    restPositions: grownArray(src.restPositions, 3 * P),
+    masses: grownArray(src.masses, P),
+    triangles: Uint32Array.from(src.triangles),
+    edges: grownArray(src.edges.subarray(0, 2 * src.edgeCount), 2 * E),
+    edgeRest: grownArray(src.edgeRest.subarray(0, src.edgeCount), E),
+    stretchIds: grownArray(src.stretchIds.subarray(0, 2 * src.stretchCount), 2 * S),
+    stretchRest: grownArray(src.stretchRest.subarray(0, src.stretchCount), S),
+    distOffsets: grownArray(src.distOffsets.subarray(0, 2 * src.distCount), 2 * D),
+    distRest: grownArray(src.distRest.subarray(0, src.distCount), D),
+    distCompliance: grownArray(src.distCompliance.subarray(0, src.distCount), D),
+    distKind: grownArray(src.distKind.subarray(0, src.distCount), D),
+    compIds: grownArray(src.compIds.subarray(0, 2 * src.compCount), 2 * C),
+    compRest: grownArray(src.compRest.subarray(0, src.compCount), C),
+    compCompliance: grownArray(src.compCompliance.subarray(0, src.compCount), C),
+    lineIds: Int32Array.from(src.lineIds.subarray(0, 3 * src.lineCount)),
+    lineRest: Float64Array.from(src.lineRest.subarray(0, src.lineCount)),
+    lineCompliance: Float64Array.from(src.lineCompliance.subarray(0, src.lineCount)),
+    hingeIds: Int32Array.from(src.hingeIds.subarray(0, 4 * src.hingeCount)),
+    hingeRest: Float64Array.from(src.hingeRest.subarray(0, src.hingeCount)),
+    hingeCompliance: Float64Array.from(src.hingeCompliance.subarray(0, src.hingeCount)),
+  }
+  return t
 }
 
 /** Triangles around each edge and vertex of a mesh (creation time). */
