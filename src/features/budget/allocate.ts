@@ -82,7 +82,7 @@ function runTarget(state: ClothWorldState, c: ClothState): void {
     // the largest ladder count (or s itself) within the time
     while (s > lod.minSubsteps) {
       configCost(c, s, lod.wantIterations, 1, cal, cfg)
-      if (cfg[3] * 1e-6 <= ms) break
+      if (cfg.cost * 1e-6 <= ms) break
       s = ladderBelow(s)
     }
   }
@@ -122,7 +122,7 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
       const cap = lod.wantSubsteps * (b.near / d)
       while (level > halvingsTop(c)) {
         levelConfig(c, level, cfg)
-        if (cfg[0] <= cap) break
+        if (cfg.substeps <= cap) break
         level--
       }
     }
@@ -138,7 +138,7 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
     if (lod.applied >= 0 && lod.level > lod.applied + 1) lod.level = lod.applied + 1
     lod.applied = lod.level
     levelConfig(c, lod.level, cfg)
-    applyConfig(state, c, cfg[0], cfg[1], cfg[2])
+    applyConfig(state, c, cfg.substeps, cfg.iterations, cfg.stepEvery)
   }
   // the model's time per step at these levels, for the timing correction and the stats
   const cal = q.calibration
@@ -148,7 +148,7 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
       const c = cloths[ci]
       if (c.budget.frozen || c.sleep.asleep) continue
       configCost(c, c.substeps, c.iterations, c.budget.stepEvery, cal, cfg)
-      total += cfg[3]
+      total += cfg.cost
     }
   }
   q.timing[Q_PREDICTED] = total
@@ -175,7 +175,7 @@ function fitBudget(state: ClothWorldState, b: BudgetSettings): void {
     const c = cloths[ci]
     if (c.budget.frozen || c.sleep.asleep) continue
     levelCost(c, c.budget.level, cal, cfg)
-    total += cfg[3]
+    total += cfg.cost
   }
   while (total > budget) {
     let best = -1
@@ -186,11 +186,11 @@ function fitBudget(state: ClothWorldState, b: BudgetSettings): void {
       const lod = c.budget
       if (lod.frozen || c.sleep.asleep || lod.level <= bottomLevel(c, b)) continue
       levelCost(c, lod.level, cal, cfg)
-      const cost = cfg[3], logq = cfg[4]
+      const cost = cfg.cost, logq = cfg.logQuality
       levelCost(c, lod.level - 1, cal, cfg)
-      const saving = cost - cfg[3]
+      const saving = cost - cfg.cost
       if (!(saving > 0)) continue
-      const score = (lod.priority * (logq - cfg[4])) / saving
+      const score = (lod.priority * (logq - cfg.logQuality)) / saving
       if (score < bestScore) {
         bestScore = score
         best = ci

@@ -132,7 +132,7 @@ export function createBudgetWorld(): BudgetWorld {
     countdown: 0,
     calibration: null,
     pose: new Float64Array(7),
-    cfg: new Float64Array(5),
+    cfg: { substeps: 1, iterations: 1, stepEvery: 1, cost: 0.5, logQuality: 0.5 },
     timeNext: false,
     timing: Float64Array.from([0, 0, 0, 1]),
   }
@@ -271,7 +271,7 @@ export function getClothLod(world: object, cloth: number): ClothLodInfo {
   let predictedMs = 0
   if (cal !== null) {
     configCost(c, c.substeps, c.iterations, lod.stepEvery, cal, state.budget.cfg)
-    predictedMs = state.budget.cfg[3] * state.budget.timing[Q_FACTOR] * 1e-6
+    predictedMs = state.budget.cfg.cost * state.budget.timing[Q_FACTOR] * 1e-6
   }
   return {
     substeps: c.substeps,

@@ -1,5 +1,5 @@
 import type { ClothState, ClothWorldState } from '../../world/state'
-import type { BudgetSettings } from './types'
+import type { BudgetSettings, LevelConfig } from './types'
 
 /** Substep counts the controllers choose from. */
 export const SUBSTEP_LADDER: readonly number[] = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64]
@@ -23,31 +23,31 @@ export function ladderBelow(s: number): number {
  * S × I; down from there the ladder's substep counts below S; then, at one substep, iterations
  * halved down to 1; then, if the budget's `farStepEvery` allows it (never for self-colliding cloths),
  * stepping every 2nd and every 4th fixed step.
- * Writes s, i, e (stepEvery) to cfg[0..2].
+ * Writes substeps, iterations and stepEvery to `cfg`.
  */
-export function levelConfig(c: ClothState, level: number, cfg: Float64Array): void {
+export function levelConfig(c: ClothState, level: number, cfg: LevelConfig): void {
   const S = c.budget.wantSubsteps, I = c.budget.wantIterations
   const below = substepsBelow(S) // ladder rungs below S
   const halvings = iterationHalvings(I)
   // level ≥ halvings + 2: substep rungs (the top one is S itself)
   const k = level - (halvings + 2)
   if (k >= 0) {
-    cfg[0] = k < below ? SUBSTEP_LADDER[k] : S
-    cfg[1] = I
-    cfg[2] = 1
+    cfg.substeps = k < below ? SUBSTEP_LADDER[k] : S
+    cfg.iterations = I
+    cfg.stepEvery = 1
     return
   }
-  cfg[0] = 1
+  cfg.substeps = 1
   if (level >= 2) {
     // level 2 + h: iterations I >> (halvings − h)
     const h = level - 2
     const it = I >> (halvings - h)
-    cfg[1] = it > 1 ? it : 1
-    cfg[2] = 1
+    cfg.iterations = it > 1 ? it : 1
+    cfg.stepEvery = 1
     return
   }
-  cfg[1] = 1
-  cfg[2] = level === 1 ? 2 : 4
+  cfg.iterations = 1
+  cfg.stepEvery = level === 1 ? 2 : 4
 }
 
 function substepsBelow(S: number): number {
@@ -73,20 +73,20 @@ export function bottomLevel(c: ClothState, b: BudgetSettings): number {
   return b.farStepEvery === 4 ? 0 : b.farStepEvery === 2 ? 1 : 2
 }
 
-/** Cost of one fixed step at (s, i, e), ns, into cfg[3]; log quality into cfg[4]. */
-export function configCost(c: ClothState, s: number, i: number, e: number, cal: Float64Array, cfg: Float64Array): void {
+/** Cost of one fixed step at (s, i, e), ns, into cfg.cost; log quality into cfg.logQuality. */
+export function configCost(c: ClothState, s: number, i: number, e: number, cal: Float64Array, cfg: LevelConfig): void {
   const t = c.topology
   const projections = t.distCount + t.compCount + 0.8 * t.lineCount + 3 * t.hingeCount
   const cc = c.collision
   const colliderTests = c.count * (cc.activeCount + (cc.self !== null ? 2 : 0))
   const perSub = cal[0] * c.count + cal[1] * (i * projections + 0.6 * c.tethers.set.count) + cal[2] * colliderTests + cal[3]
-  cfg[3] = (perSub * s) / e
-  cfg[4] = 2 * Math.log(s) + Math.log(i) - 2 * Math.log(e)
+  cfg.cost = (perSub * s) / e
+  cfg.logQuality = 2 * Math.log(s) + Math.log(i) - 2 * Math.log(e)
 }
 
-export function levelCost(c: ClothState, level: number, cal: Float64Array, cfg: Float64Array): void {
+export function levelCost(c: ClothState, level: number, cal: Float64Array, cfg: LevelConfig): void {
   levelConfig(c, level, cfg)
-  configCost(c, cfg[0], cfg[1], cfg[2], cal, cfg)
+  configCost(c, cfg.substeps, cfg.iterations, cfg.stepEvery, cal, cfg)
 }
 
 /** The lowest level that still runs one substep at full iterations. */

@@ -16,6 +16,17 @@ export interface BudgetSettings {
   interval: number
 }
 
+/** A level's configuration and cost (scratch of the allocation, written by `levelConfig` and `configCost`). */
+export interface LevelConfig {
+  substeps: number
+  iterations: number
+  stepEvery: number
+  /** Predicted cost of one fixed step at this configuration, ns. */
+  cost: number
+  /** log quality: 2 log substeps + log iterations − 2 log stepEvery. */
+  logQuality: number
+}
+
 /** Per-world budget state (`ClothWorldState.budget`). */
 export interface BudgetWorld {
   /** The world budget, or null when none is set. */
@@ -26,9 +37,9 @@ export interface BudgetWorld {
   countdown: number
   /** Cost model: nsPerParticle, nsPerProjection, nsPerColliderTest, nsPerClothSubstep. */
   calibration: Float64Array | null
-  /** Viewer pose scratch, level configuration scratch (s, i, e, cost, logq). */
+  /** Viewer pose scratch, and the level configuration the level functions write. */
   pose: Float64Array
-  cfg: Float64Array
+  cfg: LevelConfig
   /** Time the next fixed step (set by the sync phase, read by `clothFixedStep`). */
   timeNext: boolean
   /** Timing: [Q_T0] start of the timed step, [Q_MEASURED] its ms, [Q_PREDICTED] the model's ns per step, [Q_FACTOR] correction. */
