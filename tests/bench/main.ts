@@ -6,6 +6,7 @@ import { guardCost, snapshotCost } from './stability'
 import { outOfRange, perCollider, selfShare } from './collision'
 import { capes, payForUse, sleepingCost } from './budget'
 import { demoScenes } from './demo'
+import { threeCost } from './three'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -47,6 +48,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
     },
   },
   demo: { byDefault: false, run: () => demoScenes() },
+  three: { byDefault: true, run: () => threeCost() },
 }
 
 const wanted = process.argv.slice(2)

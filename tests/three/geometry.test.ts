@@ -1,0 +1,171 @@
+import { addEntity } from 'bitecs'
+import { BufferGeometry, DoubleSide, MeshBasicMaterial, MeshStandardMaterial, Vector3 } from 'three'
+import { describe, expect, it } from 'vitest'
+import { ClothError, createCloth, getClothMesh, getClothTearCount, makeTearable, pinRow, removeCloth, setTransform, stepCloth } from '../../src/index'
+import { createClothGeometry, createClothMesh, updateClothGeometry } from '../../src/three/index'
+import { pinSidesToBars } from '../fixtures/bars'
+import { makeWorld } from '../helpers'
+
+type Geometry = ReturnType<typeof createClothGeometry>
+
+/** The index a renderer draws: the draw range of the geometry's index. */
+function drawnIndex(geometry: Geometry): number[] {
+  return Array.from((geometry.getIndex()!.array as Uint32Array).subarray(0, geometry.drawRange.count))
+}
+
+/** Asserts that the geometry shows exactly the cloth's mesh (positions, normals, uvs, index, range, bounds). */
+function expectFollows(world: object, cloth: number, geometry: Geometry) {
+  const mesh = getClothMesh(world, cloth)
+  const n = mesh.vertexCount
+  const pos = geometry.getAttribute('position').array as Float32Array
+  const nrm = geometry.getAttribute('normal').array as Float32Array
+  const uv = geometry.getAttribute('uv').array as Float32Array
+  const index = geometry.getIndex()!.array as Uint32Array
+  expect(geometry.getAttribute('position').count).toBeGreaterThanOrEqual(n)
+  expect(Array.from(pos.subarray(0, 3 * n))).toEqual(Array.from(mesh.positions))
+  expect(Array.from(nrm.subarray(0, 3 * n))).toEqual(Array.from(mesh.normals))
+  const uvs = (mesh as { uvs?: Float32Array }).uvs
+  expect(Array.from(uv.subarray(0, 2 * n))).toEqual(uvs ? Array.from(uvs) : new Array(2 * n).fill(0))
+  expect(geometry.drawRange.start).toBe(0)
+  expect(geometry.drawRange.count).toBe(3 * mesh.triangleCount)
+  expect(Array.from(index.subarray(0, 3 * mesh.triangleCount))).toEqual(Array.from(mesh.indices))
+  // bounds: exactly the live vertices' box, and a sphere holding every one of them
+  const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity]
+  for (let i = 0; i < n; i++) {
+    for (let a = 0; a < 3; a++) {
+      min[a] = Math.min(min[a], mesh.positions[3 * i + a])
+      max[a] = Math.max(max[a], mesh.positions[3 * i + a])
+    }
+  }
+  expect(geometry.boundingBox!.min.toArray()).toEqual(min)
+  expect(geometry.boundingBox!.max.toArray()).toEqual(max)
+  const sphere = geometry.boundingSphere!
+  const p = new Vector3()
+  let far = 0
+  for (let i = 0; i < n; i++) far = Math.max(far, p.fromArray(mesh.positions, 3 * i).distanceTo(sphere.center))
+  expect(far).toBeLessThanOrEqual(sphere.radius * (1 + 1e-6))
+  expect(far).toBeGreaterThanOrEqual(sphere.radius * (1 - 1e-6)) // tight: the farthest vertex is on it
+}
+
+describe('bitecs-cloth/three', () => {
+  it('the geometry follows a cape on a running, turning character: positions, normals, index and bounds equal getClothMesh every frame', () => {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 0, 0])
+    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [10, 16], position: [0, 1.5, -0.1] })
+    pinRow(world, cape, 0, hero)
+    const geometry = createClothGeometry(world, cape)
+    expect(geometry).toBeInstanceOf(BufferGeometry)
+    expect(geometry.getAttribute('position').itemSize).toBe(3)
+    expect(geometry.getAttribute('normal').itemSize).toBe(3)
+    expect(geometry.getAttribute('uv').itemSize).toBe(2)
+    expectFollows(world, cape, geometry)
+    const start = geometry.boundingSphere!.center.clone()
+    for (let f = 1; f <= 120; f++) {
+      const t = f / 60
+      setTransform(world, hero, [3 * t, 0, Math.sin(2 * t)], [0, Math.sin(t), 0, Math.cos(t)])
+      stepCloth(world, 1 / 60)
+      expect(updateClothGeometry(world, cape, geometry)).toBe(geometry)
+      if (f % 20 === 0) expectFollows(world, cape, geometry)
+    }
+    // the bounds moved with the cape (frustum culling would hide it otherwise)
+    expect(geometry.boundingSphere!.center.x - start.x).toBeGreaterThan(5)
+  })
+
+  it('after tears the geometry has the new vertices, the rewritten index and a longer draw range, and grows its arrays only when they are full', () => {
+    const world = makeWorld()
+    const n = 12
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 2, 0] })
+    const [left, right] = pinSidesToBars(world, cloth, n)
+    makeTearable(world, cloth, { maxTearsPerStep: 2 })
+    const geometry = createClothGeometry(world, cloth)
+    let disposals = 0
+    geometry.addEventListener('dispose', () => disposals++)
+    const room = geometry.getAttribute('position').count
+    expect(room).toBe(n * n)
+    const triangles = geometry.drawRange.count
+    let tearsSeen = 0, grownAt = -1
+    for (let f = 1; f <= 200; f++) {
+      const d = Math.min(0.5, f * 0.01) // pull the bars apart
+      setTransform(world, left, [-d, 0, 0])
+      setTransform(world, right, [d, 0, 0])
+      stepCloth(world, 1 / 60)
+      updateClothGeometry(world, cloth, geometry)
+      const tears = getClothTearCount(world, cloth)
+      if (tears !== tearsSeen) {
+        tearsSeen = tears
+        expectFollows(world, cloth, geometry)
+      }
+      if (grownAt < 0 && geometry.getAttribute('position').count > room) grownAt = f
+    }
+    const mesh = getClothMesh(world, cloth)
+    expect(mesh.vertexCount).toBeGreaterThan(n * n) // it tore
+    expect(mesh.vertexCount).toBe(n * n + tearsSeen)
+    expectFollows(world, cloth, geometry)
+    expect(geometry.drawRange.count).toBe(3 * mesh.triangleCount)
+    expect(geometry.drawRange.count).toBeGreaterThanOrEqual(triangles)
+    // the first tear outgrew the exact-size arrays: they grew by half, once, through dispose()
+    expect(grownAt).toBeGreaterThan(0)
+    expect(disposals).toBe(1)
+    expect(geometry.getAttribute('position').count).toBe(Math.ceil(1.5 * n * n))
+    // the torn index is not the untorn one
+    const sheetWorld = makeWorld()
+    const untorn = createClothGeometry(sheetWorld, createCloth(sheetWorld, { width: 1, height: 1, resolution: n }))
+    expect(drawnIndex(geometry)).not.toEqual(drawnIndex(untorn))
+    expect(drawnIndex(geometry).length).toBe(drawnIndex(untorn).length)
+  })
+
+  it('a geometry handed to another cloth takes its topology; a larger cloth grows it', () => {
+    const world = makeWorld()
+    const small = createCloth(world, { width: 1, height: 1, resolution: 4 })
+    const big = createCloth(world, { width: 2, height: 1, resolution: [9, 5], position: [3, 0, 0] })
+    const geometry = createClothGeometry(world, small)
+    stepCloth(world, 1 / 60)
+    updateClothGeometry(world, big, geometry)
+    expectFollows(world, big, geometry)
+    updateClothGeometry(world, small, geometry)
+    expectFollows(world, small, geometry)
+  })
+
+  it('createClothMesh draws the geometry with a double-sided standard material, or the material given', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 5 })
+    const mesh = createClothMesh(world, cloth)
+    expect(mesh.material).toBeInstanceOf(MeshStandardMaterial)
+    expect(mesh.material.side).toBe(DoubleSide)
+    stepCloth(world, 1 / 60)
+    updateClothGeometry(world, cloth, mesh.geometry)
+    expectFollows(world, cloth, mesh.geometry)
+    const red = new MeshBasicMaterial({ color: 0xff0000 })
+    const other = createClothMesh(world, cloth, red)
+    expect(other.material).toBe(red)
+    expect(other.geometry).not.toBe(mesh.geometry)
+  })
+
+  it('bad input is a ClothError naming the argument', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 3 })
+    const geometry = createClothGeometry(world, cloth)
+    const named = (fn: () => unknown, argument: string) => {
+      let error: unknown
+      try {
+        fn()
+      } catch (e) {
+        error = e
+      }
+      expect(error).toBeInstanceOf(ClothError)
+      expect((error as ClothError).argument).toBe(argument)
+    }
+    named(() => createClothGeometry(null as never, cloth), 'world')
+    named(() => createClothGeometry({}, cloth), 'world')
+    named(() => createClothGeometry(world, 99), 'cloth')
+    named(() => createClothGeometry(world, NaN), 'cloth')
+    named(() => updateClothGeometry(world, cloth, new BufferGeometry()), 'geometry')
+    named(() => updateClothGeometry(world, cloth, undefined as never), 'geometry')
+    named(() => updateClothGeometry(undefined as never, cloth, geometry), 'world')
+    named(() => createClothMesh(world, cloth, {} as never), 'material')
+    named(() => createClothMesh(world, cloth, null as never), 'material')
+    removeCloth(world, cloth)
+    named(() => updateClothGeometry(world, cloth, geometry), 'cloth')
+  })
+})
