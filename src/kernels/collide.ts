@@ -156,7 +156,7 @@ export function closestPoint(shape: number, f: Float64Array, planes: Float64Arra
 export function respond(pos: Float64Array, prev: Float64Array, j: number, f: Float64Array, s: Float64Array, touched: Uint8Array | null): void {
   if (touched !== null) touched[(j / 3) | 0] = 1
   const nx = s[10], ny = s[11], nz = s[12], push = s[13]
-  let x = pos[j] + nx * push, y = pos[j + 1] + ny * push, z = pos[j + 2] + nz * push
+  const x = pos[j] + nx * push, y = pos[j + 1] + ny * push, z = pos[j + 2] + nz * push
   // where the surface point now at x was at the start of the substep
   const rx = x - f[F_PE], ry = y - f[F_PE + 1], rz = z - f[F_PE + 2]
   const sx = f[F_PS] + f[F_M] * rx + f[F_M + 1] * ry + f[F_M + 2] * rz

@@ -124,7 +124,7 @@ export function resolveMaterial(material: unknown, argument = 'options.material'
   if (material === undefined) return ClothMaterial.COTTON
   if (typeof material === 'string') {
     const key = material.toUpperCase() as ClothMaterialName
-    const found = Object.prototype.hasOwnProperty.call(ClothMaterial, key) ? ClothMaterial[key] : undefined
+    const found = Object.hasOwn(ClothMaterial, key) ? ClothMaterial[key] : undefined
     if (!found) {
       const names = Object.keys(ClothMaterial).map((k) => k.toLowerCase())
       throw new ClothError(argument, material, `is not a known material (known: ${names.join(', ')})`)

@@ -86,7 +86,11 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
   const indexRoom = state.index.count
   if (vertices > vertexRoom || indices > indexRoom) {
     geometry.dispose() // the renderer frees the old buffers and uploads the new ones at the next draw
-    state = attributes(geometry, vertices > vertexRoom ? roomFor(vertices, vertexRoom) : vertexRoom, indices > indexRoom ? roomFor(indices, indexRoom) : indexRoom)
+    state = attributes(
+      geometry,
+      vertices > vertexRoom ? roomFor(vertices, vertexRoom) : vertexRoom,
+      indices > indexRoom ? roomFor(indices, indexRoom) : indexRoom,
+    )
     states.set(geometry, state)
   }
   const index = state.index.array as Uint32Array
@@ -185,7 +189,11 @@ export function updateClothGeometry(world: object, cloth: number, geometry: Buff
  * @param cloth A cloth entity of that world.
  * @param material Any three.js material; give it `side: DoubleSide` to see both faces.
  */
-export function createClothMesh<M extends Material = MeshStandardMaterial>(world: object, cloth: number, material?: M): Mesh<ClothGeometry, M> {
+export function createClothMesh<M extends Material = MeshStandardMaterial>(
+  world: object,
+  cloth: number,
+  material?: M,
+): Mesh<ClothGeometry, M> {
   if (material !== undefined && (material as { isMaterial?: unknown } | null)?.isMaterial !== true) {
     throw new ClothError('material', material, 'must be a three.js Material')
   }

@@ -2,8 +2,20 @@
 // where the packed tarball was installed with bitecs, three and TypeScript (strict, NodeNext,
 // skipLibCheck false). It imports both entries as a user would; not part of the project's build.
 import { addEntity, createWorld } from 'bitecs'
-import { BufferGeometry, Mesh, MeshBasicMaterial } from 'three'
-import { ClothError, createCloth, getClothMesh, getClothTearCount, installClothPlugin, makeTearable, pinParticle, pinRow, setTransform, stepCloth, type ClothMesh } from 'bitecs-cloth'
+import { BufferGeometry, type Mesh, MeshBasicMaterial } from 'three'
+import {
+  ClothError,
+  createCloth,
+  getClothMesh,
+  getClothTearCount,
+  installClothPlugin,
+  makeTearable,
+  pinParticle,
+  pinRow,
+  setTransform,
+  stepCloth,
+  type ClothMesh,
+} from 'bitecs-cloth'
 import { createClothGeometry, createClothMesh, updateClothGeometry, type ClothGeometry } from 'bitecs-cloth/three'
 
 function check(ok: boolean, what: string): void {

@@ -12,7 +12,8 @@ import { describe, expect, it } from 'vitest'
 // Everything happens in a temporary folder, removed afterwards.
 
 const root = join(__dirname, '..', '..')
-const version = (name: string) => (JSON.parse(readFileSync(join(root, 'node_modules', name, 'package.json'), 'utf8')) as { version: string }).version
+const version = (name: string) =>
+  (JSON.parse(readFileSync(join(root, 'node_modules', name, 'package.json'), 'utf8')) as { version: string }).version
 const npm = process.platform === 'win32' ? 'npm.cmd' : 'npm'
 
 function run(command: string, args: string[], cwd: string): string {
@@ -27,11 +28,17 @@ describe('the packed package, as a user installs it', () => {
   it('npm pack → install with bitecs, three, TypeScript → a strict NodeNext program importing bitecs-cloth and bitecs-cloth/three type-checks and runs', () => {
     const tmp = mkdtempSync(join(tmpdir(), 'bitecs-cloth-pack-'))
     try {
-      const packed = JSON.parse(run(npm, ['pack', '--json', '--pack-destination', tmp], root)) as { filename: string; files: { path: string }[] }[]
+      const packed = JSON.parse(run(npm, ['pack', '--json', '--pack-destination', tmp], root)) as {
+        filename: string
+        files: { path: string }[]
+      }[]
       const tarball = join(tmp, packed[0].filename)
       const files = packed[0].files.map((f) => f.path).sort()
-      for (const f of ['dist/index.js', 'dist/index.d.ts', 'dist/three.js', 'dist/three.d.ts', 'LICENSE', 'README.md', 'package.json']) expect(files).toContain(f)
-      expect(files.filter((f) => !f.startsWith('dist/') && !['LICENSE', 'README.md', 'CHANGELOG.md', 'package.json'].includes(f))).toEqual([])
+      for (const f of ['dist/index.js', 'dist/index.d.ts', 'dist/three.js', 'dist/three.d.ts', 'LICENSE', 'README.md', 'package.json'])
+        expect(files).toContain(f)
+      expect(files.filter((f) => !f.startsWith('dist/') && !['LICENSE', 'README.md', 'CHANGELOG.md', 'package.json'].includes(f))).toEqual(
+        [],
+      )
 
       // type resolution of every entry for ESM users (node16/nodenext from ESM, bundler)
       run(join(root, 'node_modules', '.bin', 'attw'), [tarball, '--profile', 'esm-only'], root)
@@ -39,15 +46,29 @@ describe('the packed package, as a user installs it', () => {
       const app = join(tmp, 'app')
       mkdirSync(app)
       writeFileSync(join(app, 'package.json'), JSON.stringify({ name: 'app', private: true, type: 'module' }))
-      writeFileSync(join(app, 'tsconfig.json'), JSON.stringify({
-        compilerOptions: { target: 'ES2022', module: 'NodeNext', moduleResolution: 'NodeNext', strict: true, skipLibCheck: false, outDir: 'out', types: [] },
-        files: ['main.ts'],
-      }))
+      writeFileSync(
+        join(app, 'tsconfig.json'),
+        JSON.stringify({
+          compilerOptions: {
+            target: 'ES2022',
+            module: 'NodeNext',
+            moduleResolution: 'NodeNext',
+            strict: true,
+            skipLibCheck: false,
+            outDir: 'out',
+            types: [],
+          },
+          files: ['main.ts'],
+        }),
+      )
       copyFileSync(join(__dirname, 'consumer.ts'), join(app, 'main.ts'))
       const deps = ['bitecs', 'three', '@types/three', 'typescript'].map((name) => `${name}@${version(name)}`)
       run(npm, ['install', '--no-audit', '--no-fund', '--prefer-offline', tarball, ...deps], app)
 
-      const tsc = spawnSync(process.execPath, [join(app, 'node_modules', 'typescript', 'bin', 'tsc'), '-p', app], { cwd: app, encoding: 'utf8' })
+      const tsc = spawnSync(process.execPath, [join(app, 'node_modules', 'typescript', 'bin', 'tsc'), '-p', app], {
+        cwd: app,
+        encoding: 'utf8',
+      })
       expect(tsc.stdout + tsc.stderr).toBe('')
       expect(tsc.status).toBe(0)
       expect(execFileSync(process.execPath, [join(app, 'out', 'main.js')], { cwd: app, encoding: 'utf8' })).toContain('PACKAGE OK')

@@ -94,7 +94,7 @@ describe('determinism', () => {
     const ia = makeInputs(5), ib = makeInputs(5)
     const r = rng(99)
     const { Transform } = getClothComponents(b)
-    let extras: number[] = []
+    const extras: number[] = []
     for (let f = 0; f < 300; f++) {
       // world b only: unrelated entities, cloths and pins on other targets come and go
       if (f % 7 === 0) {

@@ -99,7 +99,7 @@ describe('determinism with colliders, wind and tearing', () => {
     const ia = makeInputs(5), ib = makeInputs(5)
     const r = rng(99)
     const { Transform } = getClothComponents(b)
-    let extras: number[] = []
+    const extras: number[] = []
     const colliders: number[] = []
     for (let f = 0; f < 240; f++) {
       // world b only: unrelated entities, colliders (far away, or on a layer nothing here collides

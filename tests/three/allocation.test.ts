@@ -10,8 +10,17 @@ describe('bitecs-cloth/three allocation', () => {
     const dir = mkdtempSync(join(tmpdir(), 'cloth-three-alloc-'))
     const out = join(dir, 'scene.mjs')
     try {
-      await build({ entryPoints: [join(__dirname, '..', 'fixtures', 'three-allocation-scene.ts')], bundle: true, platform: 'node', format: 'esm', outfile: out, logLevel: 'error' })
-      const run = spawnSync(process.execPath, ['--trace-gc', '--max-semi-space-size=1', '--no-concurrent-recompilation', out], { encoding: 'utf8' })
+      await build({
+        entryPoints: [join(__dirname, '..', 'fixtures', 'three-allocation-scene.ts')],
+        bundle: true,
+        platform: 'node',
+        format: 'esm',
+        outfile: out,
+        logLevel: 'error',
+      })
+      const run = spawnSync(process.execPath, ['--trace-gc', '--max-semi-space-size=1', '--no-concurrent-recompilation', out], {
+        encoding: 'utf8',
+      })
       expect(run.status).toBe(0)
       const lines = run.stdout.split('\n')
       expect(lines).toContain('END')

@@ -1,7 +1,17 @@
 import { addEntity } from 'bitecs'
 import { BufferGeometry, DoubleSide, MeshBasicMaterial, MeshStandardMaterial, Vector3 } from 'three'
 import { describe, expect, it } from 'vitest'
-import { ClothError, createCloth, getClothMesh, getClothTearCount, makeTearable, pinRow, removeCloth, setTransform, stepCloth } from '../../src/index'
+import {
+  ClothError,
+  createCloth,
+  getClothMesh,
+  getClothTearCount,
+  makeTearable,
+  pinRow,
+  removeCloth,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { createClothGeometry, createClothMesh, updateClothGeometry } from '../../src/three/index'
 import { pinSidesToBars } from '../fixtures/bars'
 import { makeWorld } from '../helpers'

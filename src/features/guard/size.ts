@@ -30,9 +30,9 @@ export function restSize(t: ClothTopology): number {
   let size = 0
   for (let s = 0; s < n; s++) {
     if (seen[s]) continue
-    const far = sweep(s, n, start, adj, adjLen, dist, heap, seen)
+    const far = sweep(s, start, adj, adjLen, dist, heap, seen)
     const d = dist[far]
-    const back = sweep(far, n, start, adj, adjLen, dist, heap, null)
+    const back = sweep(far, start, adj, adjLen, dist, heap, null)
     size = Math.max(size, d, dist[back])
   }
   return size
@@ -40,7 +40,7 @@ export function restSize(t: ClothTopology): number {
 
 /** Dijkstra from `s`; returns the farthest reached particle (distances left in `dist`). */
 function sweep(
-  s: number, n: number, start: Int32Array, adj: Int32Array, adjLen: Float64Array,
+  s: number, start: Int32Array, adj: Int32Array, adjLen: Float64Array,
   dist: Float64Array, heap: DistHeap, seen: Uint8Array | null,
 ): number {
   dist.fill(Infinity)
