@@ -5,7 +5,7 @@
  * which is why the plugin's own systems call the unchecked kernels in `src/kernels/` directly:
  * their data was validated once, when it entered through the API.
  */
-import { ClothError, checkBoundedArray, checkIndex, checkInteger, checkObject, checkOneOf, checkPositive, isArrayLike, MAX_COORDINATE } from './core/errors'
+import { ClothError, checkIndex, checkInteger, checkOneOf, checkPositive, isArrayLike, MAX_COORDINATE } from './core/errors'
 import { solveLineBending as solveLineBendingKernel } from './kernels/bending'
 import { dampPairs as dampPairsKernel } from './kernels/damping'
 import { solveDihedrals as solveDihedralsKernel } from './kernels/dihedral'
@@ -25,10 +25,7 @@ import { buildTethers as buildTethersKernel, type TetherMode, type TetherSet } f
 import { buildGridTopology as buildGridKernel, buildMeshTopology as buildMeshKernel } from './model/builders'
 import {
   dihedralAngle as dihedralAngleKernel,
-  type BendSide,
-  type BendingModel,
   type ClothTopology,
-  type ShearModel,
   type TopologyOptions,
 } from './model/topology'
 import { checkMeshInput, checkTopologyOptions } from './model/options'
