@@ -3,6 +3,7 @@
  *
  * Install the plugin on a world, create cloths, pin them to entities with a Transform, and call
  * `stepCloth(world, dt)` each frame, or schedule the exported phase systems yourself.
+ * @module bitecs-cloth
  */
 export { installClothPlugin, getClothComponents, getClothStats, resetClothStats } from './plugin'
 export { stepCloth } from '../systems/step'

@@ -17,7 +17,7 @@
  * positions and normals and refits the bounds, and allocates nothing.
  *
  * three is an optional peer dependency: only this entry imports it.
- * @module
+ * @module bitecs-cloth/three
  */
 import { BufferAttribute, BufferGeometry, Box3, DoubleSide, DynamicDrawUsage, Mesh, MeshStandardMaterial, Sphere } from 'three'
 import type { Material } from 'three'
