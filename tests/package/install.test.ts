@@ -34,7 +34,18 @@ describe('the packed package, as a user installs it', () => {
       }[]
       const tarball = join(tmp, packed[0].filename)
       const files = packed[0].files.map((f) => f.path).sort()
-      for (const f of ['dist/index.js', 'dist/index.d.ts', 'dist/three.js', 'dist/three.d.ts', 'LICENSE', 'README.md', 'package.json'])
+      for (
+        const f of [
+          'dist/index.js',
+          'dist/index.d.ts',
+          'dist/three.js',
+          'dist/three.d.ts',
+          'LICENSE',
+          'README.md',
+          'CHANGELOG.md',
+          'package.json',
+        ]
+      )
         expect(files).toContain(f)
       expect(files.filter((f) => !f.startsWith('dist/') && !['LICENSE', 'README.md', 'CHANGELOG.md', 'package.json'].includes(f))).toEqual(
         [],
