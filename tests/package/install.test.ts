@@ -9,7 +9,9 @@ import { describe, expect, it } from 'vitest'
 // @arethetypeswrong/cli, installs it into an empty project with bitecs, three, @types/three and
 // TypeScript (the versions this project uses, so npm finds them in the cache `npm ci` filled), then
 // type-checks tests/package/consumer.ts there (strict, NodeNext, skipLibCheck false) and runs it.
-// Everything happens in a temporary folder, removed afterwards.
+// The build rewrites dist/ (ignored by git, and already written by `npm ci` through `prepare`);
+// everything else happens in a temporary folder, removed afterwards. PACK_TIMES=1 prints how long
+// each command took.
 
 const root = join(__dirname, '..', '..')
 const version = (name: string) =>
