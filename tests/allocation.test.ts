@@ -18,5 +18,5 @@ describe('allocation', () => {
     expect(lines).toContain('END')
     expect(during.filter((l) => /Scavenge|Mark-Compact|Mark-sweep/.test(l))).toEqual([])
     expect(lines).toContain('RESETS 2') // the guard checked every step and reset the cape twice before
-  })
+  }, 300_000) // 50,000 steps in a child process: about 20 s on an idle core, several times that on a loaded one
 })
