@@ -21,6 +21,7 @@ import { resolveMaterial, type ClothMaterialSpec } from './model/materials'
 import { checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './model/options'
 import { EMPTY_TETHERS, buildTethers, type TetherMode } from './model/tethers'
 import { buildGridTopology, buildMeshTopology } from './model/builders'
+import { checkUvs, gridUvs, planarUvs } from './model/uvs'
 import type { BendSide, BendingModel, ClothTopology, ShearModel } from './model/topology'
 import { getCloth, getClothWorld } from './world/access'
 import type { ClothState, ClothWorldState } from './world/state'
@@ -106,6 +107,11 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
   indices: ArrayLike<number>
   /** Per-vertex masses, kg (overrides density and `mass`). */
   masses?: ArrayLike<number>
+  /**
+   * Texture coordinates, u v per vertex (finite, within ±1e6). Default: a planar projection of the
+   * mesh seen from its front (u right, v up, each spanning 0..1; see `getClothMesh`).
+   */
+  uvs?: ArrayLike<number>
 }
 
 /**
@@ -142,7 +148,7 @@ export function createCloth(world: object, options: CreateClothOptions): number 
     pos[3 * i + 1] = position[1] + p[1]
     pos[3 * i + 2] = position[2] + p[2]
   }
-  return spawnCloth(world, state, topology, pos, common, undefined)
+  return spawnCloth(world, state, topology, pos, common, undefined, gridUvs(columns, rows))
 }
 
 /**
@@ -161,9 +167,11 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
     if (masses.length !== n) throw new ClothError('options.masses', masses, `must have one entry per vertex (${n})`)
     for (let i = 0; i < n; i++) if (!(masses[i] > 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   }
+  const uvs = options.uvs === undefined ? undefined : checkUvs('options.uvs', options.uvs, n)
   const common = checkCommon(options, n, state)
   const topology = buildMeshTopology(positions, indices, common.material, common.topologyOptions)
-  return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses)
+  const uv = uvs === undefined ? planarUvs(topology.restPositions, n, topology.triangles, topology.triangleCount) : Float32Array.from(uvs)
+  return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses, uv)
 }
 
 interface CommonOptions {
@@ -210,6 +218,7 @@ function spawnCloth(
   pos: Float64Array,
   o: CommonOptions,
   masses: ArrayLike<number> | undefined,
+  uvs: Float32Array,
 ): number {
   const n = topology.particleCount
   const invMass = new Float64Array(n)
@@ -266,6 +275,7 @@ function spawnCloth(
       positions: new Float32Array(3 * n),
       normals: new Float32Array(3 * n),
       indices: Uint32Array.from(topology.triangles),
+      uvs,
       version: -1,
       mesh: null,
     },

@@ -3,8 +3,8 @@ import { getCloth, getClothWorld } from './world/access'
 import type { ClothMesh } from './world/state'
 
 /**
- * The cloth's render mesh: float32 positions and unit normals per live particle and the triangle
- * indices, as views sized to the live counts. The same arrays come back every call (refreshed when
+ * The cloth's render mesh: float32 positions, unit normals and texture coordinates per live
+ * particle and the triangle indices, as views sized to the live counts. The same arrays come back every call (refreshed when
  * the cloth moved), so uploading them each frame allocates nothing.
  */
 export function getClothMesh(world: object, cloth: number): ClothMesh {
@@ -16,6 +16,7 @@ export function getClothMesh(world: object, cloth: number): ClothMesh {
     mesh = r.mesh = {
       positions: r.positions.subarray(0, 3 * c.count),
       normals: r.normals.subarray(0, 3 * c.count),
+      uvs: r.uvs.subarray(0, 2 * c.count),
       indices: r.indices.subarray(0, 3 * triCount),
       vertexCount: c.count,
       triangleCount: triCount,

@@ -74,7 +74,7 @@ export class ClothSimulation {
     return getClothState(this.world, this.cloth).count
   }
 
-  /** GPU-ready positions, normals and triangle indices (see `getClothMesh`). */
+  /** GPU-ready positions, normals, texture coordinates and triangle indices (see `getClothMesh`). */
   getMesh(): ClothMesh {
     return getClothMesh(this.world, this.cloth)
   }

@@ -1,7 +1,6 @@
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError,
   ClothSimulation,
   createCloth,
   createClothFromMesh,
@@ -15,21 +14,7 @@ import {
   teleportCloth,
   unpin,
 } from '../src/index'
-import { makeWorld } from './helpers'
-
-/** Expects a ClothError naming `argument` (and, when given, mentioning `value`). */
-function rejects(fn: () => unknown, argument: string, value?: string) {
-  try {
-    fn()
-  } catch (e) {
-    expect(e).toBeInstanceOf(ClothError)
-    expect((e as ClothError).argument).toBe(argument)
-    expect((e as Error).message).toContain(argument)
-    if (value !== undefined) expect((e as Error).message).toContain(value)
-    return
-  }
-  throw new Error(`expected a ClothError for ${argument}`)
-}
+import { makeWorld, rejects } from './helpers'
 
 const sheet = { width: 1, height: 1, resolution: 4 }
 

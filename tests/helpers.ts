@@ -1,5 +1,20 @@
 import { createWorld } from 'bitecs'
-import { getClothState, getClothStats, installClothPlugin, type ClothPluginOptions } from '../src/index'
+import { expect } from 'vitest'
+import { ClothError, getClothState, getClothStats, installClothPlugin, type ClothPluginOptions } from '../src/index'
+
+/** Expects `fn` to throw a ClothError naming `argument` (and, when given, mentioning `value`). */
+export function rejects(fn: () => unknown, argument: string, value?: string): void {
+  let error: unknown
+  try {
+    fn()
+  } catch (e) {
+    error = e
+  }
+  expect(error, `expected a ClothError for ${argument}`).toBeInstanceOf(ClothError)
+  expect((error as ClothError).argument).toBe(argument)
+  expect((error as Error).message).toContain(argument)
+  if (value !== undefined) expect((error as Error).message).toContain(value)
+}
 
 /** A fresh world with the plugin installed. */
 export function makeWorld(options?: ClothPluginOptions) {

@@ -3,7 +3,6 @@
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError,
   buildGridTopology,
   buildMeshTopology,
   buildTethers,
@@ -39,20 +38,7 @@ import {
   writeRenderMesh,
 } from '../src/index'
 import { createKernelParams } from '../src/kernels/params'
-import { makeWorld } from './helpers'
-
-/** Expects a ClothError naming `argument`. */
-function rejects(fn: () => unknown, argument: string) {
-  let error: unknown
-  try {
-    fn()
-  } catch (e) {
-    error = e
-  }
-  expect(error, `expected a ClothError for ${argument}`).toBeInstanceOf(ClothError)
-  expect((error as ClothError).argument).toBe(argument)
-  expect((error as Error).message).toContain(argument)
-}
+import { makeWorld, rejects } from './helpers'
 
 const sheet = { width: 1, height: 1, resolution: 4 }
 const tri = { positions: [0, 0, 0, 1, 0, 0, 0, 1, 0], indices: [0, 1, 2] }

@@ -3,16 +3,14 @@ import { assemble } from './assembly'
 import { PairList, analyseMesh, isQuadDiagonal } from './meshInfo'
 import { BEND, SHEAR, STRETCH, type ClothTopology, type TopologyOptions } from './topology'
 
-/** Builds a rectangular grid: particles row-major from the top-left corner, row 0 at the top. */
-export function buildGridTopology(
-  width: number,
-  height: number,
-  columns: number,
-  rows: number,
-  material: ClothMaterialSpec,
-  topology: 'quad' | 'triangle',
-  options: TopologyOptions = {},
-): ClothTopology {
+/**
+ * The mesh of a rectangular sheet of `columns` × `rows` vertices: row-major from the top-left
+ * corner (row 0 at the top), in the sheet's local x-y plane with the middle of the top edge at the
+ * origin, front facing +z; triangles counter-clockwise from the front, the split diagonal
+ * alternating so the sheet has no preferred shear direction. `createCloth`'s rest shape, and the
+ * usual render mesh of a proxy (a finer grid of the same sheet).
+ */
+export function gridMesh(width: number, height: number, columns: number, rows: number): { positions: Float64Array; indices: Uint32Array } {
   const n = columns * rows
   const rest = new Float64Array(3 * n)
   const dx = width / (columns - 1)
@@ -33,7 +31,6 @@ export function buildGridTopology(
       const right = i + 1
       const down = i + columns
       const diag = down + 1
-      // alternate the split diagonal so the sheet has no preferred shear direction
       if ((r + c) % 2 === 0) {
         tris.set([i, down, right, right, down, diag], t)
       } else {
@@ -42,6 +39,21 @@ export function buildGridTopology(
       t += 6
     }
   }
+  return { positions: rest, indices: tris }
+}
+
+/** Builds a rectangular grid: particles row-major from the top-left corner, row 0 at the top (see `gridMesh`). */
+export function buildGridTopology(
+  width: number,
+  height: number,
+  columns: number,
+  rows: number,
+  material: ClothMaterialSpec,
+  topology: 'quad' | 'triangle',
+  options: TopologyOptions = {},
+): ClothTopology {
+  const n = columns * rows
+  const { positions: rest, indices: tris } = gridMesh(width, height, columns, rows)
   if (topology === 'triangle') {
     return buildMeshTopology(rest, tris, material, { ...options, grid: [columns, rows] })
   }

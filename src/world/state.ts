@@ -136,6 +136,11 @@ export interface ClothRender {
   positions: Float32Array
   normals: Float32Array
   indices: Uint32Array
+  /**
+   * Texture coordinates, u v per particle (see `model/uvs.ts` for the convention). Rest data of the
+   * cloth's render mesh: written at creation, copied to the new particle when tearing splits one.
+   */
+  uvs: Float32Array
   /** The `ClothState.version` the buffers were written at (−1: stale). */
   version: number
   /** Cached views handed out by getClothMesh (sized to the live counts). */
@@ -265,6 +270,11 @@ export interface ClothMesh {
   positions: Float32Array
   /** Unit normal per particle (area-weighted). */
   normals: Float32Array
+  /**
+   * Texture coordinates, u v per particle: u left to right and v bottom to top seen from the front,
+   * as on `THREE.PlaneGeometry` (grid cloths: u = column / (columns − 1), v = 1 − row / (rows − 1)).
+   */
+  uvs: Float32Array
   /** 3 particle indices per triangle. */
   indices: Uint32Array
   vertexCount: number

@@ -45,6 +45,7 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   const r = c.render
   r.positions = new Float32Array(3 * P)
   r.normals = new Float32Array(3 * P)
+  r.uvs = grownArray(r.uvs, 2 * P)
   r.indices = t.triangles
   r.mesh = null
   r.version = -1

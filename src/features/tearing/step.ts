@@ -127,6 +127,9 @@ function splitParticle(c: ClothState, T: ClothTear, v: number, o: number, mode: 
     c.vel[3 * nv + j] = c.vel[3 * v + j]
     rest[3 * nv + j] = rest[3 * v + j]
   }
+  const uvs = c.render.uvs
+  uvs[2 * nv] = uvs[2 * v]
+  uvs[2 * nv + 1] = uvs[2 * v + 1]
   copyGuardParticle(c, v, nv)
   // share the mass by rest area, neither part below 20 % (extreme mass ratios hurt Gauss-Seidel)
   let frac = areaAll > 0 ? areaPlus / areaAll : 0.5
