@@ -22,13 +22,14 @@ import { PARAM_COUNT } from './kernels/params'
 import { solveTethers as solveTethersKernel } from './kernels/tether'
 import { resolveMaterial, type ClothMaterialSpec } from './model/materials'
 import { buildTethers as buildTethersKernel, type TetherMode, type TetherSet } from './model/tethers'
-import { buildGridTopology as buildGridKernel, buildMeshTopology as buildMeshKernel } from './model/builders'
+import { buildGridTopology as buildGridKernel, buildMeshTopology as buildMeshKernel, gridMesh } from './model/builders'
 import {
   dihedralAngle as dihedralAngleKernel,
   type ClothTopology,
   type TopologyOptions,
 } from './model/topology'
-import { checkMeshInput, checkTopologyOptions } from './model/options'
+import { checkGridOptions, checkMeshInput, checkTopologyOptions, type GridOptions } from './model/options'
+import { gridUvs } from './model/uvs'
 
 // ---------------------------------------------------------------------------------------------
 // Argument checks
@@ -295,6 +296,17 @@ export function buildGridTopology(
   checkInteger('rows', rows, 2, 4096)
   checkOneOf('topology', topology, ['quad', 'triangle'] as const)
   return buildGridKernel(width, height, columns, rows, resolveMaterial(material, 'material'), topology, checkTopologyOptions(options, columns * rows))
+}
+
+/**
+ * The mesh of a rectangular sheet, as `createCloth` lays it out: vertices row-major from the top
+ * left in the sheet's local frame (x right, y up, front facing +z, the middle of the top edge at the
+ * origin), triangles counter-clockwise from the front, uvs as on the cloth. With a cloth's width
+ * and height and a higher resolution it is that cloth's usual render proxy mesh.
+ */
+export function buildGridMesh(options: GridOptions): { positions: Float64Array; indices: Uint32Array; uvs: Float32Array } {
+  const { width, height, columns, rows } = checkGridOptions(options)
+  return { ...gridMesh(width, height, columns, rows), uvs: gridUvs(columns, rows) }
 }
 
 /** Checked `buildMeshTopology` (rest data of an indexed triangle mesh). */

@@ -2,8 +2,6 @@ import { addComponent, addEntity, entityExists, hasComponent, removeEntity } fro
 import type { quat, vec3 } from 'gl-matrix'
 import {
   ClothError,
-  MAX_COORDINATE,
-  checkAtMost,
   checkFiniteArray,
   checkInteger,
   checkObject,
@@ -12,13 +10,12 @@ import {
   checkOneOf,
   checkPositive,
   checkQuat,
-  isArrayLike,
 } from './core/errors'
 import { normalizedQuat, rotateVec3 } from './core/math'
 import { measureStretch } from './kernels/mesh'
 import { createKernelParams } from './kernels/params'
 import { resolveMaterial, type ClothMaterialSpec } from './model/materials'
-import { checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './model/options'
+import { checkGridOptions, checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './model/options'
 import { EMPTY_TETHERS, buildTethers, type TetherMode } from './model/tethers'
 import { buildGridTopology, buildMeshTopology } from './model/builders'
 import { checkUvs, gridUvs, planarUvs } from './model/uvs'
@@ -121,18 +118,7 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
  */
 export function createCloth(world: object, options: CreateClothOptions): number {
   const state = getClothWorld(world)
-  if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  const width = checkAtMost('options.width', checkPositive('options.width', options.width), MAX_COORDINATE, ' m')
-  const height = checkAtMost('options.height', checkPositive('options.height', options.height), MAX_COORDINATE, ' m')
-  let columns: number, rows: number
-  if (isArrayLike(options.resolution)) {
-    const r = options.resolution as ArrayLike<number>
-    if (r.length !== 2) throw new ClothError('options.resolution', r, 'must be a number or [columns, rows]')
-    columns = checkInteger('options.resolution[0]', r[0], 2, 4096)
-    rows = checkInteger('options.resolution[1]', r[1], 2, 4096)
-  } else {
-    columns = rows = checkInteger('options.resolution', options.resolution, 2, 4096)
-  }
+  const { width, height, columns, rows } = checkGridOptions(options)
   const topo = options.topology === undefined ? 'quad' : checkOneOf('options.topology', options.topology, ['quad', 'triangle'] as const)
   const position = options.position === undefined ? ORIGIN : checkPoint('options.position', options.position)
   const rotation = options.rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('options.rotation', options.rotation))

@@ -9,6 +9,15 @@ export { installClothPlugin, getClothComponents, getClothStats, resetClothStats 
 export { stepCloth } from '../systems/step'
 export { getClothMesh } from './mesh'
 export {
+  createRenderProxy,
+  updateRenderProxy,
+  removeRenderProxy,
+  type ClothRenderProxy,
+  type RenderProxyMesh,
+  type RenderProxyOptions,
+} from './proxy'
+export type { ProxyBinding } from './model/proxy'
+export {
   createCloth,
   createClothFromMesh,
   getClothState,
@@ -69,7 +78,7 @@ export { dampPairs } from './checked'
 export { solveDihedrals, solveLineBending } from './checked'
 export { solveTethers } from './checked'
 export { writeRenderMesh, measureStretch } from './checked'
-export { buildGridTopology, buildMeshTopology, dihedralAngle } from './checked'
+export { buildGridTopology, buildMeshTopology, buildGridMesh, dihedralAngle } from './checked'
 export { buildTethers } from './checked'
 
 // Explosion guard and snapshots (hard cases stay numerically stable).

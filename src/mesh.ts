@@ -1,6 +1,6 @@
 import { writeRenderMesh } from './kernels/mesh'
 import { getCloth, getClothWorld } from './world/access'
-import type { ClothMesh } from './world/state'
+import type { ClothMesh, ClothRender, ClothState } from './world/state'
 
 /**
  * The cloth's render mesh: float32 positions, unit normals and texture coordinates per live
@@ -23,9 +23,16 @@ export function getClothMesh(world: object, cloth: number): ClothMesh {
     }
     r.version = -1
   }
+  refreshClothRender(c)
+  return mesh
+}
+
+/** The cloth's render buffers, rewritten from its particles if they moved since the last time. */
+export function refreshClothRender(c: ClothState): ClothRender {
+  const r = c.render
   if (r.version !== c.version) {
-    writeRenderMesh(c.pos, c.count, r.indices, triCount, r.positions, r.normals)
+    writeRenderMesh(c.pos, c.count, r.indices, c.topology.triangleCount, r.positions, r.normals)
     r.version = c.version
   }
-  return mesh
+  return r
 }

@@ -1,4 +1,4 @@
-import { ClothError, MAX_COORDINATE, checkBoundedArray, checkIndex, checkObject, checkOneOf, isArrayLike } from '../core/errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkIndex, checkInteger, checkObject, checkOneOf, checkPositive, isArrayLike } from '../core/errors'
 import type { BendSide, BendingModel, ShearModel, TopologyOptions } from './topology'
 
 /** Topology options as the builders take them, with every default filled in. */
@@ -47,4 +47,31 @@ export function checkMeshInput(positions: unknown, indices: unknown, prefix = ''
     if (a === b || b === c || a === c) throw new ClothError(`${prefix}indices[${t}..${t + 2}]`, [a, b, c], 'must name three different vertices')
   }
   return n
+}
+
+/** The size of a rectangular sheet: width and height, m, and particles per row, or [columns, rows]. */
+export interface GridOptions {
+  width: number
+  height: number
+  resolution: number | readonly [number, number]
+}
+
+/**
+ * Checks a sheet's `width`, `height` (> 0, at most MAX_COORDINATE) and `resolution` (2..4096 per
+ * side; one number for both) on `options`, for `createCloth` and `buildGridMesh`.
+ */
+export function checkGridOptions(options: GridOptions): { width: number; height: number; columns: number; rows: number } {
+  checkObject('options', options)
+  const width = checkAtMost('options.width', checkPositive('options.width', options.width), MAX_COORDINATE, ' m')
+  const height = checkAtMost('options.height', checkPositive('options.height', options.height), MAX_COORDINATE, ' m')
+  let columns: number, rows: number
+  if (isArrayLike(options.resolution)) {
+    const r = options.resolution as ArrayLike<number>
+    if (r.length !== 2) throw new ClothError('options.resolution', r, 'must be a number or [columns, rows]')
+    columns = checkInteger('options.resolution[0]', r[0], 2, 4096)
+    rows = checkInteger('options.resolution[1]', r[1], 2, 4096)
+  } else {
+    columns = rows = checkInteger('options.resolution', options.resolution, 2, 4096)
+  }
+  return { width, height, columns, rows }
 }
