@@ -16,15 +16,16 @@
 export const FRAME_SIZE = 12
 
 /**
- * Writes the frame of the point at weights (w0, w1) of triangle `t` into f[0..11] (P, T, B, N).
- * Degenerate input falls back (N: the face normal, else +z; T: any direction perpendicular to N),
- * so the frame is always orthonormal and finite for finite positions.
+ * Writes the frame of the point at weights (w[o], w[o + 1]) of triangle `t` into f[0..11] (P, T,
+ * B, N). The weights come in an array, not as arguments: doubles passed to a call V8 does not
+ * inline are boxed. Degenerate input falls back (N: the face normal, else +z; T: any direction
+ * perpendicular to N), so the frame is always orthonormal and finite for finite positions.
  */
 export function embedFrame(
-  pos: ArrayLike<number>, normal: ArrayLike<number>, tris: Uint32Array, t: number, w0: number, w1: number, f: Float64Array,
+  pos: ArrayLike<number>, normal: ArrayLike<number>, tris: Uint32Array, t: number, w: ArrayLike<number>, o: number, f: Float64Array,
 ): void {
   const a = 3 * tris[3 * t], b = 3 * tris[3 * t + 1], c = 3 * tris[3 * t + 2]
-  const w2 = 1 - w0 - w1
+  const w0 = w[o], w1 = w[o + 1], w2 = 1 - w0 - w1
   const ax = pos[a], ay = pos[a + 1], az = pos[a + 2]
   const bx = pos[b], by = pos[b + 1], bz = pos[b + 2]
   const cx = pos[c], cy = pos[c + 1], cz = pos[c + 2]
@@ -91,17 +92,39 @@ export function embedFrame(
  * are now (a torn triangle carries its render vertices along), and each vertex's triangle, weights,
  * offset and normal in the frame (`tri`, `bary` 2 per vertex, `offset` and `normal` 3 per vertex).
  * `f` is FRAME_SIZE scratch.
+ *
+ * Most render vertices lie along the interpolated normal (no tangential offset or normal
+ * component: `model/proxy.ts` stores those as exact zeros), and need only P and N: the loop works
+ * those out itself and calls `embedFrame` for the others (and for a degenerate N).
  */
 export function updateProxyVertices(
   pos: Float64Array, simNormal: Float32Array, tris: Uint32Array,
-  tri: Int32Array, bary: Float64Array, offset: Float64Array, normal: Float64Array, count: number,
+  tri: Int32Array, bary: Float32Array, offset: Float32Array, normal: Float32Array, count: number,
   outPos: Float32Array, outNormal: Float32Array, f: Float64Array,
 ): void {
   for (let v = 0; v < count; v++) {
-    embedFrame(pos, simNormal, tris, tri[v], bary[2 * v], bary[2 * v + 1], f)
     const j = 3 * v
     const oT = offset[j], oB = offset[j + 1], oN = offset[j + 2]
     const nT = normal[j], nB = normal[j + 1], nN = normal[j + 2]
+    const t = 3 * tri[v]
+    const a = 3 * tris[t], b = 3 * tris[t + 1], c = 3 * tris[t + 2]
+    const w0 = bary[2 * v], w1 = bary[2 * v + 1], w2 = 1 - w0 - w1
+    const nx = w0 * simNormal[a] + w1 * simNormal[b] + w2 * simNormal[c]
+    const ny = w0 * simNormal[a + 1] + w1 * simNormal[b + 1] + w2 * simNormal[c + 1]
+    const nz = w0 * simNormal[a + 2] + w1 * simNormal[b + 2] + w2 * simNormal[c + 2]
+    const l2 = nx * nx + ny * ny + nz * nz
+    if (oT === 0 && oB === 0 && nT === 0 && nB === 0 && l2 > 1e-24) {
+      const s = 1 / Math.sqrt(l2)
+      const o = oN * s, m = nN * s
+      outPos[j] = w0 * pos[a] + w1 * pos[b] + w2 * pos[c] + o * nx
+      outPos[j + 1] = w0 * pos[a + 1] + w1 * pos[b + 1] + w2 * pos[c + 1] + o * ny
+      outPos[j + 2] = w0 * pos[a + 2] + w1 * pos[b + 2] + w2 * pos[c + 2] + o * nz
+      outNormal[j] = m * nx
+      outNormal[j + 1] = m * ny
+      outNormal[j + 2] = m * nz
+      continue
+    }
+    embedFrame(pos, simNormal, tris, tri[v], bary, 2 * v, f)
     outPos[j] = f[0] + oT * f[3] + oB * f[6] + oN * f[9]
     outPos[j + 1] = f[1] + oT * f[4] + oB * f[7] + oN * f[10]
     outPos[j + 2] = f[2] + oT * f[5] + oB * f[8] + oN * f[11]

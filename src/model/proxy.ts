@@ -2,9 +2,15 @@ import { ClothError } from '../core/errors'
 import { writeRenderMesh } from '../kernels/mesh'
 import { FRAME_SIZE, embedFrame } from '../kernels/proxy'
 
+/** Tangential offsets up to this are taken as none, m (below float32 resolution at metre scale). */
+const TANGENT_OFFSET = 1e-7
+/** Tangential normal components up to this are taken as none (float32 normals carry ~1e-7 noise). */
+const TANGENT_NORMAL = 1e-6
+
 /**
  * How a render mesh is embedded in a cloth (see `kernels/proxy.ts`): built once from the two rest
- * shapes, read-only afterwards.
+ * shapes, read-only afterwards. Float32 weights, offsets and normals (36 bytes per render vertex
+ * with the triangle index): finer than the float32 output they make.
  */
 export interface ProxyBinding {
   readonly vertexCount: number
@@ -14,11 +20,11 @@ export interface ProxyBinding {
   /** Simulated triangle of each render vertex. */
   readonly tri: Int32Array
   /** Barycentric weights of that triangle's corners 0 and 1, 2 per vertex (corner 2 has the rest). */
-  readonly bary: Float64Array
+  readonly bary: Float32Array
   /** Offset from the embedded point in its frame (T, B, N), 3 per vertex, m. */
-  readonly offset: Float64Array
+  readonly offset: Float32Array
   /** The render vertex's rest normal in the same frame, 3 per vertex (unit). */
-  readonly normal: Float64Array
+  readonly normal: Float32Array
   /** Seams of each render triangle: `seamStart[k]` .. `seamStart[k + 1]` (see `updateProxySeams`). */
   readonly seamStart: Int32Array
   /** Two simulated triangles and their two corners per seam. */
@@ -50,8 +56,8 @@ export function bindProxy(
   writeRenderMesh(render, nv, renderIndices, nt, new Float32Array(3 * nv), renderNormal)
 
   const grid = new TriangleGrid(rest, tris, triCount)
-  const tri = new Int32Array(nv), bary = new Float64Array(2 * nv)
-  const offset = new Float64Array(3 * nv), normal = new Float64Array(3 * nv)
+  const tri = new Int32Array(nv), bary = new Float32Array(2 * nv)
+  const offset = new Float32Array(3 * nv), normal = new Float32Array(3 * nv)
   const hit = new Float64Array(4)
   const f = new Float64Array(FRAME_SIZE)
   let worst = 0
@@ -70,13 +76,19 @@ export function bindProxy(
     tri[v] = t
     bary[2 * v] = hit[1]
     bary[2 * v + 1] = hit[2]
-    embedFrame(rest, simNormal, tris, t, hit[1], hit[2], f)
+    embedFrame(rest, simNormal, tris, t, bary, 2 * v, f)
     const ox = x - f[0], oy = y - f[1], oz = z - f[2]
     const rx = renderNormal[3 * v], ry = renderNormal[3 * v + 1], rz = renderNormal[3 * v + 2]
     for (let k = 0; k < 3; k++) {
       const ex = f[3 + 3 * k], ey = f[4 + 3 * k], ez = f[5 + 3 * k]
       offset[3 * v + k] = ox * ex + oy * ey + oz * ez
       normal[3 * v + k] = rx * ex + ry * ey + rz * ez
+    }
+    // along the normal within float32 resolution: exact zeros let the update take its short path
+    if (Math.abs(offset[3 * v]) <= TANGENT_OFFSET && Math.abs(offset[3 * v + 1]) <= TANGENT_OFFSET) offset[3 * v] = offset[3 * v + 1] = 0
+    if (Math.abs(normal[3 * v]) <= TANGENT_NORMAL && Math.abs(normal[3 * v + 1]) <= TANGENT_NORMAL) {
+      normal[3 * v] = normal[3 * v + 1] = 0
+      normal[3 * v + 2] = normal[3 * v + 2] < 0 ? -1 : 1
     }
   }
   return { vertexCount: nv, triangleCount: nt, indices: renderIndices, tri, bary, offset, normal, ...seams(rest, tris, tri, renderIndices, nt), maxOffset: worst }

@@ -7,6 +7,7 @@ import { outOfRange, perCollider, selfShare } from './collision'
 import { capes, payForUse, sleepingCost } from './budget'
 import { demoScenes } from './demo'
 import { threeCost } from './three'
+import { proxyCost } from './render'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -47,6 +48,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
       outOfRange()
     },
   },
+  render: { byDefault: true, run: () => proxyCost() },
   demo: { byDefault: false, run: () => demoScenes() },
   three: { byDefault: true, run: () => threeCost() },
 }
