@@ -96,13 +96,31 @@ export function embedFrame(
  * Most render vertices lie along the interpolated normal (no tangential offset or normal
  * component: `model/proxy.ts` stores those as exact zeros), and need only P and N: the loop works
  * those out itself and calls `embedFrame` for the others (and for a degenerate N).
+ *
+ * The vertices go in runs of PROXY_RUN, one call each. A single loop over thousands of vertices,
+ * entered once per frame, is one V8 may only ever optimize on the stack (OSR): every frame then
+ * starts it unoptimized, and its first iteration boxes its doubles (~1 KB of garbage a frame). A
+ * short loop called many times is optimized as a whole from its call count.
  */
 export function updateProxyVertices(
   pos: Float64Array, simNormal: Float32Array, tris: Uint32Array,
   tri: Int32Array, bary: Float32Array, offset: Float32Array, normal: Float32Array, count: number,
   outPos: Float32Array, outNormal: Float32Array, f: Float64Array,
 ): void {
-  for (let v = 0; v < count; v++) {
+  for (let s = 0; s < count; s += PROXY_RUN) {
+    moveRun(pos, simNormal, tris, tri, bary, offset, normal, s, s + PROXY_RUN < count ? s + PROXY_RUN : count, outPos, outNormal, f)
+  }
+}
+
+/** Render vertices per call of `moveRun`. */
+const PROXY_RUN = 64
+
+function moveRun(
+  pos: Float64Array, simNormal: Float32Array, tris: Uint32Array,
+  tri: Int32Array, bary: Float32Array, offset: Float32Array, normal: Float32Array, from: number, to: number,
+  outPos: Float32Array, outNormal: Float32Array, f: Float64Array,
+): void {
+  for (let v = from; v < to; v++) {
     const j = 3 * v
     const oT = offset[j], oB = offset[j + 1], oN = offset[j + 2]
     const nT = normal[j], nB = normal[j + 1], nN = normal[j + 2]

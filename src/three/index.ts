@@ -16,12 +16,22 @@
  * old GPU buffers) only when the torn cloth no longer fits. Between tears an update copies the
  * positions and normals and refits the bounds, and allocates nothing.
  *
+ * A render proxy (`createRenderProxy`: a finer mesh driven by the cloth) is drawn the same way:
+ *
+ * ```ts
+ * const proxy = createRenderProxy(world, cloth, buildGridMesh({ width, height, resolution: 61 }))
+ * const mesh = createProxyMesh(world, proxy)
+ * scene.add(mesh)
+ * // each frame, after stepCloth:
+ * updateProxyGeometry(world, proxy, mesh.geometry)
+ * ```
+ *
  * three is an optional peer dependency: only this entry imports it.
  * @module bitecs-cloth/three
  */
 import { BufferAttribute, BufferGeometry, Box3, DoubleSide, DynamicDrawUsage, Mesh, MeshStandardMaterial, Sphere } from 'three'
 import type { Material } from 'three'
-import { ClothError, getClothMesh, type ClothMesh } from '../index'
+import { ClothError, getClothMesh, updateRenderProxy, type ClothMesh, type ClothRenderProxy } from '../index'
 
 /** The attributes of a cloth geometry (and its index, `geometry.index`). */
 export type ClothGeometryAttributes = {
@@ -63,6 +73,12 @@ function checkWorld(world: unknown): object {
   return world
 }
 
+function checkMaterial(material: unknown): void {
+  if (material !== undefined && (material as { isMaterial?: unknown } | null)?.isMaterial !== true) {
+    throw new ClothError('material', material, 'must be a three.js Material')
+  }
+}
+
 function attributes(geometry: ClothGeometry, vertices: number, indices: number): GeometryState {
   const position = new BufferAttribute(new Float32Array(3 * vertices), 3).setUsage(DynamicDrawUsage)
   const normal = new BufferAttribute(new Float32Array(3 * vertices), 3).setUsage(DynamicDrawUsage)
@@ -96,18 +112,26 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
   const index = state.index.array as Uint32Array
   index.set(mesh.indices)
   state.index.needsUpdate = true
-  // TODO(ClothMesh.uvs): read mesh.uvs unconditionally once ClothMesh has it.
-  const uvs = (mesh as ClothMesh & { uvs?: Float32Array }).uvs
-  const uv = state.uv.array as Float32Array
-  if (uvs) uv.set(uvs.subarray(0, 2 * vertices))
-  else uv.fill(0, 0, 2 * vertices)
+  ;(state.uv.array as Float32Array).set(mesh.uvs)
   state.uv.needsUpdate = true
   geometry.setDrawRange(0, indices)
   state.mesh = mesh
   return state
 }
 
-/** Box and sphere around the live vertices (three's own compute* would also count the spare room). */
+/** Scratch of fitBounds: min xyz, max xyz, squared radius. */
+const bounds = /* @__PURE__ */ new Float64Array(7)
+
+/** Positions (floats, not vertices) per call of boxRun and sphereRun. */
+const BOUNDS_RUN = 192
+
+/**
+ * Box and sphere around the live vertices (three's own compute* would also count the spare room).
+ * The loops go in runs of BOUNDS_RUN floats, one call each: a single loop over every vertex,
+ * entered once per frame, is one V8 may only ever optimize on the stack (OSR), starting it
+ * unoptimized every frame, where its doubles are boxed; a short loop called many times is
+ * optimized as a whole.
+ */
 function fitBounds(geometry: ClothGeometry, positions: Float32Array, vertices: number): void {
   const box = (geometry.boundingBox ??= new Box3())
   const sphere = (geometry.boundingSphere ??= new Sphere())
@@ -116,9 +140,23 @@ function fitBounds(geometry: ClothGeometry, positions: Float32Array, vertices: n
     sphere.makeEmpty()
     return
   }
-  let minX = Infinity, minY = Infinity, minZ = Infinity
-  let maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity
-  for (let i = 0; i < 3 * vertices; i += 3) {
+  const b = bounds
+  b[0] = b[1] = b[2] = Infinity
+  b[3] = b[4] = b[5] = -Infinity
+  b[6] = 0
+  const n = 3 * vertices
+  for (let s = 0; s < n; s += BOUNDS_RUN) boxRun(positions, s, s + BOUNDS_RUN < n ? s + BOUNDS_RUN : n, b)
+  for (let s = 0; s < n; s += BOUNDS_RUN) sphereRun(positions, s, s + BOUNDS_RUN < n ? s + BOUNDS_RUN : n, b)
+  box.min.set(b[0], b[1], b[2])
+  box.max.set(b[3], b[4], b[5])
+  sphere.center.set(0.5 * (b[0] + b[3]), 0.5 * (b[1] + b[4]), 0.5 * (b[2] + b[5]))
+  sphere.radius = Math.sqrt(b[6])
+}
+
+/** Grows the box in b[0..5] by positions [from, to). */
+function boxRun(positions: Float32Array, from: number, to: number, b: Float64Array): void {
+  let minX = b[0], minY = b[1], minZ = b[2], maxX = b[3], maxY = b[4], maxZ = b[5]
+  for (let i = from; i < to; i += 3) {
     const x = positions[i], y = positions[i + 1], z = positions[i + 2]
     if (x < minX) minX = x
     if (x > maxX) maxX = x
@@ -127,17 +165,24 @@ function fitBounds(geometry: ClothGeometry, positions: Float32Array, vertices: n
     if (z < minZ) minZ = z
     if (z > maxZ) maxZ = z
   }
-  box.min.set(minX, minY, minZ)
-  box.max.set(maxX, maxY, maxZ)
-  const cx = 0.5 * (minX + maxX), cy = 0.5 * (minY + maxY), cz = 0.5 * (minZ + maxZ)
-  let r2 = 0
-  for (let i = 0; i < 3 * vertices; i += 3) {
+  b[0] = minX
+  b[1] = minY
+  b[2] = minZ
+  b[3] = maxX
+  b[4] = maxY
+  b[5] = maxZ
+}
+
+/** Grows b[6], the largest squared distance from the box's centre, by positions [from, to). */
+function sphereRun(positions: Float32Array, from: number, to: number, b: Float64Array): void {
+  const cx = 0.5 * (b[0] + b[3]), cy = 0.5 * (b[1] + b[4]), cz = 0.5 * (b[2] + b[5])
+  let r2 = b[6]
+  for (let i = from; i < to; i += 3) {
     const dx = positions[i] - cx, dy = positions[i + 1] - cy, dz = positions[i + 2] - cz
     const d2 = dx * dx + dy * dy + dz * dz
     if (d2 > r2) r2 = d2
   }
-  sphere.center.set(cx, cy, cz)
-  sphere.radius = Math.sqrt(r2)
+  b[6] = r2
 }
 
 /**
@@ -194,11 +239,87 @@ export function createClothMesh<M extends Material = MeshStandardMaterial>(
   cloth: number,
   material?: M,
 ): Mesh<ClothGeometry, M> {
-  if (material !== undefined && (material as { isMaterial?: unknown } | null)?.isMaterial !== true) {
-    throw new ClothError('material', material, 'must be a three.js Material')
-  }
+  checkMaterial(material)
   const geometry = createClothGeometry(world, cloth)
   const mesh = new Mesh(geometry, material ?? (new MeshStandardMaterial({ side: DoubleSide }) as unknown as M))
   mesh.name = 'cloth'
+  return mesh
+}
+
+/** What an update needs to remember about a geometry made by createProxyGeometry. */
+interface ProxyGeometryState {
+  proxy: ClothRenderProxy
+  /** The proxy mesh's `indexVersion` last uploaded. */
+  indexVersion: number
+  position: BufferAttribute
+  normal: BufferAttribute
+  index: BufferAttribute
+}
+
+const proxyStates = /* @__PURE__ */ new WeakMap<object, ProxyGeometryState>()
+
+/**
+ * A three.js geometry of a render proxy as it is now: `position`, `normal`, `uv` and the index are
+ * the proxy's own arrays (`updateRenderProxy` rewrites them in place, so nothing is copied), with
+ * bounds set. Call updateProxyGeometry after each step.
+ *
+ * @param world A bitECS world with the cloth plugin installed.
+ * @param proxy A render proxy of a cloth of that world (createRenderProxy).
+ */
+export function createProxyGeometry(world: object, proxy: ClothRenderProxy): ClothGeometry {
+  const mesh = updateRenderProxy(checkWorld(world), proxy)
+  const geometry = new BufferGeometry<ClothGeometryAttributes>()
+  geometry.name = 'cloth proxy'
+  const position = new BufferAttribute(mesh.positions, 3).setUsage(DynamicDrawUsage)
+  const normal = new BufferAttribute(mesh.normals, 3).setUsage(DynamicDrawUsage)
+  const index = new BufferAttribute(mesh.indices, 1)
+  geometry.setAttribute('position', position)
+  geometry.setAttribute('normal', normal)
+  geometry.setAttribute('uv', new BufferAttribute(mesh.uvs, 2))
+  geometry.setIndex(index)
+  proxyStates.set(geometry, { proxy, indexVersion: mesh.indexVersion, position, normal, index })
+  fitBounds(geometry, mesh.positions, mesh.vertexCount)
+  return geometry
+}
+
+/**
+ * Brings a geometry made by createProxyGeometry up to date: moves the proxy with its cloth
+ * (`updateRenderProxy`), flags positions and normals for upload, the index too when a tear hid
+ * render triangles, and refits the bounds. Allocates nothing.
+ *
+ * @param world A bitECS world with the cloth plugin installed.
+ * @param proxy The render proxy the geometry was made for.
+ * @param geometry A geometry made by createProxyGeometry (or the `geometry` of createProxyMesh).
+ * @returns The same geometry.
+ */
+export function updateProxyGeometry(world: object, proxy: ClothRenderProxy, geometry: BufferGeometry): ClothGeometry {
+  const state = proxyStates.get(geometry)
+  if (state === undefined) throw new ClothError('geometry', geometry, 'must be a geometry made by createProxyGeometry')
+  if (state.proxy !== proxy) throw new ClothError('geometry', geometry, 'was made for another render proxy')
+  const mesh = updateRenderProxy(checkWorld(world), proxy)
+  state.position.needsUpdate = true
+  state.normal.needsUpdate = true
+  if (mesh.indexVersion !== state.indexVersion) {
+    state.indexVersion = mesh.indexVersion
+    state.index.needsUpdate = true
+  }
+  const clothGeometry = geometry as ClothGeometry // it is: createProxyGeometry made it
+  fitBounds(clothGeometry, mesh.positions, mesh.vertexCount)
+  return clothGeometry
+}
+
+/**
+ * A three.js mesh of a render proxy: createProxyGeometry with `material`, by default a
+ * double-sided MeshStandardMaterial. Update it with `updateProxyGeometry(world, proxy, mesh.geometry)`
+ * after each step.
+ *
+ * @param world A bitECS world with the cloth plugin installed.
+ * @param proxy A render proxy of a cloth of that world.
+ * @param material Any three.js material.
+ */
+export function createProxyMesh<M extends Material = MeshStandardMaterial>(world: object, proxy: ClothRenderProxy, material?: M): Mesh<ClothGeometry, M> {
+  checkMaterial(material)
+  const mesh = new Mesh(createProxyGeometry(world, proxy), material ?? (new MeshStandardMaterial({ side: DoubleSide }) as unknown as M))
+  mesh.name = 'cloth proxy'
   return mesh
 }
