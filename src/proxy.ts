@@ -85,7 +85,16 @@ export function createRenderProxy(world: object, cloth: number, options: RenderP
   const maxOffset = options.maxOffset === undefined
     ? defaultMaxOffset(t.restPositions, c.count)
     : checkAtMost('options.maxOffset', checkPositive('options.maxOffset', options.maxOffset), MAX_COORDINATE, ' m')
-  const binding = bindProxy(t.restPositions, t.triangles, t.triangleCount, c.count, options.positions, options.indices, maxOffset, 'options.positions')
+  const binding = bindProxy(
+    t.restPositions,
+    t.triangles,
+    t.triangleCount,
+    c.count,
+    options.positions,
+    options.indices,
+    maxOffset,
+    'options.positions',
+  )
   const mesh: RenderProxyMesh = {
     positions: new Float32Array(3 * n),
     normals: new Float32Array(3 * n),
@@ -96,7 +105,15 @@ export function createRenderProxy(world: object, cloth: number, options: RenderP
     indexVersion: 0,
   }
   // render triangles spanning an existing cut (a torn cloth, or an authored seam) start hidden
-  updateProxySeams(t.triangles, binding.seamStart, binding.seamTri, binding.seamCorner, binding.indices, binding.triangleCount, mesh.indices)
+  updateProxySeams(
+    t.triangles,
+    binding.seamStart,
+    binding.seamTri,
+    binding.seamCorner,
+    binding.indices,
+    binding.triangleCount,
+    mesh.indices,
+  )
   const proxy: ProxyState = { cloth, mesh, binding, world: state, state: c, version: -1, frame: new Float64Array(FRAME_SIZE) }
   live.add(proxy)
   return proxy
@@ -114,7 +131,8 @@ export function updateRenderProxy(world: object, proxy: ClothRenderProxy): Rende
   const b = p.binding, m = p.mesh
   const tris = c.topology.triangles
   updateProxyVertices(c.pos, r.normals, tris, b.tri, b.bary, b.offset, b.normal, b.vertexCount, m.positions, m.normals, p.frame)
-  if (c.tear !== null && updateProxySeams(tris, b.seamStart, b.seamTri, b.seamCorner, b.indices, b.triangleCount, m.indices) > 0) m.indexVersion++
+  if (c.tear !== null && updateProxySeams(tris, b.seamStart, b.seamTri, b.seamCorner, b.indices, b.triangleCount, m.indices) > 0)
+    m.indexVersion++
   p.version = c.version
   return m
 }

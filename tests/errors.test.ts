@@ -1,5 +1,5 @@
 import { addEntity, createWorld } from 'bitecs'
-import { describe, expect, it } from 'vitest'
+import { describe, it } from 'vitest'
 import {
   ClothSimulation,
   createCloth,

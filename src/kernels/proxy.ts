@@ -22,7 +22,13 @@ export const FRAME_SIZE = 12
  * perpendicular to N), so the frame is always orthonormal and finite for finite positions.
  */
 export function embedFrame(
-  pos: ArrayLike<number>, normal: ArrayLike<number>, tris: Uint32Array, t: number, w: ArrayLike<number>, o: number, f: Float64Array,
+  pos: ArrayLike<number>,
+  normal: ArrayLike<number>,
+  tris: Uint32Array,
+  t: number,
+  w: ArrayLike<number>,
+  o: number,
+  f: Float64Array,
 ): void {
   const a = 3 * tris[3 * t], b = 3 * tris[3 * t + 1], c = 3 * tris[3 * t + 2]
   const w0 = w[o], w1 = w[o + 1], w2 = 1 - w0 - w1
@@ -103,9 +109,17 @@ export function embedFrame(
  * short loop called many times is optimized as a whole from its call count.
  */
 export function updateProxyVertices(
-  pos: Float64Array, simNormal: Float32Array, tris: Uint32Array,
-  tri: Int32Array, bary: Float32Array, offset: Float32Array, normal: Float32Array, count: number,
-  outPos: Float32Array, outNormal: Float32Array, f: Float64Array,
+  pos: Float64Array,
+  simNormal: Float32Array,
+  tris: Uint32Array,
+  tri: Int32Array,
+  bary: Float32Array,
+  offset: Float32Array,
+  normal: Float32Array,
+  count: number,
+  outPos: Float32Array,
+  outNormal: Float32Array,
+  f: Float64Array,
 ): void {
   for (let s = 0; s < count; s += PROXY_RUN) {
     moveRun(pos, simNormal, tris, tri, bary, offset, normal, s, s + PROXY_RUN < count ? s + PROXY_RUN : count, outPos, outNormal, f)
@@ -116,9 +130,18 @@ export function updateProxyVertices(
 const PROXY_RUN = 64
 
 function moveRun(
-  pos: Float64Array, simNormal: Float32Array, tris: Uint32Array,
-  tri: Int32Array, bary: Float32Array, offset: Float32Array, normal: Float32Array, from: number, to: number,
-  outPos: Float32Array, outNormal: Float32Array, f: Float64Array,
+  pos: Float64Array,
+  simNormal: Float32Array,
+  tris: Uint32Array,
+  tri: Int32Array,
+  bary: Float32Array,
+  offset: Float32Array,
+  normal: Float32Array,
+  from: number,
+  to: number,
+  outPos: Float32Array,
+  outNormal: Float32Array,
+  f: Float64Array,
 ): void {
   for (let v = from; v < to; v++) {
     const j = 3 * v
@@ -161,8 +184,13 @@ function moveRun(
  * its first corner (drawn as nothing). Returns how many triangles changed.
  */
 export function updateProxySeams(
-  tris: Uint32Array, seamStart: Int32Array, seamTri: Int32Array, seamCorner: Uint8Array,
-  indices: Uint32Array, triCount: number, out: Uint32Array,
+  tris: Uint32Array,
+  seamStart: Int32Array,
+  seamTri: Int32Array,
+  seamCorner: Uint8Array,
+  indices: Uint32Array,
+  triCount: number,
+  out: Uint32Array,
 ): number {
   let changed = 0
   for (let k = 0; k < triCount; k++) {

@@ -43,8 +43,14 @@ export interface ProxyBinding {
  * are most likely in different frames.
  */
 export function bindProxy(
-  rest: Float64Array, tris: Uint32Array, triCount: number, count: number,
-  positions: ArrayLike<number>, indices: ArrayLike<number>, maxOffset: number, arg: string,
+  rest: Float64Array,
+  tris: Uint32Array,
+  triCount: number,
+  count: number,
+  positions: ArrayLike<number>,
+  indices: ArrayLike<number>,
+  maxOffset: number,
+  arg: string,
 ): ProxyBinding {
   const nv = (positions.length / 3) | 0
   const nt = (indices.length / 3) | 0
@@ -67,8 +73,11 @@ export function bindProxy(
     const d = Math.sqrt(hit[0])
     if (t < 0 || d > maxOffset) {
       throw new ClothError(
-        `${arg}[${3 * v}..${3 * v + 2}]`, [x, y, z],
-        `lies ${t < 0 ? 'more than ' + maxOffset : d.toPrecision(3)} m from the cloth's rest surface, farther than maxOffset (${maxOffset} m): ` +
+        `${arg}[${3 * v}..${3 * v + 2}]`,
+        [x, y, z],
+        `lies ${
+          t < 0 ? 'more than ' + maxOffset : d.toPrecision(3)
+        } m from the cloth's rest surface, farther than maxOffset (${maxOffset} m): ` +
           "give render positions in the cloth's rest frame (createCloth: the sheet's local frame, the middle of its top edge at the origin; createClothFromMesh: the positions it was given)",
       )
     }
@@ -91,7 +100,17 @@ export function bindProxy(
       normal[3 * v + 2] = normal[3 * v + 2] < 0 ? -1 : 1
     }
   }
-  return { vertexCount: nv, triangleCount: nt, indices: renderIndices, tri, bary, offset, normal, ...seams(rest, tris, tri, renderIndices, nt), maxOffset: worst }
+  return {
+    vertexCount: nv,
+    triangleCount: nt,
+    indices: renderIndices,
+    tri,
+    bary,
+    offset,
+    normal,
+    ...seams(rest, tris, tri, renderIndices, nt),
+    maxOffset: worst,
+  }
 }
 
 /**
@@ -142,7 +161,7 @@ class TriangleGrid {
   private readonly stamp: Int32Array
   private query = 0
 
-  constructor(private readonly rest: Float64Array, private readonly tris: Uint32Array, private readonly triCount: number) {
+  constructor(private readonly rest: Float64Array, private readonly tris: Uint32Array, triCount: number) {
     const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity]
     let size = 0
     for (let t = 0; t < triCount; t++) {
@@ -164,7 +183,8 @@ class TriangleGrid {
     const span = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
     if (!(h > span * 1e-6)) h = span > 0 ? span / 64 : 1
     // at most about 8 cells per triangle (a few sliver triangles must not make a huge grid)
-    const cellsFor = (hh: number) => (Math.floor((hi[0] - lo[0]) / hh) + 1) * (Math.floor((hi[1] - lo[1]) / hh) + 1) * (Math.floor((hi[2] - lo[2]) / hh) + 1)
+    const cellsFor = (hh: number) =>
+      (Math.floor((hi[0] - lo[0]) / hh) + 1) * (Math.floor((hi[1] - lo[1]) / hh) + 1) * (Math.floor((hi[2] - lo[2]) / hh) + 1)
     while (cellsFor(h) > 8 * triCount + 64) h *= 1.5
     this.h = h
     for (let k = 0; k < 3; k++) {

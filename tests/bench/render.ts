@@ -1,5 +1,15 @@
 import { addEntity, createWorld } from 'bitecs'
-import { buildGridMesh, createCloth, createRenderProxy, getClothMesh, installClothPlugin, pinRow, setTransform, stepCloth, updateRenderProxy } from '../../src/index'
+import {
+  buildGridMesh,
+  createCloth,
+  createRenderProxy,
+  getClothMesh,
+  installClothPlugin,
+  pinRow,
+  setTransform,
+  stepCloth,
+  updateRenderProxy,
+} from '../../src/index'
 import { fmt, saveJson, table } from './harness'
 
 /**
@@ -45,7 +55,7 @@ export function proxyCost(): void {
         sum[1] += c - b
         sum[2] += d - c
       }
-      if (keep) for (let j = 0; j < 3; j++) times[j].push(sum[j] / count)
+      if (keep) { for (let j = 0; j < 3; j++) times[j].push(sum[j] / count) }
     }
     round(120, false)
     for (let r = 0; r < 7; r++) round(60, true)
@@ -61,6 +71,6 @@ export function proxyCost(): void {
       'proxy creation ms': fmt(bindMs, 0),
     })
   }
-  table('Render proxies 4× finer than the cloth: cost per frame against the cloth\'s own step (8 substeps)', rows)
+  table("Render proxies 4× finer than the cloth: cost per frame against the cloth's own step (8 substeps)", rows)
   saveJson('render-proxy', rows)
 }

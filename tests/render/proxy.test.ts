@@ -1,8 +1,22 @@
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  buildGridMesh, createCloth, createClothFromMesh, createRenderProxy, getClothMesh, getClothState, installClothPlugin, makeTearable,
-  pinParticle, pinRow, removeCloth, removeRenderProxy, setTransform, stepCloth, updateRenderProxy, writeRenderMesh,
+  buildGridMesh,
+  createCloth,
+  createClothFromMesh,
+  createRenderProxy,
+  getClothMesh,
+  getClothState,
+  installClothPlugin,
+  makeTearable,
+  pinParticle,
+  pinRow,
+  removeCloth,
+  removeRenderProxy,
+  setTransform,
+  stepCloth,
+  updateRenderProxy,
+  writeRenderMesh,
 } from '../../src/index'
 import { pinSidesToBars } from '../fixtures/bars'
 import { allFinite, makeWorld, rejects } from '../helpers'
@@ -119,7 +133,11 @@ describe('render proxies', () => {
     let worst = 0, fold = 0
     for (let f = 0; f <= 240; f++) {
       if (f % 30 === 0) {
-        for (const layer of layers) worst = Math.max(worst, worstDeparture(world, cloth, updateRenderProxy(world, layer).positions, () => 0.002))
+        for (const layer of layers)
+          worst = Math.max(
+            worst,
+            worstDeparture(world, cloth, updateRenderProxy(world, layer).positions, () => 0.002),
+          )
         fold = Math.max(fold, maxFold(world, cloth))
         const a = layers[0].mesh, b = layers[1].mesh
         let opposite = 0
@@ -127,7 +145,12 @@ describe('render proxies', () => {
         expect(opposite).toBeLessThan(1e-6)
       }
       const yaw = 0.3 * Math.sin(f * 0.03)
-      setTransform(world, hero, [0.1 * Math.sin(f * 0.1), 2 + 0.03 * Math.abs(Math.sin(f * 0.15)), -f / 40], [0, Math.sin(yaw / 2), 0, Math.cos(yaw / 2)])
+      setTransform(world, hero, [0.1 * Math.sin(f * 0.1), 2 + 0.03 * Math.abs(Math.sin(f * 0.15)), -f / 40], [
+        0,
+        Math.sin(yaw / 2),
+        0,
+        Math.cos(yaw / 2),
+      ])
       stepCloth(world, 1 / 60)
     }
     expect(worst).toBeLessThan(1e-3)
@@ -136,7 +159,7 @@ describe('render proxies', () => {
     expect(fold).toBeLessThan(90)
   })
 
-  it('at a vertex it shares with the cloth, a proxy vertex has the cloth vertex\'s position and normal', () => {
+  it("at a vertex it shares with the cloth, a proxy vertex has the cloth vertex's position and normal", () => {
     const { world, cloth, drive } = swingingCape()
     const proxy = createRenderProxy(world, cloth, fineCape())
     for (let f = 0; f < 90; f++) {
@@ -154,7 +177,8 @@ describe('render proxies', () => {
         }
       }
     }
-    for (let v = 0; v < mesh.vertexCount; v++) expect(Math.hypot(mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2])).toBeCloseTo(1, 5)
+    for (let v = 0; v < mesh.vertexCount; v++)
+      expect(Math.hypot(mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2])).toBeCloseTo(1, 5)
   })
 
   it('any mesh drives any mesh: a finer cylinder arc 2 mm outside a coarse one follows it (rest shape exact, then within 1 mm of its rest distance)', () => {
@@ -172,7 +196,12 @@ describe('render proxies', () => {
     for (let i = 0; i < 12; i++) pinParticle(world, cloth, i, hero) // the top row
     let worst = 0, fold = 0
     for (let f = 0; f < 120; f++) {
-      setTransform(world, hero, [0.1 * Math.sin(f * 0.1), 0, 0], [0, Math.sin(0.1 * Math.sin(f * 0.05)), 0, Math.cos(0.1 * Math.sin(f * 0.05))])
+      setTransform(world, hero, [0.1 * Math.sin(f * 0.1), 0, 0], [
+        0,
+        Math.sin(0.1 * Math.sin(f * 0.05)),
+        0,
+        Math.cos(0.1 * Math.sin(f * 0.05)),
+      ])
       stepCloth(world, 1 / 60)
       if (f % 40 === 39) {
         worst = Math.max(worst, worstDeparture(world, cloth, updateRenderProxy(world, proxy).positions, (i) => restDistance[i]))
@@ -185,7 +214,7 @@ describe('render proxies', () => {
     expect(fold).toBeLessThan(90)
   })
 
-  it('normals are interpolated: smooth across the simulated triangles, where the render mesh\'s own triangles show their facets', () => {
+  it("normals are interpolated: smooth across the simulated triangles, where the render mesh's own triangles show their facets", () => {
     // a flat 6-column sheet bent onto a 0.3 m cylinder (columns 36° apart), and a 4× finer proxy
     const world = makeWorld()
     const r = 0.3, width = r * Math.PI
@@ -200,7 +229,14 @@ describe('render proxies', () => {
     const fine = buildGridMesh({ width, height: 1, resolution: [21, 13] })
     const mesh = updateRenderProxy(world, createRenderProxy(world, cloth, fine))
     const own = new Float32Array(mesh.normals.length)
-    writeRenderMesh(Float64Array.from(mesh.positions), mesh.vertexCount, fine.indices, fine.indices.length / 3, new Float32Array(own.length), own)
+    writeRenderMesh(
+      Float64Array.from(mesh.positions),
+      mesh.vertexCount,
+      fine.indices,
+      fine.indices.length / 3,
+      new Float32Array(own.length),
+      own,
+    )
     // angle to the cylinder's normal at the vertex's place around it, away from the sheet's side edges
     const error = (n: Float32Array) => {
       let worst = 0
@@ -215,7 +251,7 @@ describe('render proxies', () => {
     expect(error(mesh.normals)).toBeLessThan(1)
   })
 
-  it('uvs: the cloth\'s own at each embedded point unless given; a finer grid of a grid cloth gets its own grid uvs', () => {
+  it("uvs: the cloth's own at each embedded point unless given; a finer grid of a grid cloth gets its own grid uvs", () => {
     const world = makeWorld()
     const cloth = createCloth(world, { width: 0.6, height: 1, resolution: [10, 16], position: [1, 2, 3], rotation: [0, 0.6, 0, 0.8] })
     const fine = fineCape()
@@ -257,7 +293,11 @@ describe('render proxies', () => {
       }
       visible.push(a, b, c)
       for (const [p, q] of [[a, b], [b, c], [c, a]]) {
-        const now = Math.hypot(mesh.positions[3 * p] - mesh.positions[3 * q], mesh.positions[3 * p + 1] - mesh.positions[3 * q + 1], mesh.positions[3 * p + 2] - mesh.positions[3 * q + 2])
+        const now = Math.hypot(
+          mesh.positions[3 * p] - mesh.positions[3 * q],
+          mesh.positions[3 * p + 1] - mesh.positions[3 * q + 1],
+          mesh.positions[3 * p + 2] - mesh.positions[3 * q + 2],
+        )
         const rest = Math.hypot(fine.positions[3 * p] - fine.positions[3 * q], fine.positions[3 * p + 1] - fine.positions[3 * q + 1])
         stretch = Math.max(stretch, now / rest)
       }
@@ -321,7 +361,7 @@ describe('render proxies', () => {
 })
 
 describe('buildGridMesh', () => {
-  it('is createCloth\'s rest shape and uvs: a cloth made from it matches the grid cloth', () => {
+  it("is createCloth's rest shape and uvs: a cloth made from it matches the grid cloth", () => {
     const world = installClothPlugin(createWorld())
     const grid = createCloth(world, { width: 0.8, height: 1.2, resolution: [5, 7] })
     const m = buildGridMesh({ width: 0.8, height: 1.2, resolution: [5, 7] })

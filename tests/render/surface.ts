@@ -14,7 +14,17 @@ function segment2(px: number, py: number, pz: number, pos: ArrayLike<number>, a:
 }
 
 /** (q − o) × (r − o) · n ≥ 0 for corners o, q (offsets into pos) and point r: r is on q's inner side. */
-function inner(pos: ArrayLike<number>, o: number, q: number, rx: number, ry: number, rz: number, nx: number, ny: number, nz: number): boolean {
+function inner(
+  pos: ArrayLike<number>,
+  o: number,
+  q: number,
+  rx: number,
+  ry: number,
+  rz: number,
+  nx: number,
+  ny: number,
+  nz: number,
+): boolean {
   const ux = pos[q] - pos[o], uy = pos[q + 1] - pos[o + 1], uz = pos[q + 2] - pos[o + 2]
   const vx = rx - pos[o], vy = ry - pos[o + 1], vz = rz - pos[o + 2]
   return (uy * vz - uz * vy) * nx + (uz * vx - ux * vz) * ny + (ux * vy - uy * vx) * nz >= 0
@@ -32,7 +42,10 @@ export function triangleDistance(px: number, py: number, pz: number, pos: ArrayL
   const vx = pos[c] - pos[a], vy = pos[c + 1] - pos[a + 1], vz = pos[c + 2] - pos[a + 2]
   const nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx
   const l = Math.hypot(nx, ny, nz)
-  if (l > 0 && inner(pos, a, b, px, py, pz, nx, ny, nz) && inner(pos, b, c, px, py, pz, nx, ny, nz) && inner(pos, c, a, px, py, pz, nx, ny, nz)) {
+  if (
+    l > 0 && inner(pos, a, b, px, py, pz, nx, ny, nz) && inner(pos, b, c, px, py, pz, nx, ny, nz) &&
+    inner(pos, c, a, px, py, pz, nx, ny, nz)
+  ) {
     return Math.abs((px - pos[a]) * nx + (py - pos[a + 1]) * ny + (pz - pos[a + 2]) * nz) / l
   }
   return Math.sqrt(Math.min(segment2(px, py, pz, pos, a, b), segment2(px, py, pz, pos, b, c), segment2(px, py, pz, pos, c, a)))
@@ -42,13 +55,19 @@ export function triangleDistance(px: number, py: number, pz: number, pos: ArrayL
  * Distance from each of the `points` (xyz) to the nearest of `triCount` triangles of a mesh. A
  * triangle whose bounding sphere lies farther than the best distance so far is skipped.
  */
-export function surfaceDistances(points: ArrayLike<number>, pos: ArrayLike<number>, tris: ArrayLike<number>, triCount: number): Float64Array {
+export function surfaceDistances(
+  points: ArrayLike<number>,
+  pos: ArrayLike<number>,
+  tris: ArrayLike<number>,
+  triCount: number,
+): Float64Array {
   const sphere = new Float64Array(4 * triCount)
   for (let t = 0; t < triCount; t++) {
     const a = 3 * tris[3 * t], b = 3 * tris[3 * t + 1], c = 3 * tris[3 * t + 2]
     let r = 0
     for (let k = 0; k < 3; k++) sphere[4 * t + k] = (pos[a + k] + pos[b + k] + pos[c + k]) / 3
-    for (const v of [a, b, c]) r = Math.max(r, Math.hypot(pos[v] - sphere[4 * t], pos[v + 1] - sphere[4 * t + 1], pos[v + 2] - sphere[4 * t + 2]))
+    for (const v of [a, b, c])
+      r = Math.max(r, Math.hypot(pos[v] - sphere[4 * t], pos[v + 1] - sphere[4 * t + 1], pos[v + 2] - sphere[4 * t + 2]))
     sphere[4 * t + 3] = r
   }
   const out = new Float64Array(points.length / 3)

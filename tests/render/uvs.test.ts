@@ -1,5 +1,14 @@
 import { describe, expect, it } from 'vitest'
-import { createCloth, createClothFromMesh, getClothMesh, getClothState, makeTearable, onClothTear, setTransform, stepCloth } from '../../src/index'
+import {
+  createCloth,
+  createClothFromMesh,
+  getClothMesh,
+  getClothState,
+  makeTearable,
+  onClothTear,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { pinSidesToBars } from '../fixtures/bars'
 import { makeWorld, rejects } from '../helpers'
 

@@ -1,7 +1,17 @@
 import { addEntity } from 'bitecs'
 import { BufferGeometry, DoubleSide, MeshBasicMaterial, MeshStandardMaterial, Vector3 } from 'three'
 import { describe, expect, it } from 'vitest'
-import { buildGridMesh, createCloth, createRenderProxy, makeTearable, pinRow, removeRenderProxy, setTransform, stepCloth, updateRenderProxy } from '../../src/index'
+import {
+  buildGridMesh,
+  createCloth,
+  createRenderProxy,
+  makeTearable,
+  pinRow,
+  removeRenderProxy,
+  setTransform,
+  stepCloth,
+  updateRenderProxy,
+} from '../../src/index'
 import { createClothGeometry, createProxyGeometry, createProxyMesh, updateProxyGeometry } from '../../src/three/index'
 import { pinSidesToBars } from '../fixtures/bars'
 import { makeWorld, rejects } from '../helpers'
@@ -25,7 +35,7 @@ function expectShows(world: object, proxy: Parameters<typeof updateRenderProxy>[
 }
 
 describe('bitecs-cloth/three render proxies', () => {
-  it('a proxy geometry draws the proxy\'s own arrays, flagged for upload and bounded anew each frame of a running cape', () => {
+  it("a proxy geometry draws the proxy's own arrays, flagged for upload and bounded anew each frame of a running cape", () => {
     const world = makeWorld()
     const hero = addEntity(world)
     setTransform(world, hero, [0, 1.6, 0])
