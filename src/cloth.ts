@@ -28,6 +28,7 @@ import type { ClothGuardOptions, GuardSettings } from './features/guard/types'
 import { createClothGuard, resolveGuardOptions } from './features/guard/api'
 import { createClothCollision } from './features/collision/api'
 import { createClothSleep } from './features/sleep/api'
+import { createClothGrabs } from './features/grab/api'
 import { rebuildTearTethers } from './features/tearing/tethers'
 
 /** Long-range attachment settings. */
@@ -267,6 +268,7 @@ function spawnCloth(
     },
     sleep: createClothSleep(state.sleep.defaults),
     pins: { list: [], skipTeleport: false },
+    grab: createClothGrabs(),
     wind: null,
     collision: createClothCollision(Math.max(4, state.collision.colliders.length)),
     budget: createClothBudget(o.substeps, o.iterations),

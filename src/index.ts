@@ -32,6 +32,7 @@ export {
   type TetherOptions,
 } from './cloth'
 export { pinParticle, pinRow, unpin, getPins, teleportCloth, type PinOptions } from './features/pins/api'
+export { grabParticle, moveGrab, releaseGrab, isGrabActive, getGrabs, getGrabParticle, getGrabForce, type GrabOptions } from './features/grab/api'
 export { setTransform, getTransform } from './world/transform'
 export { ClothMaterial, defineMaterial, resolveMaterial, type ClothMaterialSpec, type ClothMaterialName } from './model/materials'
 export { ClothError } from './core/errors'

@@ -11,6 +11,7 @@ import { createKinematics } from './world/kinematics'
 import { $cloth, type ClothPluginOptions, type ClothState, type ClothWorldState, type TransformSource } from './world/state'
 import { createStats } from './world/stats'
 import { releasePin } from './features/pins/api'
+import { createGrabWorld } from './features/grab/api'
 import { createWindWorld, installWind } from './features/wind/api'
 import { createCollisionWorld, installCollision } from './features/collision/api'
 import { createBudgetWorld, installBudget } from './features/budget/api'
@@ -69,6 +70,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     substepCount: 0,
     stats: createStats(),
     sleep: createSleepWorld(sleep),
+    grab: createGrabWorld(),
     wind,
     collision: createCollisionWorld(capacity),
     budget: createBudgetWorld(),

@@ -5,10 +5,11 @@
  *
  * A snapshot holds: particle positions, previous positions, velocities and inverse masses; the
  * pins (particle, target, offset, blend progress) in order; the motion history of the pins' target
- * entities (their frame samples and step poses, as interpolated between frames); the cloth's
- * quality and tether settings and its current tethers; its explosion-guard state (last good pose,
- * counters); whether it sleeps; and the world's step accumulator and frame timing. XPBD
- * multipliers are not saved: they start from zero every substep. With colliders and wind zones in
+ * entities (their frame samples and step poses, as interpolated between frames); the grabs holding
+ * the cloth (handles, particles, targets, grip settings); the cloth's quality and tether settings
+ * and its current tethers; its explosion-guard state (last good pose, counters); whether it
+ * sleeps; and the world's step accumulator and frame timing. XPBD multipliers are not saved: they
+ * start from zero every substep. With colliders and wind zones in
  * the world it also holds the motion history of the entities they follow, the wind clock and each
  * zone's gust and turbulence drift (world state, like the frame timing); for a tearable cloth its
  * tear counters and tethers; for a self-colliding one which particles rest on a collider.
@@ -26,6 +27,7 @@ import { getCloth, getClothWorld } from './world/access'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, restoreSlot, saveSlot } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'
+import { checkGrabs, restoreGrabs, saveGrabs, type GrabSnapshot } from './features/grab/snapshot'
 import { checkWind, restoreWind, saveWind, type WindSnapshot } from './features/wind/snapshot'
 import { checkCollision, restoreCollision, saveCollision, type CollisionSnapshot } from './features/collision/snapshot'
 import { restoreBudget } from './features/budget/snapshot'
@@ -38,7 +40,7 @@ import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearS
  * Each feature writes its own section (`src/features/<feature>/snapshot.ts`); this file keeps the
  * header, the particles and settings, the world's step timing, the order and the checks.
  */
-export interface ClothSnapshot extends PinsSnapshot, WindSnapshot, CollisionSnapshot, SleepSnapshot, GuardSnapshot, TearSnapshot {
+export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot, CollisionSnapshot, SleepSnapshot, GuardSnapshot, TearSnapshot {
   readonly format: 'bitecs-cloth-state/1'
   /** Shape of the cloth it came from: particles, distance constraints, hinges, triangles. */
   readonly shape: Int32Array
@@ -79,6 +81,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   const s = (into ?? { format: 'bitecs-cloth-state/1' }) as Writable
   saveCore(state, c, s)
   savePins(state, c, s)
+  saveGrabs(c, s)
   saveBodies(state, s)
   saveWind(state, s)
   saveCollision(c, s)
@@ -107,6 +110,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   checkCore(s, arg)
   const n = s.shape[0]
   checkPins(world, state, s, arg, n)
+  checkGrabs(state, c, s, arg, n)
   checkBodies(s, arg)
   checkWind(s, arg)
   checkCollision(s, arg)
@@ -120,6 +124,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   restorePinEntities(world, state, c, s)
   restoreCore(state, c, s)
   restorePins(state, c, s)
+  restoreGrabs(state, c, s)
   restoreBodies(state, s)
   restoreWind(state, s)
   restoreCollision(c, s)

@@ -2,6 +2,7 @@ import { rebuildTethers } from '../src/cloth'
 import { beginKinematicStep, sampleFrame } from '../src/world/kinematics'
 import { getClothWorld } from '../src/world/access'
 import { followTargetJumps } from '../src/features/pins/step'
+import { advanceGrabs, beginGrabFrame } from '../src/features/grab/step'
 import { advanceWind } from '../src/features/wind/step'
 import { sweepColliders } from '../src/features/collision/step'
 import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
@@ -9,7 +10,7 @@ import { wakeSleepers } from '../src/features/sleep/step'
 
 /**
  * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
- * targets, collider bodies) to this step's time slice, taking a new frame sample on a frame's
+ * targets, collider bodies, grab targets) to this step's time slice, taking a new frame sample on a frame's
  * first step, sweeps the colliders' bounds over the step and advances the wind; then wakes the
  * sleeping cloths that any of this disturbs, carries cloths along when their targets jumped,
  * applies quality targets and the world budget, rebuilds tethers of cloths whose pins changed and
@@ -34,6 +35,7 @@ export function clothSync<W extends object>(world: W): W {
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
+    if (frameStart && c.grab.count > 0) beginGrabFrame(c) // idle or not: the frame's motion starts now
     const lod = c.budget
     let idle = c.sleep.asleep || lod.frozen
     if (!idle && lod.stepEvery > 1) {
@@ -50,6 +52,7 @@ export function clothSync<W extends object>(world: W): W {
     }
     if (c.substeps > total) total = c.substeps
     if (frameStart) followTargetJumps(state, c)
+    if (c.grab.count > 0) advanceGrabs(state, c)
     if (c.tethers.dirty) rebuildTethers(state, c)
   }
   state.substepCount = total

@@ -9,7 +9,7 @@ import { describe, expect, it } from 'vitest'
  * layer where no cycle results; features import only features before them in FEATURE_ORDER (and
  * their own folder). Type-only imports count: a cycle of types is still a cycle a reader must hold.
  */
-const FEATURE_ORDER = ['pins', 'wind', 'collision', 'budget', 'sleep', 'guard', 'character', 'tearing']
+const FEATURE_ORDER = ['pins', 'grab', 'wind', 'collision', 'budget', 'sleep', 'guard', 'character', 'tearing']
 
 interface Place {
   layer: number

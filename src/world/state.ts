@@ -7,6 +7,7 @@ import type { ClothMaterialSpec } from '../model/materials'
 import type { TetherMode, TetherSet } from '../model/tethers'
 import type { ClothTopology } from '../model/topology'
 import type { ClothPins } from '../features/pins/types'
+import type { ClothGrabs, GrabWorld } from '../features/grab/types'
 import type { ClothWind, WindWorld } from '../features/wind/types'
 import type { ClothCollision, CollisionWorld } from '../features/collision/types'
 import type { BudgetWorld, ClothBudget } from '../features/budget/types'
@@ -254,6 +255,8 @@ export interface ClothState {
   render: ClothRender
   sleep: ClothSleep
   pins: ClothPins
+  /** Grabs holding particles of the cloth (soft point constraints toward targets). */
+  grab: ClothGrabs
   /** Aerodynamics buffers, allocated when a wind zone exists, else null. */
   wind: ClothWind | null
   collision: ClothCollision
@@ -362,6 +365,7 @@ export interface ClothWorldState {
   substepCount: number
   stats: ClothStats
   sleep: SleepWorld
+  grab: GrabWorld
   wind: WindWorld
   collision: CollisionWorld<ClothState>
   budget: BudgetWorld
