@@ -11,6 +11,8 @@ export interface TearableStore {
   maxTearsPerStep: Uint16Array
   /** Consecutive steps an edge must stay over the threshold before it breaks. */
   hysteresis: Uint8Array
+  /** Smallest piece, in triangles, a tear may cut free (a split that would cut off less is not made). */
+  minPiece: Uint16Array
   /** Tears so far (particles added by splits). */
   tears: Uint32Array
 }
@@ -21,6 +23,7 @@ export function createTearableStore(capacity: number): TearableStore {
     strain: new Float64Array(capacity),
     maxTearsPerStep: new Uint16Array(capacity),
     hysteresis: new Uint8Array(capacity),
+    minPiece: new Uint16Array(capacity),
     tears: new Uint32Array(capacity),
   }
 }

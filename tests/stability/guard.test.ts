@@ -396,10 +396,10 @@ describe('with colliders, wind and tearing', () => {
       ground(world)
       const sheet = hangingSheet(world, { position: [0, 5, 0] })
       for (let f = 0; f < 20; f++) stepCloth(world, 1 / 60)
-      makeTearable(world, sheet, { strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1, capacity })
+      makeTearable(world, sheet, { strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1, capacity, minPiece: 1 })
       for (let f = 0; f < 300; f++) stepCloth(world, 1 / 60)
       const c = getClothState(world, sheet)
-      expect(getClothTearCount(world, sheet)).toBeGreaterThanOrEqual(capacity ? 200 : 64)
+      expect(getClothTearCount(world, sheet)).toBeGreaterThanOrEqual(capacity ? 150 : 64)
       expect(c.pieceCount).toBeGreaterThan(capacity ? 50 : 1)
       let lowest = Infinity
       for (let i = 0; i < c.count; i++) lowest = Math.min(lowest, c.pos[3 * i + 1])
@@ -415,8 +415,11 @@ describe('with colliders, wind and tearing', () => {
     const sheet = hangingSheet(world)
     const c = getClothState(world, sheet)
     const initial = Float64Array.from(c.pos.subarray(0, 3 * c.count))
-    makeTearable(world, sheet, { strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1 })
+    makeTearable(world, sheet, { strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1, minPiece: 1 })
     for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+    // it tears no further (so the last good pose is a pose of this mesh), and a step keeps that pose
+    makeTearable(world, sheet, { strain: 1e6 })
+    stepCloth(world, 1 / 60)
     const torn = c.count
     expect(torn).toBeGreaterThan(64)
     // which original particle each split copy came from: the copies share its rest position

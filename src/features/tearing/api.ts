@@ -4,7 +4,7 @@ import { getCloth, getClothWorld } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
-import { reserve } from './reserve'
+import { MAX_MIN_PIECE, reserve } from './reserve'
 import { EV, type TearWorld } from './types'
 
 /**
@@ -50,6 +50,11 @@ export interface TearableOptions {
   capacity?: number
   /** Consecutive steps an edge must stay over the threshold before it breaks. Default 2. */
   hysteresis?: number
+  /**
+   * Smallest piece, in triangles, a tear may cut free: a split that would leave a smaller piece
+   * on its own is not made (such a scrap stays attached instead of falling as confetti). Default 12.
+   */
+  minPiece?: number
 }
 
 /** Creates the per-world tearing state. Called by `installClothPlugin`. */
@@ -91,6 +96,7 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
   const strain = options.strain === undefined ? c.material.tearStrain : checkPositive('options.strain', options.strain)
   const maxTears = options.maxTearsPerStep === undefined ? 4 : checkInteger('options.maxTearsPerStep', options.maxTearsPerStep, 1, 4096)
   const hysteresis = options.hysteresis === undefined ? 2 : checkInteger('options.hysteresis', options.hysteresis, 1, 255)
+  const minPiece = options.minPiece === undefined ? 12 : checkInteger('options.minPiece', options.minPiece, 1, MAX_MIN_PIECE)
   const extra = options.capacity === undefined ? Math.max(16, c.count) : checkInteger('options.capacity', options.capacity, 0, 1 << 22)
   if (c.tear !== null) {
     if (options.capacity !== undefined && c.count + extra > c.tear.particleCapacity) {
@@ -109,6 +115,7 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
   T.strain[cloth] = strain
   T.maxTearsPerStep[cloth] = maxTears
   T.hysteresis[cloth] = hysteresis
+  T.minPiece[cloth] = minPiece
   if (!hasComponent(world as never, cloth, T)) {
     T.tears[cloth] = 0
     addComponent(world as never, cloth, T)

@@ -64,9 +64,29 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
     lines,
     hinges,
     over,
+    ...vertexTriangles(t, P),
+    tip: new Uint8Array(P),
+    splitAt: new Int32Array(P),
+    stepCount: 0,
+    grewAt: -2,
     fan: new Int32Array(t.triangleCount),
     fanCorner: new Uint8Array(t.triangleCount),
     fanSide: new Uint8Array(t.triangleCount),
+    fanP: new Int32Array(t.triangleCount),
+    fanQ: new Int32Array(t.triangleCount),
+    fanCount: 0,
+    walk: new Int32Array(t.triangleCount),
+    walkW: new Int32Array(t.triangleCount),
+    chains: new Int32Array(3 * t.triangleCount),
+    chainEntry: new Int32Array(t.triangleCount),
+    chainCount: 0,
+    seam: new Int32Array(2),
+    vec: new Float64Array(12),
+    mat: new Float64Array(9),
+    triSide: new Uint8Array(t.triangleCount),
+    seen: new Int32Array(t.triangleCount),
+    stamp: 0,
+    queue: new Int32Array(MAX_MIN_PIECE + 1),
     cand: new Int32Array(2 * maxTears + 4),
     candRatio: new Float64Array(2 * maxTears + 4),
     params: new Float64Array(3),
@@ -79,6 +99,25 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   reserveGuard(c, P)
   if (c.wind !== null) ensureClothWind(c)
   if (c.collision.self !== null) allocateSelfCollision(state, c)
+}
+
+/** Largest `minPiece` (the smallest-piece test's queue holds that many triangles). */
+export const MAX_MIN_PIECE = 4096
+
+/** Triangles around each of the mesh's particles, room for P particles (a split divides a slice). */
+function vertexTriangles(t: TearTopology, P: number): { vertStart: Int32Array; vertLen: Int32Array; vertTris: Int32Array } {
+  const vertStart = new Int32Array(P), vertLen = new Int32Array(P), vertTris = new Int32Array(3 * t.triangleCount)
+  const tris = t.triangles
+  for (let k = 0; k < 3 * t.triangleCount; k++) vertLen[tris[k]]++
+  for (let p = 1; p < t.particleCount; p++) vertStart[p] = vertStart[p - 1] + vertLen[p - 1]
+  const fill = new Int32Array(P)
+  for (let k = 0; k < t.triangleCount; k++) {
+    for (let j = 0; j < 3; j++) {
+      const p = tris[3 * k + j]
+      vertTris[vertStart[p] + fill[p]++] = k
+    }
+  }
+  return { vertStart, vertLen, vertTris }
 }
 
 /** A copy of the shared rest data with room for P particles and E, S, D, C edges, stretch, distance and compression constraints. */

@@ -1,11 +1,31 @@
 import { findOverstrained } from '../../kernels/strain'
 import type { ClothState, ClothWorldState } from '../../world/state'
-import { copyGuardParticle } from '../guard/api'
 import { refreshClothWind } from '../wind/step'
+import { applySplit, chooseCut, cutsSmallPiece, gatherFan, tensionAt } from './crack'
 import { repairConstraints } from './repair'
 import { EV, type ClothTear } from './types'
 
-/** Tear phase for one cloth on its last substep of the step: measure, split, repair. */
+/** New cracks a cloth may start per step; the rest of the step's tears grow cracks that exist. */
+const NEW_CRACKS_PER_STEP = 1
+/**
+ * Steps beyond its hysteresis after which an edge that is still over the threshold counts as a
+ * lasting load rather than a passing one: it may start a crack while another runs, and cut along
+ * the best edges there are.
+ */
+const LASTING = 4
+/**
+ * An edge stretched past this many times its breaking length is torn whatever piece that cuts
+ * free: a violent load (a 1000 m/s gust, a teleporting pin) is relieved rather than left to stretch
+ * a small piece without bound.
+ */
+const OVERLOAD = 3
+
+/**
+ * Tear phase for one cloth on its last substep of the step: measure, split, repair. The mesh
+ * edges over the threshold are visited most strained first; each may split one of its ends. An end
+ * at a crack's tip grows that crack; an end elsewhere starts a new one (or a branch), at most
+ * `NEW_CRACKS_PER_STEP` per step. A particle splits at most once per step.
+ */
 export function tearStep(state: ClothWorldState, c: ClothState): void {
   const T = c.tear!
   if (!T.enabled) return
@@ -15,6 +35,7 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
   const S = T.edges
   const strain = store.strain[eid]
   const max = store.maxTearsPerStep[eid]
+  const minPiece = store.minPiece[eid]
   const p = T.params
   p[0] = (1 + strain) * (1 + strain)
   p[1] = store.hysteresis[eid]
@@ -22,10 +43,13 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
   p[2] = Math.min(T.cand.length, 2 * max + 4)
   const n = findOverstrained(c.pos, t.edges, t.edgeRest, S.count, T.over, p, T.cand, T.candRatio)
   state.stats.strainChecks += S.count
+  const step = ++T.stepCount
   if (n === 0) return
+  // while a crack runs (it grew last step), it takes the load: no new crack starts
+  const mayStart = step - T.grewAt > 1
   const tris = t.triangles
   const tw = state.tearing
-  let tears = 0
+  let tears = 0, fresh = 0
   for (let q = 0; q < n; q++) {
     if (c.count >= T.particleCapacity || tears >= max) break
     const k = T.cand[q]
@@ -33,21 +57,34 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
     const tA = S.endT[2 * k]
     const a = tA >= 0 ? tris[3 * tA + S.endC[2 * k]] : t.edges[2 * k]
     const b = tA >= 0 ? tris[3 * S.endT[2 * k + 1] + S.endC[2 * k + 1]] : t.edges[2 * k + 1]
+    // the end on a crack first, then the unpinned end
     let first = a, second = b
-    if (c.pinCount[a] > 0 && c.pinCount[b] === 0) {
+    if ((T.tip[b] === 1 && T.tip[a] === 0) || (T.tip[a] === T.tip[b] && c.pinCount[a] > 0 && c.pinCount[b] === 0)) {
       first = b
       second = a
     }
-    // a clean cut across the edge at either end; failing that (a fan already cut into a sliver),
-    // cut the edge's own triangles away from the rest of an end's fan
     let split = first
-    let nv = splitParticle(c, T, first, second, 0)
-    if (nv < 0) nv = splitParticle(c, T, (split = second), first, 0)
-    if (nv < 0) nv = splitParticle(c, T, (split = first), second, 1)
-    if (nv < 0) nv = splitParticle(c, T, (split = second), first, 1)
-    // both ends hold only the edge's own two triangles (a diamond left between two cracks): part them
-    if (nv < 0) nv = splitParticle(c, T, (split = first), second, 2)
+    const lasting = T.over[k] >= p[1] + LASTING
+    const start = (mayStart || lasting) && fresh < NEW_CRACKS_PER_STEP
+    const smallest = T.candRatio[q] > OVERLOAD * OVERLOAD ? 1 : minPiece
+    let nv = trySplit(c, T, first, second, step, smallest, start, !lasting)
+    if (nv < 0) nv = trySplit(c, T, (split = second), first, step, smallest, start, !lasting)
+    if (nv < 0 && lasting && tA >= 0) {
+      // neither end can split (each holds only this edge's triangles): part the triangle's third
+      // particle, where it hangs on to the rest
+      const k3 = 3 * tA
+      const w = tris[k3] !== a && tris[k3] !== b ? tris[k3] : tris[k3 + 1] !== a && tris[k3 + 1] !== b ? tris[k3 + 1] : tris[k3 + 2]
+      nv = trySplit(c, T, (split = w), first, step, smallest, start, false)
+    }
     if (nv < 0) continue
+    if (T.tip[split] === 0) fresh++
+    else T.grewAt = step
+    // the crack now ends at the seam's far ends; the split particle is no longer a tip
+    for (let j = 0; j < 2; j++) if (T.seam[j] >= 0) T.tip[T.seam[j]] = 1
+    T.tip[split] = 0
+    T.tip[nv] = 0
+    T.splitAt[split] = step
+    T.splitAt[nv] = step
     T.over[k] = 0
     tears++
     if ((tw.pendingCount + 1) * EV <= tw.pending.length) {
@@ -72,81 +109,18 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
 }
 
 /**
- * Splits particle v. Mode 0: across the plane through v perpendicular to v → o (rest shape), the
- * far side's triangles moving to the new particle. Mode 1: the triangles that hold o move. Mode 2:
- * all but the first triangle move. Returns
- * the new particle, or −1 when every triangle of v lies on one side (nothing to split) or the
- * capacity is used up.
+ * Splits v, pulled toward o, with a cut across the tension at v (see `crack.ts`), unless v split
+ * this step already, v starts a new crack and `mayStart` is false, no cut fits (`strict`: see
+ * `chooseCut`), or the cut would free a piece of fewer than `minPiece` triangles. Returns the new particle or −1.
  */
-function splitParticle(c: ClothState, T: ClothTear, v: number, o: number, mode: number): number {
-  const t = T.topology
-  const tris = t.triangles
-  const pos = c.pos
-  // classified on the rest shape: a fan stretched to many times its size can have every centroid
-  // on the far side in the current pose, while at rest it is a clean fan the plane cuts in two
-  const rest = t.restPositions
-  const px = rest[3 * v], py = rest[3 * v + 1], pz = rest[3 * v + 2]
-  const dx = rest[3 * o] - px, dy = rest[3 * o + 1] - py, dz = rest[3 * o + 2] - pz
-  const fan = T.fan, corner = T.fanCorner, side = T.fanSide
-  let fc = 0, plus = 0
-  for (let tt = 0; tt < t.triangleCount; tt++) {
-    const base = 3 * tt
-    const i0 = tris[base], i1 = tris[base + 1], i2 = tris[base + 2]
-    const k = i0 === v ? 0 : i1 === v ? 1 : i2 === v ? 2 : -1
-    if (k < 0) continue
-    const sx = rest[3 * i0] + rest[3 * i1] + rest[3 * i2] - 3 * px
-    const sy = rest[3 * i0 + 1] + rest[3 * i1 + 1] + rest[3 * i2 + 1] - 3 * py
-    const sz = rest[3 * i0 + 2] + rest[3 * i1 + 2] + rest[3 * i2 + 2] - 3 * pz
-    const s = mode === 0 ? (sx * dx + sy * dy + sz * dz > 0 ? 1 : 0) : mode === 1 ? (i0 === o || i1 === o || i2 === o ? 1 : 0) : fc > 0 ? 1 : 0
-    fan[fc] = tt
-    corner[fc] = k
-    side[fc] = s
-    plus += s
-    fc++
-  }
-  if (plus === 0 || plus === fc) return -1
-  const nv = c.count
-  if (nv >= T.particleCapacity) return -1
-  let areaPlus = 0, areaAll = 0
-  for (let f = 0; f < fc; f++) {
-    const base = 3 * fan[f]
-    const ra = 3 * tris[base], rb = 3 * tris[base + 1], rc = 3 * tris[base + 2]
-    const ux = rest[rb] - rest[ra], uy = rest[rb + 1] - rest[ra + 1], uz = rest[rb + 2] - rest[ra + 2]
-    const vx = rest[rc] - rest[ra], vy = rest[rc + 1] - rest[ra + 1], vz = rest[rc + 2] - rest[ra + 2]
-    const cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx
-    const A = Math.sqrt(cx * cx + cy * cy + cz * cz) // twice the area: only ratios matter
-    areaAll += A
-    if (side[f] === 1) {
-      areaPlus += A
-      tris[base + corner[f]] = nv
-    }
-  }
-  for (let j = 0; j < 3; j++) {
-    pos[3 * nv + j] = pos[3 * v + j]
-    c.prev[3 * nv + j] = c.prev[3 * v + j]
-    c.vel[3 * nv + j] = c.vel[3 * v + j]
-    rest[3 * nv + j] = rest[3 * v + j]
-  }
-  const uvs = c.render.uvs
-  uvs[2 * nv] = uvs[2 * v]
-  uvs[2 * nv + 1] = uvs[2 * v + 1]
-  copyGuardParticle(c, v, nv)
-  // share the mass by rest area, neither part below 20 % (extreme mass ratios hurt Gauss-Seidel)
-  let frac = areaAll > 0 ? areaPlus / areaAll : 0.5
-  if (frac < 0.2) frac = 0.2
-  else if (frac > 0.8) frac = 0.8
-  const m = 1 / c.baseInvMass[v]
-  const mPlus = m * frac, mMinus = m - mPlus
-  t.masses[nv] = mPlus
-  t.masses[v] = mMinus
-  c.baseInvMass[nv] = 1 / mPlus
-  c.baseInvMass[v] = 1 / mMinus
-  c.invMass[nv] = 1 / mPlus
-  if (c.pinCount[v] === 0) c.invMass[v] = 1 / mMinus
-  c.pinCount[nv] = 0
-  c.count = nv + 1
-  t.particleCount = nv + 1
-  return nv
+function trySplit(c: ClothState, T: ClothTear, v: number, o: number, step: number, minPiece: number, mayStart: boolean, strict: boolean): number {
+  if (T.splitAt[v] === step) return -1
+  if (T.tip[v] === 0 && !mayStart) return -1
+  if (gatherFan(c, T, v) === 0) return -1
+  tensionAt(c, T, v, o)
+  if (!chooseCut(T, v, strict)) return -1
+  if (cutsSmallPiece(c, T, v, minPiece)) return -1
+  return applySplit(c, T, v)
 }
 
 /**

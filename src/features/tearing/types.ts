@@ -100,10 +100,45 @@ export interface ClothTear {
   lines: LineSet
   hinges: HingeSet
   over: Uint8Array
-  /** Split scratch: triangles around the split particle, their corner and side. */
+  /**
+   * Triangles around each particle: vertTris[vertStart[p] .. vertStart[p] + vertLen[p]). A split
+   * divides its particle's slice between the two (built once by `makeTearable`, kept current).
+   */
+  vertStart: Int32Array
+  vertLen: Int32Array
+  vertTris: Int32Array
+  /** 1 for the particles at a crack's tip (reached by a crack, not split since): cracks grow from them. */
+  tip: Uint8Array
+  /** The tear step in which each particle was last split (a particle splits once per step). */
+  splitAt: Int32Array
+  /** Tear steps run (the stamp of `splitAt`). */
+  stepCount: number
+  /** The last tear step in which a crack grew at a tip. */
+  grewAt: number
+  /**
+   * Split scratch (see `crack.ts`): the fan of the particle being split (triangle, v's corner, the
+   * two other particles, which side it goes to), its order in chains, the seam's far ends.
+   */
   fan: Int32Array
   fanCorner: Uint8Array
   fanSide: Uint8Array
+  fanP: Int32Array
+  fanQ: Int32Array
+  fanCount: number
+  walk: Int32Array
+  walkW: Int32Array
+  chains: Int32Array
+  chainEntry: Int32Array
+  chainCount: number
+  seam: Int32Array
+  /** Direction scratch (tension, normal, crack direction) and the tension matrix. */
+  vec: Float64Array
+  mat: Float64Array
+  /** Flood-fill scratch of the smallest-piece test: side by triangle, visit stamps, queue. */
+  triSide: Uint8Array
+  seen: Int32Array
+  stamp: number
+  queue: Int32Array
   /** Candidate edges of the step, most strained first. */
   cand: Int32Array
   candRatio: Float64Array
