@@ -244,10 +244,9 @@ function markWalk(T: ClothTear, first: number, len: number, from: number, count:
 /**
  * Whether splitting v as marked in `fanSide` would cut free a piece of fewer than `min`
  * triangles: a flood fill through shared particles from each side (v counting as two particles,
- * one per side), stopped as soon as it meets the other side, has `min` triangles or reaches a
- * pinned particle (a held scrap does not fall).
+ * one per side), stopped as soon as it meets the other side or has `min` triangles.
  */
-export function cutsSmallPiece(c: ClothState, T: ClothTear, v: number, min: number): boolean {
+export function cutsSmallPiece(T: ClothTear, v: number, min: number): boolean {
   if (min <= 1) return false
   const tris = T.topology.triangles
   // side of each fan triangle, by triangle: 1 stays with v, 2 moves
@@ -267,10 +266,6 @@ export function cutsSmallPiece(c: ClothState, T: ClothTear, v: number, min: numb
       const t = T.queue[head++]
       for (let k = 0; k < 3 && seen < min && !met; k++) {
         const u = tris[3 * t + k]
-        if (u !== v && c.pinCount[u] > 0) {
-          met = true // held by a pin: it will not fall
-          break
-        }
         const s = T.vertStart[u], n = T.vertLen[u]
         for (let q = 0; q < n; q++) {
           const x = T.vertTris[s + q]

@@ -119,7 +119,7 @@ function trySplit(c: ClothState, T: ClothTear, v: number, o: number, step: numbe
   if (gatherFan(c, T, v) === 0) return -1
   tensionAt(c, T, v, o)
   if (!chooseCut(T, v, strict)) return -1
-  if (cutsSmallPiece(c, T, v, minPiece)) return -1
+  if (cutsSmallPiece(T, v, minPiece)) return -1
   return applySplit(c, T, v)
 }
 
