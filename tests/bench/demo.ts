@@ -1,19 +1,15 @@
-import { addEntity, createWorld } from 'bitecs'
+import { createWorld } from 'bitecs'
 import {
-  addPlaneCollider,
-  addSphereCollider,
   createCloth,
   createWindZone,
-  getClothMesh,
   getClothStretch,
-  getClothTearCount,
   installClothPlugin,
-  makeTearable,
   pinParticle,
-  setTransform,
   stepCloth,
+  type TearableOptions,
 } from '../../src/index'
 import { fmt, saveJson, table } from './harness'
+import { CURTAIN_TEARING, curtainScene } from '../tearing/curtain'
 
 /**
  * The demo's accuracy scene without a browser: its cotton patch (20×20, compression-only
@@ -50,73 +46,25 @@ function accuracySides(): Record<string, string | number>[] {
 }
 
 /**
- * The demo's curtain scene without a browser: four balls thrown in turn at the points the Throw
- * button aims at, 1.5 s apart. After each: tears so far, triangles still connected to a hook, and
- * the pieces that came free (triangle counts).
+ * The demo's curtain scene without a browser (tests/tearing/curtain.ts): twelve balls thrown in
+ * turn, 1.5 s apart, each at the next aim or at the intact cloth nearest to it. After each: tears,
+ * the share of the curtain still hanging, the pieces that came free (triangles), the smallest piece
+ * of the mesh, the throw's openings (new torn edges, grouped by connection) and the slowest step.
  */
-function curtainThrows(): Record<string, string | number>[] {
-  const world = installClothPlugin(createWorld(), { sleep: false })
-  const ground = addEntity(world as never)
-  setTransform(world, ground, [0, 0, 0])
-  addPlaneCollider(world, ground)
-  const cols = 36, rows = 30
-  const curtain = createCloth(world, { width: 2, height: 1.8, resolution: [cols, rows], position: [0, 2.3, 0], substeps: 8, iterations: 1, tethers: false })
-  const hooks: number[] = []
-  for (let c = 0; c < cols; c += 2) hooks.push(c)
-  hooks.push(cols - 1)
-  for (const h of hooks) pinParticle(world, curtain, h)
-  makeTearable(world, curtain, { strain: 0.12, maxTearsPerStep: 32, hysteresis: 1 })
-  for (let i = 0; i < 48; i++) stepCloth(world, 1 / 60)
+function curtainThrows(tearing: TearableOptions): Record<string, string | number>[] {
+  const scene = curtainScene(tearing)
+  const total = 35 * 29 * 2
   const out: Record<string, string | number>[] = []
-  const radius = 0.22, speed = 9, g = 9.81
-  for (const [k, [x, y]] of [[-0.1, 1.05], [0.45, 1.35], [-0.5, 1.5], [0.2, 0.85]].entries()) {
-    const p = [x + 0.6, 0.9, 3.2]
-    const t = Math.hypot(x - p[0], y - p[1], -p[2]) / speed
-    const v = [(x - p[0]) / t, (y - p[1]) / t + 0.5 * g * t, -p[2] / t]
-    const ball = addEntity(world as never)
-    setTransform(world, ball, p)
-    addSphereCollider(world, ball, { radius, friction: 0 })
-    let ms = 0
-    for (let f = 0; f < 90; f++) {
-      v[1] -= g / 60
-      for (let j = 0; j < 3; j++) p[j] += v[j] / 60
-      if (p[1] < radius) {
-        p[1] = radius
-        v[1] = -0.4 * v[1]
-      }
-      setTransform(world, ball, p)
-      const t0 = performance.now()
-      stepCloth(world, 1 / 60)
-      ms = Math.max(ms, performance.now() - t0)
-    }
-    // connected pieces of the triangle mesh (union-find over triangle corners)
-    const m = getClothMesh(world, curtain)
-    const parent = Int32Array.from({ length: m.vertexCount }, (_, i) => i)
-    const find = (i: number): number => {
-      while (parent[i] !== i) i = parent[i] = parent[parent[i]]
-      return i
-    }
-    for (let tri = 0; tri < m.triangleCount; tri++) {
-      const a = find(m.indices[3 * tri])
-      parent[find(m.indices[3 * tri + 1])] = a
-      parent[find(m.indices[3 * tri + 2])] = a
-    }
-    const hooked = new Set(hooks.map(find))
-    let attached = 0
-    const free = new Map<number, number>()
-    for (let tri = 0; tri < m.triangleCount; tri++) {
-      const r = find(m.indices[3 * tri])
-      if (hooked.has(r)) attached++
-      else free.set(r, (free.get(r) ?? 0) + 1)
-    }
-    const sizes = [...free.values()].sort((a, b) => b - a)
+  for (let k = 0; k < 12; k++) {
+    const r = scene.throwBall()
     out.push({
       throw: k + 1,
-      tears: getClothTearCount(world, curtain),
-      'triangles on hooks': attached,
-      'free pieces ≥ 20 triangles': sizes.filter((s) => s >= 20).join(' ') || '-',
-      'smaller shreds': sizes.filter((s) => s < 20).length,
-      'slowest step ms': fmt(ms, 1),
+      tears: r.tears,
+      'hanging %': fmt((100 * r.hanging) / total, 0),
+      'free pieces (triangles)': r.fallen.join(' ') || '-',
+      'smallest piece': r.smallest,
+      'openings (torn edges)': r.openings.join(' ') || '-',
+      'slowest step ms': fmt(r.slowest, 1),
     })
   }
   return out
@@ -126,7 +74,9 @@ function curtainThrows(): Record<string, string | number>[] {
 export function demoScenes(): void {
   const sides = accuracySides()
   table('Accuracy scene: patch + chain in a breeze (stretch averaged over 10 s)', sides)
-  const throws = curtainThrows()
-  table('Curtain scene: four throws (cotton, tear strain 12 %, tethers off)', throws)
-  saveJson('demo', { sides, throws })
+  const throws = curtainThrows(CURTAIN_TEARING)
+  table('Curtain scene: twelve throws (cotton, tear strain 25 %, hysteresis 1, tethers off)', throws)
+  const brittle = curtainThrows({ strain: 0.12, maxTearsPerStep: 32, hysteresis: 1 })
+  table('The same with the demo\'s settings before crack tearing (tear strain 12 %)', brittle)
+  saveJson('demo', { sides, throws, brittle })
 }

@@ -49,6 +49,8 @@ describe('tearing with tethers on a moving character', () => {
     expect(() => makeTearable(world, cloth, { strain: NaN })).toThrow(/options.strain/)
     expect(() => makeTearable(world, cloth, { maxTearsPerStep: 0 })).toThrow(/maxTearsPerStep/)
     expect(() => makeTearable(world, cloth, { capacity: -1 })).toThrow(/capacity/)
+    expect(() => makeTearable(world, cloth, { minPiece: 0 })).toThrow(/options.minPiece/)
+    expect(() => makeTearable(world, cloth, { minPiece: 2.5 })).toThrow(/options.minPiece/)
     expect(() => makeTearable(world, 999, {})).toThrow(/cloth/)
     makeTearable(world, cloth, { capacity: 8 })
     expect(getClothState(world, cloth).pos.length).toBe(3 * (16 + 8))

@@ -47,6 +47,8 @@ export interface ThrowResult {
    * by rest position): their sizes, largest first.
    */
   openings: number[]
+  /** Slowest fixed step of the throw, ms (wall clock: for benchmarks, not for assertions). */
+  slowest: number
 }
 
 export function curtainScene(tearing: TearableOptions = CURTAIN_TEARING) {
@@ -80,6 +82,7 @@ export function curtainScene(tearing: TearableOptions = CURTAIN_TEARING) {
     if (balls.length > 4) removeEntity(world, balls.shift()!)
     const before = getClothTearCount(world, curtain)
     const tornBefore = tornEdges(world, curtain)
+    let slowest = 0
     for (let f = 0; f < 90; f++) {
       v[1] -= g / 60
       for (let j = 0; j < 3; j++) p[j] += v[j] / 60
@@ -88,9 +91,11 @@ export function curtainScene(tearing: TearableOptions = CURTAIN_TEARING) {
         v[1] = Math.abs(v[1]) > 1 ? -0.4 * v[1] : 0
       }
       setTransform(world, ball, p)
+      const t0 = performance.now()
       stepCloth(world, 1 / 60)
+      slowest = Math.max(slowest, performance.now() - t0)
     }
-    return { tears: getClothTearCount(world, curtain) - before, ...pieces(world, curtain, hooks), openings: openings(tornBefore, tornEdges(world, curtain)) }
+    return { tears: getClothTearCount(world, curtain) - before, ...pieces(world, curtain, hooks), openings: openings(tornBefore, tornEdges(world, curtain)), slowest }
   }
   return { world, curtain, hooks, throwBall }
 }

@@ -8,20 +8,30 @@ import { MAX_MIN_PIECE, reserve } from './reserve'
 import { EV, type TearWorld } from './types'
 
 /**
- * Tearing by vertex splitting.
+ * Tearing by vertex splitting, grown as cracks.
  *
  * After the solve on a cloth's last substep of a step, every mesh edge is measured (structural
  * edges and the triangles' diagonals, so a load that runs through a sheared diagonal breaks it
- * too); an edge
- * longer than (1 + strain)·rest for `hysteresis` consecutive steps breaks (the most strained first,
- * at most `maxTearsPerStep` per step, which keeps one overloaded step from unzipping the whole
- * cloth). Breaking edge (a, b) splits one of its ends, v: the plane through v perpendicular to the
- * edge sorts v's triangles by the side their centroid lies on (on the rest shape, where v's fan is
- * undistorted, so the cut is clean however far the edge has stretched); the triangles on the far side get a
- * new particle v′ (a copy of v: position, velocity, rest position; v's mass is shared between the
- * two by the rest area of their triangles) and are re-indexed to it. That is a crack across the
- * load, and the renderer shows a real hole because the triangles no longer share the vertex. The
- * unpinned end is split first; a split that would leave one side empty is not made.
+ * too); an edge longer than (1 + strain)·rest for `hysteresis` consecutive steps is a candidate.
+ * Candidates are visited most strained first, at most `maxTearsPerStep` tears per step, and each
+ * may split one of its ends, v (see `crack.ts`, all on the rest shape, where v's fan is
+ * undistorted however far the cloth has stretched):
+ * - the tension at v is the principal axis of its strained edges (Σ strain·u⊗u); the crack runs
+ *   across it, in the cloth's plane;
+ * - v's triangles, ordered round v, are cut along the edges of v that best follow the crack: at a
+ *   crack's tip (an open fan) once, ahead of the opening, so the crack grows by one edge; inside
+ *   the cloth (a closed fan) twice, on either side, which starts a new slit with two tips; where v
+ *   only pinches pieces together, the smallest is let go;
+ * - the triangles on one side get a new particle v′ (a copy of v: position, velocity, rest
+ *   position; v's mass is shared by the rest area of the two sides) and are re-indexed to it. The
+ *   renderer shows a real opening because the triangles no longer share the vertex.
+ * Cracks grow from their tips: an end at a tip splits first, and a new crack starts at most once a
+ * step, and not in a step after a crack grew (a running crack takes the load, as stress is relieved
+ * round a real one) unless the edge has stayed over the threshold for four steps more than its
+ * hysteresis (a lasting load). A particle splits at most once a step. No split cuts free a piece of
+ * fewer than `minPiece` triangles (a bounded flood fill from both sides of the cut), unless an edge
+ * is stretched past three times its breaking length: scraps stay attached instead of falling as
+ * confetti, and a violent load is still relieved.
  *
  * Every constraint keeps a "support": for each of its particles, a (triangle, corner) it is read
  * from, and the corners that must still coincide for it to make sense. After the splits of a step,
@@ -83,7 +93,7 @@ export function installTearing(world: object, state: ClothWorldState): void {
 /**
  * Makes a cloth tearable (adds the Tearable component). The cloth gets its own copy of its rest
  * data with room for `capacity` more particles, so tearing never allocates. Calling it again
- * changes strain, maxTearsPerStep and hysteresis (the capacity is fixed once reserved).
+ * changes strain, maxTearsPerStep, hysteresis and minPiece (the capacity is fixed once reserved).
  *
  * @example
  * makeTearable(world, curtain, { strain: 0.25, maxTearsPerStep: 4 })
