@@ -48,7 +48,6 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
   // while a crack runs (it grew last step), it takes the load: no new crack starts
   const mayStart = step - T.grewAt > 1
   const tris = t.triangles
-  const tw = state.tearing
   let tears = 0, fresh = 0
   for (let q = 0; q < n; q++) {
     if (c.count >= T.particleCapacity || tears >= max) break
@@ -87,17 +86,7 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
     T.splitAt[nv] = step
     T.over[k] = 0
     tears++
-    if ((tw.pendingCount + 1) * EV <= tw.pending.length) {
-      const o = tw.pendingCount++ * EV
-      const pos = c.pos
-      tw.pending[o] = eid
-      tw.pending[o + 1] = pos[3 * split]
-      tw.pending[o + 2] = pos[3 * split + 1]
-      tw.pending[o + 3] = pos[3 * split + 2]
-      tw.pending[o + 4] = split
-      tw.pending[o + 5] = nv
-      tw.pending[o + 6] = Math.sqrt(T.candRatio[q] * p[0]) - 1
-    }
+    recordTear(state, c, split, nv, q)
   }
   if (tears === 0) return
   repairConstraints(T)
@@ -106,6 +95,22 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
   refreshClothWind(c)
   store.tears[eid] += tears
   state.stats.tears += tears
+}
+
+/** Queues the event of a tear (split → nv, for candidate q) for the events phase, while there is room. */
+function recordTear(state: ClothWorldState, c: ClothState, split: number, nv: number, q: number): void {
+  const tw = state.tearing
+  if ((tw.pendingCount + 1) * EV > tw.pending.length) return
+  const T = c.tear!
+  const o = tw.pendingCount++ * EV
+  const pos = c.pos
+  tw.pending[o] = c.eid
+  tw.pending[o + 1] = pos[3 * split]
+  tw.pending[o + 2] = pos[3 * split + 1]
+  tw.pending[o + 3] = pos[3 * split + 2]
+  tw.pending[o + 4] = split
+  tw.pending[o + 5] = nv
+  tw.pending[o + 6] = Math.sqrt(T.candRatio[q] * T.params[0]) - 1
 }
 
 /**
