@@ -19,7 +19,7 @@ import type { ClothTear } from './types'
 const E1 = 0, NRM = 3, CRK = 6, GAP = 9
 
 /** Gathers particle v's fan and orders it into chains. Returns the number of chains. */
-export function gatherFan(c: ClothState, T: ClothTear, v: number): number {
+export function gatherFan(T: ClothTear, v: number): number {
   const tris = T.topology.triangles
   const start = T.vertStart[v], len = T.vertLen[v]
   for (let f = 0; f < len; f++) {

@@ -121,7 +121,7 @@ function recordTear(state: ClothWorldState, c: ClothState, split: number, nv: nu
 function trySplit(c: ClothState, T: ClothTear, v: number, o: number, step: number, minPiece: number, mayStart: boolean, strict: boolean): number {
   if (T.splitAt[v] === step) return -1
   if (T.tip[v] === 0 && !mayStart) return -1
-  if (gatherFan(c, T, v) === 0) return -1
+  if (gatherFan(T, v) === 0) return -1
   tensionAt(c, T, v, o)
   if (!chooseCut(T, v, strict)) return -1
   if (cutsSmallPiece(T, v, minPiece)) return -1
