@@ -363,6 +363,7 @@ describe('grab: bad input', () => {
     ['maxForce 0', () => grabParticle(world, cloth, 0, [0, 0, 0], { maxForce: 0 }), 'options.maxForce'],
     ['maxForce Infinity', () => grabParticle(world, cloth, 0, [0, 0, 0], { maxForce: Infinity }), 'options.maxForce'],
     ['compliance negative', () => grabParticle(world, cloth, 0, [0, 0, 0], { compliance: -1 }), 'options.compliance'],
+    ['compliance 1e308', () => grabParticle(world, cloth, 0, [0, 0, 0], { compliance: 1e308 }), 'options.compliance'],
     ['grab handle garbage', () => moveGrab(world, 'x' as never, [0, 0, 0]), 'grab'],
     ['grab handle 0', () => releaseGrab(world, 0), 'grab'],
     ['grab never made', () => moveGrab(world, 123456, [0, 0, 0]), 'grab'],

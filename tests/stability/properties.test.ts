@@ -37,6 +37,9 @@ import {
   teleportCloth,
   unpin,
   removeCloth,
+  grabParticle,
+  moveGrab,
+  releaseGrab,
   type BendSide,
   type BendingModel,
   type ClothMaterialSpec,
@@ -386,8 +389,8 @@ describe('properties', () => {
     },
   )
 
-  it.prop([fc.array(fc.record({ op: fc.nat(21), a: fc.anything({ withBigInt: false }), b: fc.oneof(fc.double(), fc.integer(), fc.constantFrom(NaN, Infinity, -Infinity, -1, 0, 1e308)), c: fc.nat(200) }), { minLength: 1, maxLength: 16 })], runs(250))(
-    'any sequence of API calls with garbage arguments (colliders, wind zones, tearing and self-collision included): every error is a ClothError, and the world stays finite',
+  it.prop([fc.array(fc.record({ op: fc.nat(23), a: fc.anything({ withBigInt: false }), b: fc.oneof(fc.double(), fc.integer(), fc.constantFrom(NaN, Infinity, -Infinity, -1, 0, 1e308)), c: fc.nat(200) }), { minLength: 1, maxLength: 16 })], runs(250))(
+    'any sequence of API calls with garbage arguments (colliders, wind zones, tearing, self-collision and grabs included): every error is a ClothError, and the world stays finite',
     (ops) => {
       const world = installClothPlugin(createWorld(), { guard: false })
       const hero = addEntity(world)
@@ -395,6 +398,7 @@ describe('properties', () => {
       const cloths = [createCloth(world, { width: 1, height: 1, resolution: 4 })]
       const pins: number[] = []
       const zones: number[] = []
+      const grabs: number[] = []
       for (const { op, a, b, c } of ops) {
         const cloth = cloths[c % cloths.length] ?? c
         const v = (x: unknown) => [x, b, 0] as unknown as number[]
@@ -421,7 +425,9 @@ describe('properties', () => {
             case 17: removeCollider(world, c % 2 ? (a as number) : c); break
             case 18: zones.push(createWindZone(world, { direction: c % 2 ? v(a) : [1, 0, 0], strength: b, turbulence: c % 3 ? (a as number) : 0.2, shape: (['global', 'box', 'sphere', a] as never[])[c % 4], size: c % 5 ? b : undefined })); break
             case 19: if (c % 2) setWindZone(world, zones[c % Math.max(1, zones.length)] ?? (a as number), { strength: b }); else gustWind(world, zones[c % Math.max(1, zones.length)] ?? (a as number), { strength: b, duration: a as number }); break
-            case 20: makeTearable(world, cloth, { strain: c % 2 ? b : 0.01, maxTearsPerStep: c % 3 ? (a as number) : undefined, capacity: c % 5 ? undefined : c }); break
+            case 20: makeTearable(world, cloth, { strain: c % 2 ? b : 0.01, maxTearsPerStep: c % 3 ? (a as number) : undefined, capacity: c % 5 ? undefined : c, minPiece: c % 7 ? undefined : (a as number) }); break
+            case 21: grabs.push(grabParticle(world, cloth, c % 20, c % 2 ? v(a) : [b, 1, 0], { maxForce: c % 3 ? undefined : b, compliance: c % 5 ? undefined : (a as number) })); break
+            case 22: if (c % 2) moveGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number), c % 3 ? v(b) : v(a)); else releaseGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number)); break
             default: if (c % 2) enableSelfCollision(world, cloth, { thickness: c % 3 ? b : undefined }); else setClothCollision(world, cloth, { layer: a as number, thickness: b })
           }
         } catch (e) {

@@ -1,5 +1,5 @@
 import type { vec3 } from 'gl-matrix'
-import { ClothError, checkIndex, checkNonNegative, checkObject, checkPoint, checkPositive } from '../../core/errors'
+import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkPoint, checkPositive } from '../../core/errors'
 import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld } from '../../world/access'
@@ -26,7 +26,7 @@ import type { ClothGrabs, GrabWorld } from './types'
 export interface GrabOptions {
   /**
    * Compliance of the grip, m/N: how far the particle trails its target per newton of pull. 0 is
-   * a rigid grip (up to `maxForce`). Default 1e-3 (1 mm per newton).
+   * a rigid grip (up to `maxForce`), at most 1e9. Default 1e-3 (1 mm per newton).
    */
   compliance?: number
   /**
@@ -74,7 +74,7 @@ export function grabParticle(
   checkIndex('index', index, c.count)
   checkPoint('target', target)
   checkObject('options', options)
-  const compliance = options.compliance === undefined ? DEFAULT_COMPLIANCE : checkNonNegative('options.compliance', options.compliance)
+  const compliance = options.compliance === undefined ? DEFAULT_COMPLIANCE : checkAtMost('options.compliance', checkNonNegative('options.compliance', options.compliance), 1e9, ' m/N')
   const maxForce = options.maxForce === undefined ? defaultMaxForce(c) : checkPositive('options.maxForce', options.maxForce)
   const G = c.grab
   if (G.count === G.id.length) growGrabs(G, Math.max(2, 2 * G.count))
