@@ -54,7 +54,17 @@ function runningCape(index: number, hold: 'grab' | 'pin', tethers = true) {
   setTransform(world, hero, [0, 0, 0])
   addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0, 1.15, 0], radius: 0.19, halfHeight: 0.22 })
   const facingX = [0, Math.SQRT1_2, 0, Math.SQRT1_2]
-  const cape = createCloth(world, { width: 0.55, height: 1.05, resolution: [14, 24], position: [-0.2, 1.47, 0], rotation: facingX, material: 'wool', substeps: 8, iterations: 1, tethers })
+  const cape = createCloth(world, {
+    width: 0.55,
+    height: 1.05,
+    resolution: [14, 24],
+    position: [-0.2, 1.47, 0],
+    rotation: facingX,
+    material: 'wool',
+    substeps: 8,
+    iterations: 1,
+    tethers,
+  })
   pinRow(world, cape, 0, hero)
   let x = 0, v = 0, max = 0, grab = -1, maxForce = 0
   for (let f = 0; f < 300; f++) {
@@ -114,7 +124,15 @@ describe('grab: a hand on a moving cloth', () => {
     const flag = (hold: 'grab' | 'pin', dx: number) => {
       const world = makeWorld({ sleep: false })
       const cols = 30, rows = 20
-      const cloth = createCloth(world, { width: 1.5, height: 1, resolution: [cols, rows], position: [0.75, 3.4, 0], material: 'nylon', substeps: 8, iterations: 3 })
+      const cloth = createCloth(world, {
+        width: 1.5,
+        height: 1,
+        resolution: [cols, rows],
+        position: [0.75, 3.4, 0],
+        material: 'nylon',
+        substeps: 8,
+        iterations: 3,
+      })
       for (let r = 0; r < rows; r++) pinParticle(world, cloth, r * cols)
       const wind = createWindZone(world, { direction: [0.4, 0, -1], strength: 9, turbulence: 0.35, turbulenceScale: 1.5, seed: 7 })
       const index = 10 * cols + cols - 1
@@ -150,12 +168,22 @@ describe('grab: the force', () => {
   /** A free sheet in zero gravity, no damping, yanked by a grab toward a point 5 m away. */
   function yank(maxForce: number | undefined, iterations = 1) {
     const world = makeWorld({ sleep: false, gravity: [0, 0, 0] })
-    const cloth = createCloth(world, { width: 1, height: 1, resolution: 12, position: [0, 2, 0], substeps: 8, iterations, damping: 0, stretchDamping: 0, tethers: false })
+    const cloth = createCloth(world, {
+      width: 1,
+      height: 1,
+      resolution: 12,
+      position: [0, 2, 0],
+      substeps: 8,
+      iterations,
+      damping: 0,
+      stretchDamping: 0,
+      tethers: false,
+    })
     const grab = grabParticle(world, cloth, 6 * 12 + 6, [0, 2, 5], { maxForce })
     return { world, cloth, grab }
   }
 
-  it('is the rate of change of the cloth\'s momentum (F = dp/dt), never above maxForce, saturated when the target is far', () => {
+  it("is the rate of change of the cloth's momentum (F = dp/dt), never above maxForce, saturated when the target is far", () => {
     for (const iterations of [1, 4]) {
       const { world, cloth, grab } = yank(0.3, iterations)
       let before = momentum(world, cloth)
@@ -179,7 +207,7 @@ describe('grab: the force', () => {
     }
   })
 
-  it('the default grip is twice the cloth\'s weight', () => {
+  it("the default grip is twice the cloth's weight", () => {
     const { world, cloth, grab } = yank(undefined)
     stepCloth(world, 1 / 60)
     const F = getGrabForce(world, grab)
@@ -189,7 +217,15 @@ describe('grab: the force', () => {
   it('a still grab on a swinging cloth never adds energy: it damps the swing out', () => {
     const world = makeWorld({ sleep: false })
     const n = 10
-    const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 2, 0], substeps: 8, iterations: 2, tethers: false })
+    const cloth = createCloth(world, {
+      width: 1,
+      height: 1,
+      resolution: n,
+      position: [0, 2, 0],
+      substeps: 8,
+      iterations: 2,
+      tethers: false,
+    })
     pinParticle(world, cloth, 0)
     pinParticle(world, cloth, n - 1)
     const c = getClothState(world, cloth)
@@ -226,7 +262,16 @@ describe('grab: the force', () => {
 describe('grab: moving, releasing', () => {
   it('a hand moving at a steady speed drags a free cloth along at that speed; released, the particle keeps its velocity (no pop)', () => {
     const world = makeWorld({ sleep: false, gravity: [0, 0, 0] })
-    const cloth = createCloth(world, { width: 0.5, height: 0.5, resolution: 8, position: [0, 2, 0], substeps: 8, iterations: 2, damping: 0, tethers: false })
+    const cloth = createCloth(world, {
+      width: 0.5,
+      height: 0.5,
+      resolution: 8,
+      position: [0, 2, 0],
+      substeps: 8,
+      iterations: 2,
+      damping: 0,
+      tethers: false,
+    })
     const index = 0
     const start = at(world, cloth, index)
     const grab = grabParticle(world, cloth, index, start, { maxForce: 100 })
@@ -301,7 +346,15 @@ describe('grab: which particles, which lifetimes', () => {
   it('a torn cloth: the grab keeps its particle, which stays on the piece the hand holds', () => {
     const world = makeWorld({ sleep: false })
     const n = 12
-    const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [0, 2, 0], substeps: 8, iterations: 2, tethers: false })
+    const cloth = createCloth(world, {
+      width: 1,
+      height: 1,
+      resolution: n,
+      position: [0, 2, 0],
+      substeps: 8,
+      iterations: 2,
+      tethers: false,
+    })
     pinRow(world, cloth, 0)
     makeTearable(world, cloth, { strain: 0.15, maxTearsPerStep: 8 })
     const index = (n - 1) * n + n / 2

@@ -32,7 +32,14 @@ export const GRAB_STRIDE = 26
  * multiplier clamped to |λ| ≤ maxForce·h², so the force λ/h² never exceeds `maxForce`. A pinned
  * particle (w = 0) is left alone.
  */
-export function solveGrabs(pos: Float64Array, invMass: Float64Array, particle: Int32Array, data: Float64Array, count: number, p: Float64Array): void {
+export function solveGrabs(
+  pos: Float64Array,
+  invMass: Float64Array,
+  particle: Int32Array,
+  data: Float64Array,
+  count: number,
+  p: Float64Array,
+): void {
   const invH2 = p[P_INV_H2]
   for (let g = 0; g < count; g++) {
     const i = particle[g]

@@ -15,7 +15,16 @@ describe('a tearing curtain under thrown balls', () => {
     const scene = curtainScene()
     for (let k = 0; k < 12; k++) throws.push(scene.throwBall())
     // what the curtain did, throw by throw (npx vitest run tests/tearing/curtain.test.ts shows it)
-    console.table(throws.map((r, k) => ({ throw: k + 1, tears: r.tears, hanging: r.hanging, fallen: r.fallen.join(' '), smallest: r.smallest, openings: r.openings.join(' ') })))
+    console.table(
+      throws.map((r, k) => ({
+        throw: k + 1,
+        tears: r.tears,
+        hanging: r.hanging,
+        fallen: r.fallen.join(' '),
+        smallest: r.smallest,
+        openings: r.openings.join(' '),
+      })),
+    )
   }, 120_000)
 
   it('every throw tears while a quarter of the curtain still hangs', () => {

@@ -26,8 +26,18 @@ import { meshPieces } from './util'
 
 /** Where the throws aim in turn (x, y on the curtain's plane z = 0). */
 export const AIMS: readonly (readonly [number, number])[] = [
-  [-0.1, 1.05], [0.45, 1.35], [-0.5, 1.5], [0.2, 0.85], [-0.6, 0.9], [0.6, 1.8],
-  [0, 1.6], [-0.5, 2.0], [0.6, 0.9], [0.1, 2.0], [-0.8, 1.3], [0.8, 1.3],
+  [-0.1, 1.05],
+  [0.45, 1.35],
+  [-0.5, 1.5],
+  [0.2, 0.85],
+  [-0.6, 0.9],
+  [0.6, 1.8],
+  [0, 1.6],
+  [-0.5, 2.0],
+  [0.6, 0.9],
+  [0.1, 2.0],
+  [-0.8, 1.3],
+  [0.8, 1.3],
 ]
 
 /** The tearing settings the demo's curtain should use with crack tearing (strain 25 %, tears at once). */
@@ -57,7 +67,16 @@ export function curtainScene(tearing: TearableOptions = CURTAIN_TEARING) {
   setTransform(world, ground, [0, 0, 0])
   addPlaneCollider(world, ground)
   const cols = 36, rows = 30
-  const curtain = createCloth(world, { width: 2, height: 1.8, resolution: [cols, rows], position: [0, 2.3, 0], substeps: 8, iterations: 1, tethers: false, material: 'cotton' })
+  const curtain = createCloth(world, {
+    width: 2,
+    height: 1.8,
+    resolution: [cols, rows],
+    position: [0, 2.3, 0],
+    substeps: 8,
+    iterations: 1,
+    tethers: false,
+    material: 'cotton',
+  })
   const hooks: number[] = []
   for (let col = 0; col < cols; col += 2) hooks.push(col)
   hooks.push(cols - 1)
@@ -95,7 +114,12 @@ export function curtainScene(tearing: TearableOptions = CURTAIN_TEARING) {
       stepCloth(world, 1 / 60)
       slowest = Math.max(slowest, performance.now() - t0)
     }
-    return { tears: getClothTearCount(world, curtain) - before, ...pieces(world, curtain, hooks), openings: openings(tornBefore, tornEdges(world, curtain)), slowest }
+    return {
+      tears: getClothTearCount(world, curtain) - before,
+      ...pieces(world, curtain, hooks),
+      openings: openings(tornBefore, tornEdges(world, curtain)),
+      slowest,
+    }
   }
   return { world, curtain, hooks, throwBall }
 }

@@ -74,7 +74,8 @@ export function grabParticle(
   checkIndex('index', index, c.count)
   checkPoint('target', target)
   checkObject('options', options)
-  const compliance = options.compliance === undefined ? DEFAULT_COMPLIANCE : checkAtMost('options.compliance', checkNonNegative('options.compliance', options.compliance), 1e9, ' m/N')
+  const compliance = options.compliance === undefined ? DEFAULT_COMPLIANCE
+    : checkAtMost('options.compliance', checkNonNegative('options.compliance', options.compliance), 1e9, ' m/N')
   const maxForce = options.maxForce === undefined ? defaultMaxForce(c) : checkPositive('options.maxForce', options.maxForce)
   const G = c.grab
   if (G.count === G.id.length) growGrabs(G, Math.max(2, 2 * G.count))
@@ -169,7 +170,8 @@ function defaultMaxForce(c: ClothState): number {
 }
 
 function checkHandle(grab: unknown): asserts grab is number {
-  if (typeof grab !== 'number' || !Number.isInteger(grab) || grab < 1) throw new ClothError('grab', grab, 'must be a grab handle returned by grabParticle')
+  if (typeof grab !== 'number' || !Number.isInteger(grab) || grab < 1)
+    throw new ClothError('grab', grab, 'must be a grab handle returned by grabParticle')
 }
 
 /** The cloth holding an active grab, or null. */

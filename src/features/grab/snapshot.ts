@@ -34,7 +34,10 @@ export function saveGrabs(c: ClothState, s: GrabSnapshot): void {
  * sizes, finite values, particles in range, and no handle held by another cloth of this world.
  */
 export function checkGrabs(state: ClothWorldState, c: ClothState, s: GrabSnapshot, arg: string, n: number): void {
-  if (!(s.grabs instanceof Int32Array) || !(s.grabData instanceof Float64Array) || s.grabs.length % 2 !== 0 || s.grabData.length !== (GRAB_STRIDE * s.grabs.length) / 2) {
+  if (
+    !(s.grabs instanceof Int32Array) || !(s.grabData instanceof Float64Array) || s.grabs.length % 2 !== 0 ||
+    s.grabData.length !== (GRAB_STRIDE * s.grabs.length) / 2
+  ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (grab state missing)')
   }
   if (!allFinite(s.grabData)) throw new ClothError(arg, s, 'holds a non-finite number')
@@ -49,7 +52,8 @@ export function checkGrabs(state: ClothWorldState, c: ClothState, s: GrabSnapsho
       if (other === c) continue
       const G = other.grab
       for (let q = 0; q < G.count; q++) {
-        if (G.id[q] === id) throw new ClothError(arg, s, `holds grab ${id}, which another cloth (entity ${other.eid}) holds now: release it first`)
+        if (G.id[q] === id)
+          throw new ClothError(arg, s, `holds grab ${id}, which another cloth (entity ${other.eid}) holds now: release it first`)
       }
     }
   }
