@@ -214,8 +214,14 @@ function spawnCloth(
     for (let i = 0; i < n; i++) total += topology.masses[i]
     scale = o.mass / total
   }
+  const unused = topology.unused
   for (let i = 0; i < n; i++) invMass[i] = 1 / (masses ? masses[i] : topology.masses[i] * scale)
   for (let i = 0; i < n; i++) {
+    // a vertex no triangle uses is no part of the cloth: it stays where it is (see ClothTopology.unused)
+    if (unused !== null && unused[i] === 1) {
+      invMass[i] = 0
+      continue
+    }
     // a particle lighter than a nanogram (or a density or mass so small that 1/m overflows) is
     // rejected: its inverse mass would turn the constraint sums into Infinity and NaN
     if (!(invMass[i] <= MAX_INV_MASS)) {

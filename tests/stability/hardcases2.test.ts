@@ -4,7 +4,7 @@
 import { addComponent, addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, addPlaneCollider, addSphereCollider, createCloth, createWindZone, enableSelfCollision,
+  ClothError, addPlaneCollider, addSphereCollider, createCloth, createClothFromMesh, getClothLod, createWindZone, enableSelfCollision,
   getClothComponents, getPins, getClothMesh, getClothState, getClothStats, getTransform, installClothPlugin,
   isClothSleeping, makeTearable, pinParticle, pinRow, restoreClothState, sampleWind, saveClothState, setClothBudget,
   setClothCollision, setClothGuard, setClothQuality, setClothSleep, setClothTethers, setTransform, stepCloth,
@@ -12,6 +12,7 @@ import {
 } from '../../src/index'
 import { hashBytes, rng } from '../helpers'
 import { heroWithCape } from './scenes'
+import { gridMesh } from './harness'
 
 const frame = 1 / 60
 
@@ -482,5 +483,149 @@ describe('huge but finite values written into the Transform store', () => {
     }
     expect(errors).toBeGreaterThan(10)
     expect(errors).toBeLessThan(300)
+  })
+})
+
+// ---------------------------------------------------------------------------------------------
+
+describe('mesh vertices no triangle uses: kept where they are, outside the simulation', () => {
+  /** A 9×9 grid mesh 2 m up (top row at y = 2), plus `loose` vertices no triangle uses, appended. */
+  function meshWithLoose(loose: number[][]) {
+    const g = gridMesh(9, 0.125)
+    const positions = g.positions.map((v, i) => (i % 3 === 1 ? v + 2 : v))
+    for (const p of loose) positions.push(...p)
+    return { positions, indices: g.indices, used: 81 }
+  }
+  const LOOSE = [[0, -30, 0], [40, 2, 5], [0.2, 1.5, 0.3]]
+
+  /** The same scene with and without the loose vertices: pinned top corners on a swaying target, wind, a ball. */
+  function scene(loose: number[][], extra: (world: object, cloth: number) => void = () => {}) {
+    const world = installClothPlugin(createWorld())
+    const m = meshWithLoose(loose)
+    const cloth = createClothFromMesh(world, { positions: m.positions, indices: m.indices })
+    const hand = addEntity(world)
+    setTransform(world, hand, [0, 2, 0])
+    pinParticle(world, cloth, 0, hand)
+    pinParticle(world, cloth, 8, hand)
+    createWindZone(world, { direction: [0, 0, 1], strength: 4, turbulence: 0.3 })
+    const ball = addEntity(world)
+    setTransform(world, ball, [0, 1.2, 0.4])
+    addSphereCollider(world, ball, { radius: 0.2 })
+    extra(world, cloth)
+    return { world, cloth, hand }
+  }
+
+  it('the cloth moves exactly as the same mesh without them (byte for byte), they stay where they are, the guard never fires', () => {
+    const a = scene(LOOSE), b = scene([])
+    for (let f = 0; f < 300; f++) {
+      const p = [0.3 * Math.sin(f / 20), 2, 0.2 * Math.cos(f / 25)]
+      setTransform(a.world, a.hand, p)
+      setTransform(b.world, b.hand, p)
+      stepCloth(a.world, frame)
+      stepCloth(b.world, frame)
+      const ca = getClothState(a.world, a.cloth), cb = getClothState(b.world, b.cloth)
+      expect(hashBytes(ca.pos.subarray(0, 3 * 81)), `frame ${f}`).toBe(hashBytes(cb.pos.subarray(0, 3 * 81)))
+      expect(hashBytes(ca.vel.subarray(0, 3 * 81))).toBe(hashBytes(cb.vel.subarray(0, 3 * 81)))
+    }
+    const c = getClothState(a.world, a.cloth)
+    for (let k = 0; k < LOOSE.length; k++) for (let j = 0; j < 3; j++) expect(c.pos[3 * (81 + k) + j]).toBe(LOOSE[k][j])
+    expect(getClothStats(a.world).guardResets).toBe(0)
+    expect(meshFinite(a.world, a.cloth)).toBe(true)
+    // their mass is no part of the cloth's
+    expect([...c.invMass.subarray(81, 84)]).toEqual([0, 0, 0])
+  })
+
+  it('an unpinned mesh with a loose vertex far away falls onto the ground like one without: no guard reset', () => {
+    const drop = (loose: number[][]) => {
+      const world = installClothPlugin(createWorld())
+      const m = meshWithLoose(loose)
+      const cloth = createClothFromMesh(world, { positions: m.positions, indices: m.indices })
+      const g = addEntity(world)
+      setTransform(world, g, [0, 0, 0])
+      addPlaneCollider(world, g)
+      for (let f = 0; f < 300; f++) stepCloth(world, frame)
+      return { world, cloth }
+    }
+    const a = drop([[30, 40, 0]]), b = drop([])
+    expect(getClothStats(a.world).guardResets).toBe(0)
+    const ca = getClothState(a.world, a.cloth), cb = getClothState(b.world, b.cloth)
+    expect(hashBytes(ca.pos.subarray(0, 3 * 81))).toBe(hashBytes(cb.pos.subarray(0, 3 * 81)))
+    expect([ca.pos[243], ca.pos[244], ca.pos[245]]).toEqual([30, 40, 0])
+  })
+
+  it('with self-collision, a loose vertex in the cloth’s path is no obstacle; the pieces of a tearable one tear and land without resets', () => {
+    const fall = (loose: number[][], tear: boolean) => {
+      const world = installClothPlugin(createWorld())
+      const m = meshWithLoose(loose)
+      const cloth = createClothFromMesh(world, { positions: m.positions, indices: m.indices })
+      enableSelfCollision(world, cloth)
+      if (tear) {
+        makeTearable(world, cloth, { strain: 0.05 })
+        const g = addEntity(world)
+        setTransform(world, g, [0, 0.5, 0])
+        addSphereCollider(world, g, { radius: 0.3 })
+      }
+      for (let f = 0; f < 120; f++) stepCloth(world, frame)
+      return { world, cloth }
+    }
+    // the loose vertex sits right where the middle of the falling sheet passes
+    const a = fall([[0, 1.0, 0]], false), b = fall([], false)
+    const ca = getClothState(a.world, a.cloth), cb = getClothState(b.world, b.cloth)
+    let worst = 0
+    for (let i = 0; i < 81; i++) worst = Math.max(worst, Math.hypot(ca.pos[3 * i] - cb.pos[3 * i], ca.pos[3 * i + 1] - cb.pos[3 * i + 1], ca.pos[3 * i + 2] - cb.pos[3 * i + 2]))
+    expect(worst).toBeLessThan(1e-6)
+    const t = fall([[0, 1.0, 0], [5, 5, 5]], true)
+    expect(getClothStats(t.world).tears).toBeGreaterThan(0)
+    expect(getClothStats(t.world).guardResets).toBe(0)
+    expect(meshFinite(t.world, t.cloth)).toBe(true)
+  })
+
+  it('level of detail measures the cloth, not a loose vertex 1 km away', () => {
+    const world = installClothPlugin(createWorld())
+    const m = meshWithLoose([[1000, 2, 0]])
+    const cloth = createClothFromMesh(world, { positions: m.positions, indices: m.indices })
+    pinParticle(world, cloth, 0)
+    const viewer = addEntity(world)
+    setTransform(world, viewer, [0, 1.5, 3])
+    setClothBudget(world, { viewer, near: 5, far: 50, adapt: false, calibration: { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 } })
+    stepCloth(world, frame)
+    expect(getClothLod(world, cloth).distance).toBeLessThan(4)
+  })
+
+  it('teleporting rotates about the cloth’s own centre; pinning a loose vertex moves it, unpinning leaves it where it is', () => {
+    const a = scene(LOOSE), b = scene([])
+    for (const s of [a, b]) teleportCloth(s.world, s.cloth, [1, 0, 0], [0, Math.sin(0.5), 0, Math.cos(0.5)])
+    const ca = getClothState(a.world, a.cloth), cb = getClothState(b.world, b.cloth)
+    expect(hashBytes(ca.pos.subarray(0, 3 * 81))).toBe(hashBytes(cb.pos.subarray(0, 3 * 81)))
+    const hand = addEntity(a.world)
+    setTransform(a.world, hand, [0, 1.5, 0.3])
+    const pin = pinParticle(a.world, a.cloth, 83, hand)
+    setTransform(a.world, hand, [0, 1.0, 0.3])
+    for (let f = 0; f < 10; f++) stepCloth(a.world, frame)
+    const held = [ca.pos[3 * 83], ca.pos[3 * 83 + 1], ca.pos[3 * 83 + 2]]
+    unpin(a.world, pin)
+    for (let f = 0; f < 60; f++) stepCloth(a.world, frame)
+    expect([ca.pos[3 * 83], ca.pos[3 * 83 + 1], ca.pos[3 * 83 + 2]]).toEqual(held)
+    expect(getClothStats(a.world).guardResets).toBe(0)
+  })
+
+  it('the cloth’s mass option is shared among the vertices triangles use; a snapshot round trip is exact', () => {
+    const world = installClothPlugin(createWorld())
+    const m = meshWithLoose(LOOSE)
+    const cloth = createClothFromMesh(world, { positions: m.positions, indices: m.indices, mass: 2 })
+    const c = getClothState(world, cloth)
+    let total = 0
+    for (let i = 0; i < 81; i++) total += 1 / c.invMass[i]
+    expect(total).toBeCloseTo(2, 9)
+    pinParticle(world, cloth, 0)
+    for (let f = 0; f < 30; f++) stepCloth(world, frame)
+    const saved = saveClothState(world, cloth)
+    const run = () => {
+      for (let f = 0; f < 60; f++) stepCloth(world, frame)
+      return clothHash(world, cloth)
+    }
+    const first = run()
+    restoreClothState(world, cloth, saved)
+    expect(run()).toBe(first)
   })
 })

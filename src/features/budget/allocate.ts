@@ -218,6 +218,6 @@ function measureCentre(state: ClothWorldState, c: ClothState): void {
     return
   }
   const box = lod.measure
-  particleBounds(c.pos, c.count, box, 0)
+  particleBounds(c.pos, c.count, box, 0, c.topology.unused)
   for (let a = 0; a < 3; a++) centre[a] = 0.5 * (box[a] + box[a + 3])
 }

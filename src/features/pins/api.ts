@@ -194,15 +194,22 @@ export function teleportCloth(
     px = pivot[0]
     py = pivot[1]
     pz = pivot[2]
-  } else if (c.count > 0) {
+  } else {
+    // the centroid of the particles triangles use (a vertex no triangle uses is no part of the cloth)
+    const unused = c.topology.unused
+    let m = 0
     for (let i = 0; i < c.count; i++) {
+      if (unused !== null && unused[i] === 1) continue
       px += c.pos[3 * i]
       py += c.pos[3 * i + 1]
       pz += c.pos[3 * i + 2]
+      m++
     }
-    px /= c.count
-    py /= c.count
-    pz /= c.count
+    if (m > 0) {
+      px /= m
+      py /= m
+      pz /= m
+    }
   }
   moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, px + translation[0], py + translation[1], pz + translation[2])
   const P = state.components.Pin
