@@ -28,7 +28,7 @@ import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'
 import { checkWind, restoreWind, saveWind, type WindSnapshot } from './features/wind/snapshot'
 import { checkCollision, restoreCollision, saveCollision, type CollisionSnapshot } from './features/collision/snapshot'
-import { restoreBudget } from './features/budget/snapshot'
+import { checkBudget, restoreBudget, saveBudget, type BudgetSnapshot } from './features/budget/snapshot'
 import { checkSleep, restoreSleep, saveSleep, type SleepSnapshot } from './features/sleep/snapshot'
 import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './features/guard/snapshot'
 import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearSnapshot } from './features/tearing/snapshot'
@@ -38,7 +38,7 @@ import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearS
  * Each feature writes its own section (`src/features/<feature>/snapshot.ts`); this file keeps the
  * header, the particles and settings, the world's step timing, the order and the checks.
  */
-export interface ClothSnapshot extends PinsSnapshot, WindSnapshot, CollisionSnapshot, SleepSnapshot, GuardSnapshot, TearSnapshot {
+export interface ClothSnapshot extends PinsSnapshot, WindSnapshot, CollisionSnapshot, BudgetSnapshot, SleepSnapshot, GuardSnapshot, TearSnapshot {
   readonly format: 'bitecs-cloth-state/1'
   /** Shape of the cloth it came from: particles, distance constraints, hinges, triangles. */
   readonly shape: Int32Array
@@ -84,6 +84,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   saveBodies(state, s)
   saveWind(state, s)
   saveCollision(c, s)
+  saveBudget(state, c, s)
   saveSleep(c, s)
   saveGuard(c, s)
   saveTearing(state, c, s)
@@ -112,6 +113,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   checkBodies(s, arg)
   checkWind(s, arg)
   checkCollision(s, arg)
+  checkBudget(s, arg, s.pins.length / 3)
   checkSleep(s, arg)
   checkGuard(s, arg)
   checkTearing(s, arg, n)
@@ -125,7 +127,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   restoreBodies(state, s)
   restoreWind(state, s)
   restoreCollision(c, s)
-  restoreBudget(state, c)
+  restoreBudget(state, c, s)
   restoreSleep(state, c, s)
   restoreGuard(c, s)
   restoreTearing(state, c, s)

@@ -210,11 +210,11 @@ function measureCentre(state: ClothWorldState, c: ClothState): void {
   if (lod.frozen) {
     const k = state.kinematics
     const slot = lod.refSlot
-    if (slot >= 0 && k.eid[slot] === lod.refEntity) {
+    if (lod.refPin >= 0) {
       const o = 7 * slot
       // centre moved by the target's translation since the freeze (rotation ignored: an estimate)
       for (let a = 0; a < 3; a++) centre[a] = lod.frozenCentre[a] + k.stepTo[o + a] - lod.refPose[a]
-    }
+    } else centre.set(lod.frozenCentre)
     return
   }
   const box = lod.measure

@@ -5,7 +5,7 @@ import { normalizedQuat, rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
-import { moveClothRigidly } from '../../world/rigid'
+import { carryFrozen, moveClothRigidly } from '../../world/rigid'
 import type { ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
@@ -51,6 +51,8 @@ export function pinParticle(
   checkObject('options', options)
   const blendTime = options.blendTime === undefined ? 0.25 : checkNonNegative('options.blendTime', options.blendTime)
 
+  // a frozen cloth is first brought to where its pins have carried it (the particle is held there)
+  carryFrozen(state, c, state.kinematics.stepTo)
   // the pin continues from the target's pose at the end of the last step (the simulation's now)
   const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
   const k = state.kinematics
@@ -188,6 +190,8 @@ export function teleportCloth(
   const c = getCloth(state, cloth)
   checkPoint('translation', translation)
   const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))
+  if (pivot !== undefined) checkPoint('pivot', pivot)
+  carryFrozen(state, c, state.kinematics.stepTo) // moved from where its pins have carried it
   let px = 0, py = 0, pz = 0
   if (pivot !== undefined) {
     checkPoint('pivot', pivot)
