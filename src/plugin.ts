@@ -15,8 +15,9 @@ import { createWindWorld, installWind } from './features/wind/api'
 import { createCollisionWorld, installCollision } from './features/collision/api'
 import { createBudgetWorld, installBudget } from './features/budget/api'
 import { DEFAULT_SLEEP, createSleepWorld, resolveSleepOptions } from './features/sleep/api'
-import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './features/guard/api'
+import { createGuardWorld, defaultGuardSettings, forgetResetEvents, resolveGuardOptions } from './features/guard/api'
 import { createTearWorld, installTearing } from './features/tearing/api'
+import { forgetTearEvents } from './features/tearing/events'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -116,6 +117,9 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
       if (entityExists(w, pin)) removeEntity(w, pin)
     }
     Cloth.state[eid] = undefined
+    // events not yet delivered would name an id another cloth may get next
+    forgetTearEvents(state, eid)
+    forgetResetEvents(state.guard, eid)
     if (cloth.sleep.asleep) {
       cloth.sleep.asleep = false
       state.sleep.count--

@@ -4,8 +4,8 @@
 import { addEntity, createWorld, entityExists, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  addSphereCollider, createCloth, getClothLod, getClothState, getClothStats, getPins, installClothPlugin, pinParticle, pinRow,
-  setClothBudget, setClothVisible, setTransform, stepCloth, unpin,
+  addSphereCollider, createCloth, drainClothResets, drainClothTears, getClothLod, getClothState, getClothStats, getPins, installClothPlugin,
+  makeTearable, onClothReset, onClothTear, pinParticle, pinRow, removeCloth, setClothBudget, setClothVisible, setTransform, stepCloth, unpin,
 } from '../../src/index'
 
 const frame = 1 / 60
@@ -153,5 +153,82 @@ describe('a frozen cloth thaws carried only by the pins it still hangs from', ()
       moved[3 * i + 1] += 3
     }
     expect(farthest(s.c.pos, moved, s.c.count)).toBeLessThan(0.05)
+  })
+})
+
+describe('events of a cloth removed before they are delivered are dropped: its id may already name another cloth', () => {
+  /** Two tearable sheets hanging by their top rows with a threshold gravity exceeds: both tear in the same step. */
+  function twoTearing() {
+    const world = installClothPlugin(createWorld())
+    const sheets = [0, 3].map((x) => {
+      const cl = createCloth(world, { width: 1, height: 1, resolution: 6, position: [x, 2, 0] })
+      pinRow(world, cl, 0)
+      makeTearable(world, cl, { strain: 1e-6, maxTearsPerStep: 3, hysteresis: 1 })
+      return cl
+    })
+    stepCloth(world, frame) // one tear each; from the next step on, three each
+    return { world, sheets }
+  }
+
+  it('tear events: a listener removes the other torn cloth and creates one that reuses its id; no later event names the new cloth', () => {
+    const { world, sheets } = twoTearing()
+    const seen: number[] = []
+    let replacement = -1
+    onClothTear(world, (e) => {
+      seen.push(e.cloth)
+      if (replacement < 0 && e.cloth === sheets[0]) {
+        removeCloth(world, sheets[1])
+        replacement = createCloth(world, { width: 1, height: 1, resolution: 4, position: [6, 2, 0] })
+      }
+    })
+    for (let f = 0; f < 5 && replacement < 0; f++) stepCloth(world, frame)
+    expect(replacement).toBe(sheets[1]) // the id came back
+    const drained: number[] = []
+    drainClothTears(world, (e) => drained.push(e.cloth))
+    expect(seen.length).toBeGreaterThan(1)
+    // the replacement never tore: its id may not appear after it was created
+    expect(seen.slice(seen.indexOf(sheets[0]) + 1).filter((c) => c === replacement)).toEqual([])
+    expect(drained.filter((c) => c === replacement)).toEqual([])
+    expect(drained.filter((c) => c === sheets[0]).length).toBeGreaterThan(0)
+  })
+
+  it('tear events: a listener removes the cloth it is told about and creates another (same id): the rest of that cloth’s events are dropped', () => {
+    const { world, sheets } = twoTearing()
+    const after: number[] = []
+    let replacement = -1
+    onClothTear(world, (e) => {
+      if (replacement >= 0) after.push(e.cloth)
+      else if (e.cloth === sheets[1]) {
+        removeCloth(world, sheets[1])
+        replacement = createCloth(world, { width: 1, height: 1, resolution: 4, position: [6, 2, 0] })
+      }
+    })
+    for (let f = 0; f < 5 && replacement < 0; f++) stepCloth(world, frame)
+    expect(replacement).toBe(sheets[1])
+    expect(after.filter((c) => c === replacement)).toEqual([])
+  })
+
+  it('guard reset events: the same for a listener that replaces another reset cloth', () => {
+    const world = installClothPlugin(createWorld())
+    const cloths = [0, 3].map((x) => {
+      const cl = createCloth(world, { width: 1, height: 1, resolution: 4, position: [x, 2, 0] })
+      pinRow(world, cl, 0)
+      return cl
+    })
+    stepCloth(world, frame)
+    for (const cl of cloths) getClothState(world, cl).pos[20] = NaN // a host bug in both
+    const seen: number[] = []
+    let replacement = -1
+    onClothReset(world, (e) => {
+      seen.push(e.cloth)
+      if (replacement < 0 && e.cloth === cloths[0]) {
+        removeCloth(world, cloths[1])
+        replacement = createCloth(world, { width: 1, height: 1, resolution: 4, position: [6, 2, 0] })
+      }
+    })
+    stepCloth(world, frame)
+    expect(replacement).toBe(cloths[1])
+    expect(seen).toEqual([cloths[0]])
+    expect(drainClothResets(world).map((e) => e.cloth)).toEqual([cloths[0]])
   })
 })

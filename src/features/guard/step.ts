@@ -66,6 +66,7 @@ export function deliverResets(state: ClothWorldState): void {
   for (let k = raised; k > 0; k--) {
     const slot = (w.evHead + w.evCount - k) % EVENT_CAPACITY
     for (let l = 0; l < w.listeners.length; l++) {
+      if (w.evCloth[slot] < 0) break // its cloth was removed by a listener (forgetResetEvents)
       e.cloth = w.evCloth[slot]
       e.reason = REASONS[w.evReason[slot]]
       e.step = w.evStep[slot]
