@@ -7,7 +7,7 @@ import { createTearableStore } from '../components/Tearable'
 import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3 } from './core/errors'
 import { findClothWorld, getClothWorld } from './world/access'
 import { growStores, transformSourceOf } from './world/capacity'
-import { createKinematics } from './world/kinematics'
+import { createKinematics, transformLost } from './world/kinematics'
 import { $cloth, type ClothPluginOptions, type ClothState, type ClothWorldState, type TransformSource } from './world/state'
 import { createStats } from './world/stats'
 import { releasePin } from './features/pins/api'
@@ -99,6 +99,7 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
     resetTransform(state.components.Transform, eid)
   })
   observe(w, onRemove(state.transforms.component), (eid: number) => {
+    transformLost(state, eid)
     for (const cloth of state.cloths) {
       const pins = cloth.pins.list
       for (let k = pins.length - 1; k >= 0; k--) {

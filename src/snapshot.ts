@@ -23,7 +23,7 @@ import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
 import { ClothError } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorld } from './world/access'
-import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale } from './world/kinematics'
+import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'
 import { checkWind, restoreWind, saveWind, type WindSnapshot } from './features/wind/snapshot'
@@ -58,6 +58,8 @@ export interface ClothSnapshot extends PinsSnapshot, WindSnapshot, CollisionSnap
   bodyData: Float64Array
   /** Their scale history (see `PinsSnapshot.targetScales`); absent in older snapshots. */
   bodyScales?: Float64Array
+  /** Their generations (see `PinsSnapshot.targetGenerations`): a body that lost its transform since is not rewound. */
+  bodyGenerations?: Uint32Array
 }
 
 type Writable = { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
@@ -250,6 +252,7 @@ function saveBodies(state: ClothWorldState, s: Writable): void {
   s.bodies = fit32(s.bodies, nb)
   s.bodyData = fit64(s.bodyData, SLOT_DATA * nb)
   s.bodyScales = fit64(s.bodyScales, SLOT_SCALE_DATA * nb)
+  s.bodyGenerations = s.bodyGenerations && s.bodyGenerations.length === nb ? s.bodyGenerations : new Uint32Array(nb)
   let b = 0
   for (let q = 0; q < total; q++) {
     const e = bodyAt(state, q)
@@ -257,6 +260,7 @@ function saveBodies(state: ClothWorldState, s: Writable): void {
     s.bodies[b] = e
     saveSlot(k, k.slotOf[e], s.bodyData, SLOT_DATA * b)
     saveSlotScale(k, k.slotOf[e], s.bodyScales, SLOT_SCALE_DATA * b)
+    s.bodyGenerations[b] = transformGeneration(k, e)
     b++
   }
 }
@@ -265,17 +269,24 @@ function checkBodies(s: ClothSnapshot, arg: string): void {
   if (!(s.bodies instanceof Int32Array) || !(s.bodyData instanceof Float64Array) || s.bodyData.length !== SLOT_DATA * s.bodies.length) {
     throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
   }
-  if (s.bodyScales !== undefined && (!(s.bodyScales instanceof Float64Array) || s.bodyScales.length !== SLOT_SCALE_DATA * s.bodies.length)) {
+  if (
+    (s.bodyScales !== undefined && (!(s.bodyScales instanceof Float64Array) || s.bodyScales.length !== SLOT_SCALE_DATA * s.bodies.length)) ||
+    (s.bodyGenerations !== undefined && (!(s.bodyGenerations instanceof Uint32Array) || s.bodyGenerations.length !== s.bodies.length))
+  ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
   }
   if (!allFinite(s.bodyData) || (s.bodyScales !== undefined && !allFinite(s.bodyScales))) throw new ClothError(arg, s, 'holds a non-finite number')
 }
 
-/** Restores the bodies still tracked (a collider or zone removed since has nothing to restore). */
+/**
+ * Restores the bodies still tracked (a collider or zone removed since has nothing to restore, nor
+ * does an entity that got a removed body's id since).
+ */
 function restoreBodies(state: ClothWorldState, s: ClothSnapshot): void {
   const k = state.kinematics
   for (let b = 0; b < s.bodies.length; b++) {
     const e = s.bodies[b]
+    if (s.bodyGenerations !== undefined && s.bodyGenerations[b] !== transformGeneration(k, e)) continue
     if (e < k.slotOf.length && k.slotOf[e] >= 0) {
       restoreSlot(k, k.slotOf[e], s.bodyData, SLOT_DATA * b)
       restoreSlotScale(state, k.slotOf[e], s.bodyScales ?? null, SLOT_SCALE_DATA * b)

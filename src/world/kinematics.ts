@@ -14,6 +14,7 @@ export { K_SINCE_SAMPLE, K_STEP_FRACTION }
 export function createKinematics(): Kinematics {
   return {
     slotOf: new Int32Array(64).fill(-1),
+    generation: new Uint32Array(64),
     eid: new Int32Array(0),
     refs: new Int32Array(0),
     count: 0,
@@ -81,6 +82,24 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
     k.scaleStepTo[3 * slot + j] = scale[j]
   }
   return slot
+}
+
+/** Called when `eid` loses its transform (see `Kinematics.generation`). */
+export function transformLost(state: ClothWorldState, eid: number): void {
+  const k = state.kinematics
+  if (eid >= k.generation.length) {
+    let n = k.generation.length
+    while (n <= eid) n *= 2
+    const grown = new Uint32Array(n)
+    grown.set(k.generation)
+    k.generation = grown
+  }
+  k.generation[eid]++
+}
+
+/** `Kinematics.generation` of an entity id (0 for an id never seen to lose its transform). */
+export function transformGeneration(k: Kinematics, eid: number): number {
+  return eid < k.generation.length ? k.generation[eid] : 0
 }
 
 /** Drops a reference to `eid`'s slot; the slot is freed when nothing uses it. */

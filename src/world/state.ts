@@ -297,6 +297,12 @@ export interface ClothMesh {
 export interface Kinematics {
   /** Slot of each entity id, −1 when untracked (grown on demand). */
   slotOf: Int32Array
+  /**
+   * Per entity id: how many times an entity with this id lost its transform (removed, or its
+   * transform component taken away), grown on demand. bitECS reuses ids, so a snapshot compares it
+   * to tell the pin target it saved from another entity that got the id since.
+   */
+  generation: Uint32Array
   /** Entity of each slot, −1 when free. */
   eid: Int32Array
   /** Pins/colliders using each slot. */

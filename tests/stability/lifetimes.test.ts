@@ -1,10 +1,10 @@
 // Entity lifetimes: what a cloth follows must be alive and the same entity. bitECS 0.4 recycles
 // ids (last removed, first reused) and never clears data, so an id that comes back names another
 // entity; a frozen cloth, a snapshot or a queued event must not mistake one for the other.
-import { addEntity, createWorld, entityExists, removeEntity } from 'bitecs'
+import { addEntity, createWorld, entityExists, removeComponent, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  addSphereCollider, createCloth, drainClothResets, drainClothTears, getClothLod, getClothState, getClothStats, getPins, installClothPlugin,
+  ClothError, addSphereCollider, createCloth, getClothComponents, restoreClothState, saveClothState, drainClothResets, drainClothTears, getClothLod, getClothState, getClothStats, getPins, installClothPlugin,
   makeTearable, onClothReset, onClothTear, pinParticle, pinRow, removeCloth, setClothBudget, setClothVisible, setTransform, stepCloth, unpin,
 } from '../../src/index'
 
@@ -230,5 +230,48 @@ describe('events of a cloth removed before they are delivered are dropped: its i
     expect(replacement).toBe(cloths[1])
     expect(seen).toEqual([cloths[0]])
     expect(drainClothResets(world).map((e) => e.cloth)).toEqual([cloths[0]])
+  })
+})
+
+describe('a snapshot names its pin targets by id: an id reused since is refused', () => {
+  function saved() {
+    const world = installClothPlugin(createWorld())
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 6, position: [0, 1.6, -0.15] })
+    pinRow(world, cape, 0, hero)
+    for (let f = 0; f < 10; f++) stepCloth(world, frame)
+    return { world, hero, cape, snapshot: saveClothState(world, cape) }
+  }
+
+  it('the target removed and its id taken by another entity with a Transform: restoring throws a ClothError instead of pinning the cape to the stranger', () => {
+    const s = saved()
+    removeEntity(s.world, s.hero)
+    const stranger = recycle(s.world, s.hero)
+    setTransform(s.world, stranger, [50, 0, 0])
+    expect(() => restoreClothState(s.world, s.cape, s.snapshot)).toThrow(ClothError)
+    expect(() => restoreClothState(s.world, s.cape, s.snapshot)).toThrow(/lost its Transform/)
+    expect(getPins(s.world, s.cape)).toEqual([]) // nothing was changed by the refused restore
+  })
+
+  it('the target’s Transform taken away and given back: refused too (its pins were released)', () => {
+    const s = saved()
+    removeComponent(s.world, s.hero, getClothComponents(s.world).Transform)
+    setTransform(s.world, s.hero, [0, 1.6, 0])
+    expect(() => restoreClothState(s.world, s.cape, s.snapshot)).toThrow(/lost its Transform/)
+  })
+
+  it('other entities coming and going, ids reused: the restore goes through and replays', () => {
+    const s = saved()
+    for (let k = 0; k < 5; k++) {
+      const e = addEntity(s.world)
+      setTransform(s.world, e, [k, 0, 0])
+      removeEntity(s.world, e)
+    }
+    for (let f = 0; f < 10; f++) stepCloth(s.world, frame)
+    const after = getClothState(s.world, s.cape).pos.slice()
+    restoreClothState(s.world, s.cape, s.snapshot)
+    for (let f = 0; f < 10; f++) stepCloth(s.world, frame)
+    expect(getClothState(s.world, s.cape).pos).toEqual(after)
   })
 })

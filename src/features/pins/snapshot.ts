@@ -1,7 +1,7 @@
 import { entityExists, hasComponent, removeEntity } from 'bitecs'
 import { allFinite, fit32, fit64 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
-import { SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale } from '../../world/kinematics'
+import { SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { pinParticle } from './api'
 
@@ -21,6 +21,12 @@ export interface PinsSnapshot {
    * did not track scale: the targets' scales are then taken as they are at the restore.
    */
   targetScales?: Float64Array
+  /**
+   * Per target: how many times an entity with its id had lost its transform when saved (see
+   * `Kinematics.generation`); a restore refuses a target that lost it since, even if the id names
+   * an entity with a transform again. Absent in older snapshots: not checked.
+   */
+  targetGenerations?: Uint32Array
 }
 
 const PIN_DATA = 8
@@ -45,6 +51,7 @@ export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot)
   s.targets = fit32(s.targets, nt)
   s.targetData = fit64(s.targetData, SLOT_DATA * nt)
   s.targetScales = fit64(s.targetScales, SLOT_SCALE_DATA * nt)
+  s.targetGenerations = s.targetGenerations && s.targetGenerations.length === nt ? s.targetGenerations : new Uint32Array(nt)
   let t = 0
   for (let q = 0; q < np; q++) {
     const pin = pins[q]
@@ -65,6 +72,7 @@ export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot)
     s.targets[t] = target
     saveSlot(k, k.slotOf[target], s.targetData, SLOT_DATA * t)
     saveSlotScale(k, k.slotOf[target], s.targetScales, SLOT_SCALE_DATA * t)
+    s.targetGenerations[t] = transformGeneration(k, target)
     t++
   }
 }
@@ -84,11 +92,21 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
   if (!allFinite(s.pinData) || !allFinite(s.targetData) || (s.targetScales !== undefined && !allFinite(s.targetScales))) {
     throw new ClothError(arg, s, 'holds a non-finite number')
   }
+  const gens = s.targetGenerations
+  if (gens !== undefined && (!(gens instanceof Uint32Array) || gens.length !== s.targets.length)) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
+  }
   const np = s.pins.length / 3
   for (let q = 0; q < np; q++) {
     const target = s.pins[3 * q + 2]
     if (target !== 0 && (!entityExists(world as never, target) || !hasComponent(world as never, target, state.transforms.component))) {
       throw new ClothError(arg, s, `pins entity ${target}, which no longer exists or has no Transform`)
+    }
+    if (target !== 0 && gens !== undefined) {
+      const t = s.targets.indexOf(target)
+      if (t >= 0 && gens[t] !== transformGeneration(state.kinematics, target)) {
+        throw new ClothError(arg, s, `pins entity ${target}, which lost its Transform (was removed) after the save: the id now names another entity`)
+      }
     }
     if (!(s.pins[3 * q + 1] >= 0 && s.pins[3 * q + 1] < n)) throw new ClothError(arg, s, 'holds a pin on a particle out of range')
   }
