@@ -16,7 +16,7 @@ import { measureStretch } from './kernels/mesh'
 import { createKernelParams } from './kernels/params'
 import { resolveMaterial, type ClothMaterialSpec } from './model/materials'
 import { checkGridOptions, checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './model/options'
-import { EMPTY_TETHERS, buildTethers, type TetherMode } from './model/tethers'
+import { EMPTY_TETHERS, buildTethers, loosenTethers, type TetherMode } from './model/tethers'
 import { buildGridTopology, buildMeshTopology } from './model/builders'
 import { checkUvs, gridUvs, planarUvs } from './model/uvs'
 import type { BendSide, BendingModel, ClothTopology, ShearModel } from './model/topology'
@@ -262,7 +262,7 @@ function spawnCloth(
     lineLambda: new Float64Array(topology.lineCount),
     hingeLambda: new Float64Array(topology.hingeCount),
     version: 0,
-    tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false },
+    tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false, loosen: false },
     render: {
       positions: new Float32Array(3 * n),
       normals: new Float32Array(3 * n),
@@ -290,6 +290,7 @@ export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   const ct = c.tethers
   ct.dirty = false
   if (!ct.enabled) {
+    ct.loosen = false
     ct.set = EMPTY_TETHERS
     return
   }
@@ -301,6 +302,8 @@ export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   for (let i = 0; i < c.count; i++) if (c.pinCount[i] > 0) anchors.push(i)
   const t = c.topology
   ct.set = buildTethers(t.restPositions, c.count, t.edges, t.edgeCount, anchors, ct.mode, ct.perParticle, ct.slack)
+  if (ct.loosen) loosenTethers(ct.set, c.pos)
+  ct.loosen = false
   state.stats.tetherRebuilds++
 }
 
@@ -341,6 +344,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
   ct.slack = t.slack
   ct.perParticle = t.perParticle
   ct.dirty = true
+  ct.loosen = true
   wakeClothState(state, c)
 }
 

@@ -46,7 +46,7 @@ export interface ClothSnapshot extends PinsSnapshot, WindSnapshot, CollisionSnap
   prev: Float64Array
   vel: Float64Array
   invMass: Float64Array
-  /** substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle, tethersDirty, skipTeleport. */
+  /** substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle, tethersDirty (0; 1; 2: after a change of pins or settings), skipTeleport. */
   settings: Float64Array
   tetherMode: TetherMode
   /** The cloth's tethers (immutable arrays, shared rather than copied). */
@@ -161,7 +161,8 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.settings[5] = ct.enabled ? 1 : 0
   s.settings[6] = ct.slack
   s.settings[7] = ct.perParticle
-  s.settings[8] = ct.dirty ? 1 : 0
+  // 1: rebuild; 2: rebuild after a change of pins or settings (loosened, see loosenTethers)
+  s.settings[8] = ct.dirty ? (ct.loosen ? 2 : 1) : 0
   s.settings[9] = c.pins.skipTeleport ? 1 : 0
   s.tetherMode = ct.mode
   s.tethers = ct.set
@@ -228,7 +229,8 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   ct.enabled = s.settings[5] === 1
   ct.slack = s.settings[6]
   ct.perParticle = s.settings[7] | 0
-  ct.dirty = s.settings[8] === 1
+  ct.dirty = s.settings[8] === 1 || s.settings[8] === 2
+  ct.loosen = s.settings[8] === 2
   c.pins.skipTeleport = s.settings[9] === 1
   ct.mode = s.tetherMode
   ct.set = s.tethers

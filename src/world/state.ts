@@ -129,6 +129,11 @@ export interface ClothTethers {
   perParticle: number
   /** Rebuild at the next step (pins changed, settings changed, the cloth tore). */
   dirty: boolean
+  /**
+   * The rebuild follows a change of pins or settings: its tethers start no tighter than the cloth
+   * is (`loosenTethers`). Not after tears alone.
+   */
+  loosen: boolean
 }
 
 /** Render buffers of a cloth (`ClothState.render`): float32, sized for the particle/triangle capacity. */

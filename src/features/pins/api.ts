@@ -93,6 +93,7 @@ export function pinParticle(
   if (c.pinCount[index]++ === 0) {
     c.invMass[index] = 0
     c.tethers.dirty = true
+    c.tethers.loosen = true
   }
   return pin
 }
@@ -143,6 +144,7 @@ export function releasePin(state: ClothWorldState, pin: number): void {
   if (--c.pinCount[i] === 0) {
     c.invMass[i] = c.baseInvMass[i]
     c.tethers.dirty = true
+    c.tethers.loosen = true
   }
 }
 
