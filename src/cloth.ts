@@ -151,11 +151,13 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
   if (options.masses !== undefined) {
     masses = checkFiniteArray('options.masses', options.masses)
     if (masses.length !== n) throw new ClothError('options.masses', masses, `must have one entry per vertex (${n})`)
-    for (let i = 0; i < n; i++) if (!(masses[i] > 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   }
   const uvs = options.uvs === undefined ? undefined : checkUvs('options.uvs', options.uvs, n)
   const common = checkCommon(options, n, state)
   const topology = buildMeshTopology(positions, indices, common.material, common.topologyOptions)
+  // (a vertex no triangle uses is no part of the cloth: its mass is not read, and may be 0)
+  const unused = topology.unused
+  if (masses) for (let i = 0; i < n; i++) if (!(masses[i] > 0) && (unused === null || unused[i] === 0 || masses[i] < 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   const uv = uvs === undefined ? planarUvs(topology.restPositions, n, topology.triangles, topology.triangleCount) : Float32Array.from(uvs)
   return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses, uv)
 }

@@ -627,6 +627,15 @@ describe('mesh vertices no triangle uses: kept where they are, outside the simul
     const first = run()
     restoreClothState(world, cloth, saved)
     expect(run()).toBe(first)
+    // per-vertex masses: those of unused vertices are not read (0 is fine, as an exporter may write)
+    const masses = m.positions.map((_, i) => (i < 3 * 81 ? 0.01 : 0)).filter((_, i) => i % 3 === 0)
+    const other = createClothFromMesh(world, { positions: m.positions, indices: m.indices, masses })
+    expect([...getClothState(world, other).invMass.subarray(80, 84)]).toEqual([100, 0, 0, 0])
+    masses[82] = -1
+    expect(() => createClothFromMesh(world, { positions: m.positions, indices: m.indices, masses })).toThrow(/masses\[82\]/)
+    masses[82] = 0
+    masses[5] = 0
+    expect(() => createClothFromMesh(world, { positions: m.positions, indices: m.indices, masses })).toThrow(/masses\[5\]/)
   })
 })
 

@@ -22,11 +22,14 @@ export function freezeCloth(state: ClothWorldState, c: ClothState): void {
   pickReference(state, c, -1)
 }
 
-/** Thaws a frozen cloth, carried rigidly by its reference pin's target since the freeze. */
-export function thaw(state: ClothWorldState, c: ClothState): void {
+/**
+ * Thaws a frozen cloth, carried rigidly by its reference pin's target since the freeze, to the
+ * target's pose in `poses`: `stepFrom` in the sync phase (where the pins start this step from),
+ * `stepTo` between steps (the simulation's now).
+ */
+export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array): void {
   const lod = c.budget
-  // in the sync phase: to the pose the pins start this step from
-  if (carryFrozen(state, c, state.kinematics.stepFrom)) wakeClothState(state, c)
+  if (carryFrozen(state, c, poses)) wakeClothState(state, c)
   lod.frozen = false
   lod.phase = 0
   lod.refPin = -1
