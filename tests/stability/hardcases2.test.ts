@@ -335,7 +335,29 @@ describe('setup order: every feature’s per-particle arrays follow the cloth’
       if (f === 60) for (const pin of getPins(world, sheet)) unpin(world, pin)
       stepCloth(world, frame)
     }
+    expect(capacityProblems(world, sheet), order.map((o) => o.name).join(', ')).toEqual([])
     return { hash: clothHash(world, sheet), overlaps: overlappingPairs(world, sheet), tears: getClothStats(world).tears }
+  }
+
+  /** Per-particle arrays of the cloth and its features shorter than its particle capacity (names). */
+  function capacityProblems(world: object, cloth: number): string[] {
+    const c = getClothState(world, cloth)
+    const P = c.pos.length / 3
+    const arrays: [string, ArrayLike<number> | null | undefined, number][] = [
+      ['prev', c.prev, 3], ['vel', c.vel, 3], ['invMass', c.invMass, 1], ['baseInvMass', c.baseInvMass, 1], ['invMass3', c.invMass3, 3],
+      ['pinCount', c.pinCount, 1], ['render.positions', c.render.positions, 3], ['render.normals', c.render.normals, 3],
+      ['guard.rest', c.guard.rest, 3], ['guard.safe', c.guard.safe, 3], ['guard.pieceBox', c.guard.pieceBox, 7],
+      ['topology.restPositions', c.topology.restPositions, 3], ['topology.masses', c.topology.masses, 1], ['piece', c.piece, 1],
+    ]
+    if (c.topology.unused) arrays.push(['topology.unused', c.topology.unused, 1])
+    if (c.wind) arrays.push(['wind.air', c.wind.air, 4], ['wind.accel', c.wind.accel, 3], ['wind.normals', c.wind.normals, 3], ['wind.scratch', c.wind.scratch, 3])
+    const self = c.collision.self
+    if (self) {
+      arrays.push(['self.entries', self.entries, 1], ['self.bucket', self.bucket, 1], ['self.sorted', self.sorted, 3], ['self.touched', self.touched, 1])
+      if (self.capacity < 48 * P) arrays.push(['self.pairs', null, 1])
+      if (self.crossCapacity > 0 && self.crossCapacity < 48 * P) arrays.push(['self.cross', null, 1])
+    }
+    return arrays.filter(([, a, k]) => !a || a.length < k * P).map(([n]) => n)
   }
 
   function setGround(world: object): number {
@@ -378,6 +400,24 @@ describe('setup order: every feature’s per-particle arrays follow the cloth’
       const b = run([pins, o, tear])
       expect(b.hash, o.name).toBe(a.hash)
     }
+  })
+
+  it('two self-colliding cloths, one made tearable after both had self-collision: its cloth–cloth pair list grows with it', () => {
+    const twoSheets = (tearFirst: boolean) => {
+      const world = installClothPlugin(createWorld())
+      const a = createCloth(world, { width: 1, height: 1, resolution: 10, position: [0, 1.5, 0] })
+      const b = createCloth(world, { width: 1, height: 1, resolution: 10, position: [0, 1.5, 0.05] })
+      pinRow(world, a, 0)
+      pinRow(world, b, 0)
+      if (tearFirst) makeTearable(world, a, { strain: 0.2 })
+      enableSelfCollision(world, a)
+      enableSelfCollision(world, b)
+      if (!tearFirst) makeTearable(world, a, { strain: 0.2 })
+      for (let f = 0; f < 60; f++) stepCloth(world, frame)
+      expect(capacityProblems(world, a)).toEqual([])
+      return clothHash(world, a) + clothHash(world, b)
+    }
+    expect(twoSheets(false)).toBe(twoSheets(true))
   })
 
   it('all features in random orders give the same bytes', () => {
