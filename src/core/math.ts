@@ -43,7 +43,8 @@ export function normalizeQuatAt(q: Float64Array, o: number): void {
     if (ay > m) m = ay
     if (az > m) m = az
     if (aw > m) m = aw
-    if (!(m > 0 && m < Infinity) || x !== x || y !== y || z !== z || w !== w) {
+    // (x − x is NaN for NaN or ±∞, which the comparisons above let through)
+    if (!(m > 0 && m < Infinity) || x - x + (y - y) + (z - z) + (w - w) !== 0) {
       q[o] = 0
       q[o + 1] = 0
       q[o + 2] = 0

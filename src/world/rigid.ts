@@ -1,5 +1,5 @@
 import { quatToMatrix, relativeRotationAt } from '../core/math'
-import type { ClothState, ClothWorldState } from './state'
+import type { ClothState } from './state'
 
 /** Scratch of moveClothRigidly: the rotation matrix in [0, 9), the quaternion in [9, 13). */
 const ROTATION = new Float64Array(13)
@@ -52,7 +52,7 @@ const CARRY = new Float64Array(4)
  * before anything relies on where a frozen cloth is: a thaw, a pin added or removed, a teleport.
  * Returns whether the cloth moved.
  */
-export function carryFrozen(state: ClothWorldState, c: ClothState, poses: Float64Array): boolean {
+export function carryFrozen(c: ClothState, poses: Float64Array): boolean {
   const lod = c.budget
   if (!lod.frozen || lod.refPin < 0) return false
   const ref = lod.refPose

@@ -668,7 +668,7 @@ describe('mesh vertices no triangle uses: kept where they are, outside the simul
     restoreClothState(world, cloth, saved)
     expect(run()).toBe(first)
     // per-vertex masses: those of unused vertices are not read (0 is fine, as an exporter may write)
-    const masses = m.positions.map((_, i) => (i < 3 * 81 ? 0.01 : 0)).filter((_, i) => i % 3 === 0)
+    const masses = m.positions.map((_, i): number => (i < 3 * 81 ? 0.01 : 0)).filter((_, i) => i % 3 === 0)
     const other = createClothFromMesh(world, { positions: m.positions, indices: m.indices, masses })
     expect([...getClothState(world, other).invMass.subarray(80, 84)]).toEqual([100, 0, 0, 0])
     masses[82] = -1

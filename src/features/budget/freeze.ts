@@ -29,7 +29,7 @@ export function freezeCloth(state: ClothWorldState, c: ClothState): void {
  */
 export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array): void {
   const lod = c.budget
-  if (carryFrozen(state, c, poses)) wakeClothState(state, c)
+  if (carryFrozen(c, poses)) wakeClothState(state, c)
   lod.frozen = false
   lod.phase = 0
   lod.refPin = -1
@@ -53,7 +53,7 @@ export function releaseReference(state: ClothWorldState, pin: number): void {
   if (!c || !c.budget.frozen || c.budget.refPin !== pin) return
   // between steps: the target's pose at the end of the last step (its slot may just have been
   // freed, with the pose still in it)
-  if (carryFrozen(state, c, state.kinematics.stepTo)) {
+  if (carryFrozen(c, state.kinematics.stepTo)) {
     particleBounds(c.pos, c.count, c.budget.measure, 0, c.topology.unused)
     for (let a = 0; a < 3; a++) c.budget.frozenCentre[a] = 0.5 * (c.budget.measure[a] + c.budget.measure[a + 3])
   }

@@ -52,7 +52,7 @@ export function pinParticle(
   const blendTime = options.blendTime === undefined ? 0.25 : checkNonNegative('options.blendTime', options.blendTime)
 
   // a frozen cloth is first brought to where its pins have carried it (the particle is held there)
-  carryFrozen(state, c, state.kinematics.stepTo)
+  carryFrozen(c, state.kinematics.stepTo)
   // the pin continues from the target's pose at the end of the last step (the simulation's now)
   const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
   const k = state.kinematics
@@ -193,7 +193,7 @@ export function teleportCloth(
   checkPoint('translation', translation)
   const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))
   if (pivot !== undefined) checkPoint('pivot', pivot)
-  carryFrozen(state, c, state.kinematics.stepTo) // moved from where its pins have carried it
+  carryFrozen(c, state.kinematics.stepTo) // moved from where its pins have carried it
   let px = 0, py = 0, pz = 0
   if (pivot !== undefined) {
     checkPoint('pivot', pivot)
