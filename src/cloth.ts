@@ -248,8 +248,8 @@ function spawnCloth(
     invMass3: new Float64Array(3 * n),
     pinCount: new Uint16Array(n),
     accel: null,
-    piece: null,
-    pieceCount: 1,
+    piece: topology.pieces, // (a tearable cloth gets its own labels, relabelled as it tears)
+    pieceCount: topology.pieceCount,
     substeps: o.substeps,
     iterations: o.iterations,
     solver: o.solver,

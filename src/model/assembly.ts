@@ -37,6 +37,7 @@ export function assemble(
     restPositions: rest,
     masses: particleMasses(rest, tris, mesh.triangleArea, material.density, unused),
     unused,
+    ...meshPieces(tris, n, unused),
     triangles: tris,
     triangleCount: (tris.length / 3) | 0,
     edges: mesh.edges,
@@ -190,6 +191,34 @@ function dropDegenerateHinges(rest: Float64Array, hinges: Int32Array, mesh: Mesh
     keep.push(e0, e1, w0, w1)
   }
   return keep.length === hinges.length ? hinges : Int32Array.from(keep)
+}
+
+/** Connected pieces of the triangles (see `ClothTopology.pieces`): union-find over the triangles' corners. */
+function meshPieces(tris: Uint32Array, n: number, unused: Uint8Array | null): { pieces: Int32Array | null; pieceCount: number } {
+  const root = new Int32Array(n)
+  for (let i = 0; i < n; i++) root[i] = i
+  const find = (i: number): number => {
+    while (root[i] !== i) {
+      root[i] = root[root[i]]
+      i = root[i]
+    }
+    return i
+  }
+  for (let k = 0; k + 2 < tris.length; k += 3) {
+    const a = find(tris[k]), b = find(tris[k + 1]), c = find(tris[k + 2])
+    const m = a < b ? (a < c ? a : c) : b < c ? b : c
+    root[a] = m
+    root[b] = m
+    root[c] = m
+  }
+  const pieces = new Int32Array(n)
+  let count = 0
+  for (let i = 0; i < n; i++) {
+    if (unused !== null && unused[i] === 1) continue // (piece 0; the guard skips them)
+    const r = find(i)
+    pieces[i] = r === i ? count++ : pieces[r]
+  }
+  return count > 1 ? { pieces, pieceCount: count } : { pieces: null, pieceCount: 1 }
 }
 
 /** 1 for each vertex no triangle uses, or null when every vertex is used (see `ClothTopology.unused`). */

@@ -50,6 +50,13 @@ export interface ClothTopology {
    * sleep test's and the budget's. Rigid moves of the whole cloth (teleports) carry it along.
    */
   readonly unused: Uint8Array | null
+  /**
+   * Connected piece of each vertex (numbered from 0 in vertex order; unused vertices count as piece
+   * 0), or null when the triangles form one piece. A mesh of several pieces (a cape and a separate
+   * tassel) has its guard bounds measured per piece, like a torn cloth.
+   */
+  readonly pieces: Int32Array | null
+  readonly pieceCount: number
   /** Triangle vertex indices, 3 per triangle, counter-clockwise seen from the front. */
   readonly triangles: Uint32Array
   readonly triangleCount: number
