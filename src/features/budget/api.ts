@@ -30,8 +30,8 @@ import { Q_FACTOR, Q_MEASURED, Q_PREDICTED, type BudgetWorld, type ClothBudget }
  * higher level does do is pull in the stretch the lower one let build up; levels therefore rise
  * one rung per allocation, which keeps every change below the cloth's own motion (measured in
  * tests/budget.test.ts). A frozen cloth that thaws is first carried rigidly along
- * with its pin target's motion since it froze (like a teleport), so a cape on a character that
- * walked on meanwhile is not yanked.
+ * with the motion of a pin target it still hangs from (like a teleport), so a cape on a character
+ * that walked on meanwhile is not yanked (see `freeze.ts`).
  *
  * The cost model: time per fixed step of a cloth = substeps/stepEvery × (particles × a +
  * iterations × projections × b + tethers × 0.6 b + particles × colliders in range × c + d), where
