@@ -278,6 +278,30 @@ describe('host transform stores: every feature works with them', () => {
     expect(() => createWindZone(world, { direction: [1, 0, 0], strength: 1 })).toThrow(ClothError)
   })
 
+  it('host arrays replaced when they grow: the plugin reads them through the object it was given, so updating its fields is enough', () => {
+    const host = hostStores(8)
+    const world = installClothPlugin(createWorld(), { transforms: host.source })
+    const hero = host.add(world, [0, 1.6, 0])
+    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [6, 8], position: [0, 1.5, -0.15], bending: 'distance' })
+    pinRow(world, cape, 0, hero)
+    stepCloth(world, frame)
+    // the engine grows its stores (new arrays) and updates the source object's fields
+    const src = host.source as unknown as Record<string, Float64Array>
+    for (const key of ['px', 'py', 'pz', 'qx', 'qy', 'qz', 'qw', 'sx', 'sy', 'sz']) {
+      const grown = new Float64Array(256)
+      grown.set(src[key])
+      src[key] = grown
+    }
+    let e = addEntity(world)
+    while (e < 100) e = addEntity(world) // ids beyond the old length
+    const zone = createWindZone(world, { shape: 'sphere', size: 2, position: [0, 1, 0], direction: [0, 0, -1], strength: 5 })
+    expect(zone).toBeGreaterThan(8)
+    src.px[hero] = 0.3
+    for (let f = 0; f < 30; f++) stepCloth(world, frame)
+    expect(getClothState(world, cape).pos[0]).toBeCloseTo(0.05, 9) // the top-left pin followed to x = 0.3 − 0.25
+    expect(meshFinite(world, cape)).toBe(true)
+  })
+
   for (const [label, Arr] of [['Float32Array', Float32Array], ['plain Array', Array]] as const) {
     it(`host stores of ${label}: a cape, a collider and a zone run, finite, guard quiet`, () => {
       const host = hostStores(64, Arr)
