@@ -11,7 +11,7 @@ const NO_WORLD = new Set([
   'ClothError', 'ClothSimulation', 'defineMaterial', 'resolveMaterial', 'calibrateClothCost',
   'predictPositions', 'updateVelocities', 'solveDistances', 'solveDistancesXpbd', 'spreadInverseMasses', 'solveCompression',
   'dampPairs', 'solveDihedrals', 'solveLineBending', 'solveTethers', 'writeRenderMesh', 'measureStretch',
-  'buildGridTopology', 'buildMeshTopology', 'dihedralAngle', 'buildTethers', 'checkClothHealth', 'buildConvexHull',
+  'buildGridTopology', 'buildMeshTopology', 'buildGridMesh', 'dihedralAngle', 'buildTethers', 'checkClothHealth', 'buildConvexHull',
 ])
 
 /** Name of a function's first parameter, from its source (undefined for a class or no parameter). */
