@@ -6,8 +6,21 @@
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  createCloth, getClothBudgetStats, getClothLod, getClothState, installClothPlugin, pinRow, restoreClothState, saveClothState,
-  setClothBudget, setClothQualityTarget, setClothVisible, setTransform, stepCloth, type ClothBudgetOptions, type ClothSnapshot,
+  createCloth,
+  getClothBudgetStats,
+  getClothLod,
+  getClothState,
+  installClothPlugin,
+  pinRow,
+  restoreClothState,
+  saveClothState,
+  setClothBudget,
+  setClothQualityTarget,
+  setClothVisible,
+  setTransform,
+  stepCloth,
+  type ClothBudgetOptions,
+  type ClothSnapshot,
 } from '../../src/index'
 import { hashBytes } from '../helpers'
 
@@ -28,7 +41,14 @@ function build(setup: Setup) {
   for (let k = 0; k < 3; k++) {
     const hero = addEntity(world)
     setTransform(world, hero, [4 * k, 1.6, 0])
-    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [6, 9], position: [4 * k, 1.5, -0.15], substeps: 8, iterations: 2 })
+    const cape = createCloth(world, {
+      width: 0.5,
+      height: 0.8,
+      resolution: [6, 9],
+      position: [4 * k, 1.5, -0.15],
+      substeps: 8,
+      iterations: 2,
+    })
     pinRow(world, cape, 0, hero)
     heroes.push(hero)
     capes.push(cape)
@@ -81,7 +101,8 @@ function rollback(setup: Setup, at: number, after = 90) {
     stepCloth(a.world, inputs(a, setup, f))
     stepCloth(b.world, inputs(b, setup, f))
     expect(hash(a), `frame ${f} (saved at ${at})`).toBe(hash(b))
-    for (const cl of b.capes) lods.add(JSON.stringify([getClothLod(b.world, cl).substeps, getClothLod(b.world, cl).stepEvery, getClothLod(b.world, cl).frozen]))
+    for (const cl of b.capes)
+      lods.add(JSON.stringify([getClothLod(b.world, cl).substeps, getClothLod(b.world, cl).stepEvery, getClothLod(b.world, cl).frozen]))
   }
   return lods
 }

@@ -4,11 +4,40 @@
 import { addComponent, addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, addPlaneCollider, addSphereCollider, createCloth, createClothFromMesh, getClothLod, createWindZone, enableSelfCollision,
-  getClothComponents, getPins, getClothMesh, getClothState, getClothStats, getTransform, installClothPlugin,
-  isClothSleeping, makeTearable, pinParticle, pinRow, restoreClothState, sampleWind, saveClothState, setClothBudget,
-  setClothCollision, setClothGuard, setClothQuality, setClothSleep, setClothTethers, setTransform, stepCloth,
-  teleportCloth, unpin, type ClothPluginOptions, type TransformSource,
+  ClothError,
+  addPlaneCollider,
+  addSphereCollider,
+  createCloth,
+  createClothFromMesh,
+  getClothLod,
+  createWindZone,
+  enableSelfCollision,
+  getClothComponents,
+  getPins,
+  getClothMesh,
+  getClothState,
+  getClothStats,
+  getTransform,
+  installClothPlugin,
+  isClothSleeping,
+  makeTearable,
+  pinParticle,
+  pinRow,
+  restoreClothState,
+  sampleWind,
+  saveClothState,
+  setClothBudget,
+  setClothCollision,
+  setClothGuard,
+  setClothQuality,
+  setClothSleep,
+  setClothTethers,
+  setTransform,
+  stepCloth,
+  teleportCloth,
+  unpin,
+  type ClothPluginOptions,
+  type TransformSource,
 } from '../../src/index'
 import { hashBytes, rng } from '../helpers'
 import { heroWithCape } from './scenes'
@@ -59,7 +88,14 @@ describe('scale is an input like position and rotation: changing it wakes what i
     let err = 0
     for (let k = 0; k < top.length; k++) {
       const i = top[k]
-      err = Math.max(err, Math.hypot(c.pos[3 * i] - (p[0] + s * local[k][0]), c.pos[3 * i + 1] - (p[1] + s * local[k][1]), c.pos[3 * i + 2] - (p[2] + s * local[k][2])))
+      err = Math.max(
+        err,
+        Math.hypot(
+          c.pos[3 * i] - (p[0] + s * local[k][0]),
+          c.pos[3 * i + 1] - (p[1] + s * local[k][1]),
+          c.pos[3 * i + 2] - (p[2] + s * local[k][2]),
+        ),
+      )
     }
     return err
   }
@@ -118,7 +154,8 @@ describe('scale is an input like position and rotation: changing it wakes what i
     const c = getClothState(world, sheet)
     const thickness = c.material.thickness
     let deepest = Infinity
-    for (let i = 0; i < c.count; i++) deepest = Math.min(deepest, Math.hypot(c.pos[3 * i], c.pos[3 * i + 1] - 1.5, c.pos[3 * i + 2] + 0.01) - 0.3)
+    for (let i = 0; i < c.count; i++)
+      deepest = Math.min(deepest, Math.hypot(c.pos[3 * i], c.pos[3 * i + 1] - 1.5, c.pos[3 * i + 2] + 0.01) - 0.3)
     expect(deepest).toBeGreaterThan(thickness - 0.005)
   })
 
@@ -148,7 +185,18 @@ function hostStores(n: number, Arr: Float64ArrayConstructor | Float32ArrayConstr
     const a = Arr === Array ? new Array<number>(n).fill(fill) : new (Arr as Float64ArrayConstructor)(n).fill(fill)
     return a as unknown as Float64Array
   }
-  const T = { px: make(0), py: make(0), pz: make(0), qx: make(0), qy: make(0), qz: make(0), qw: make(1), sx: make(1), sy: make(1), sz: make(1) }
+  const T = {
+    px: make(0),
+    py: make(0),
+    pz: make(0),
+    qx: make(0),
+    qy: make(0),
+    qz: make(0),
+    qw: make(1),
+    sx: make(1),
+    sy: make(1),
+    sz: make(1),
+  }
   const source: TransformSource = { component: T, ...T }
   return {
     T,
@@ -157,8 +205,13 @@ function hostStores(n: number, Arr: Float64ArrayConstructor | Float32ArrayConstr
     add(world: object, p: ArrayLike<number>, q: ArrayLike<number> = [0, 0, 0, 1]): number {
       const e = addEntity(world)
       addComponent(world, e, T)
-      T.px[e] = p[0]; T.py[e] = p[1]; T.pz[e] = p[2]
-      T.qx[e] = q[0]; T.qy[e] = q[1]; T.qz[e] = q[2]; T.qw[e] = q[3]
+      T.px[e] = p[0]
+      T.py[e] = p[1]
+      T.pz[e] = p[2]
+      T.qx[e] = q[0]
+      T.qy[e] = q[1]
+      T.qz[e] = q[2]
+      T.qw[e] = q[3]
       T.sx[e] = T.sy[e] = T.sz[e] = 1
       return e
     },
@@ -198,14 +251,29 @@ describe('host transform stores: every feature works with them', () => {
     pinRow(world, cape, 0, hero)
     const torso = addEntity(world)
     addSphereCollider(world, torso, { body: hero, offset: [0, -0.5, 0.05], radius: 0.15 })
-    const fan = createWindZone(world, { shape: 'box', position: [3, 1.5, 0], size: [2, 2, 2], direction: [0, 0, 1], strength: 6, turbulence: 0.3 })
+    const fan = createWindZone(world, {
+      shape: 'box',
+      position: [3, 1.5, 0],
+      size: [2, 2, 2],
+      direction: [0, 0, 1],
+      strength: 6,
+      turbulence: 0.3,
+    })
     const hands = [spawn([2.5, 2, 0]), spawn([3.5, 2, 0])]
     const sheet = createCloth(world, { width: 1, height: 1, resolution: 8, position: [3, 2, 0], bending: 'both' })
     pinParticle(world, sheet, 0, hands[0])
     pinParticle(world, sheet, 7, hands[1])
     enableSelfCollision(world, sheet)
     makeTearable(world, sheet, { strain: 0.2, maxTearsPerStep: 2 })
-    setClothBudget(world, { viewer: camera, near: 3, far: 20, farStepEvery: 2, interval: 5, adapt: false, calibration: { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 } })
+    setClothBudget(world, {
+      viewer: camera,
+      near: 3,
+      far: 20,
+      farStepEvery: 2,
+      interval: 5,
+      adapt: false,
+      calibration: { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 },
+    })
     return { hero, camera, cape, sheet, hands, fan, cloths: [cape, sheet] }
   }
 
@@ -226,7 +294,9 @@ describe('host transform stores: every feature works with them', () => {
       const q = [0, Math.sin(yaw / 2), 0, Math.cos(yaw / 2)]
       const s = f > 120 ? 1.3 : 1
       // host: writes its arrays; plugin world: setTransform
-      host.T.px[sa.hero] = x; host.T.qy[sa.hero] = q[1]; host.T.qw[sa.hero] = q[3]
+      host.T.px[sa.hero] = x
+      host.T.qy[sa.hero] = q[1]
+      host.T.qw[sa.hero] = q[3]
       host.T.sx[sa.hero] = host.T.sy[sa.hero] = host.T.sz[sa.hero] = s
       setTransform(b, sb.hero, [x, 1.6, 0], q, [s, s, s])
       host.T.px[sa.hands[0]] = 2.5 - spread
@@ -335,7 +405,13 @@ describe('setup order: every feature’s per-particle arrays follow the cloth’
     { name: 'quality', run: (w, s) => setClothQuality(w, s.sheet, { substeps: 6 }) },
     { name: 'tethers', run: (w, s) => setClothTethers(w, s.sheet, { perParticle: 3 }) },
     { name: 'collision settings', run: (w, s) => setClothCollision(w, s.sheet, { thickness: 0.01 }) },
-    { name: 'pins', run: (w, s) => { pinParticle(w, s.sheet, 0, s.hands[0]); pinParticle(w, s.sheet, 9, s.hands[1]) } },
+    {
+      name: 'pins',
+      run: (w, s) => {
+        pinParticle(w, s.sheet, 0, s.hands[0])
+        pinParticle(w, s.sheet, 9, s.hands[1])
+      },
+    },
   ]
 
   /** A sheet pulled apart at its corners, torn, its pieces falling onto a ball and each other on the ground. */
@@ -356,7 +432,7 @@ describe('setup order: every feature’s per-particle arrays follow the cloth’
         setTransform(world, hands[0], [-0.5 - 0.04 * (f - 19), 1.5, 0])
         setTransform(world, hands[1], [0.5 + 0.04 * (f - 19), 1.5, 0])
       }
-      if (f === 60) for (const pin of getPins(world, sheet)) unpin(world, pin)
+      if (f === 60) { for (const pin of getPins(world, sheet)) unpin(world, pin) }
       stepCloth(world, frame)
     }
     expect(capacityProblems(world, sheet), order.map((o) => o.name).join(', ')).toEqual([])
@@ -368,16 +444,35 @@ describe('setup order: every feature’s per-particle arrays follow the cloth’
     const c = getClothState(world, cloth)
     const P = c.pos.length / 3
     const arrays: [string, ArrayLike<number> | null | undefined, number][] = [
-      ['prev', c.prev, 3], ['vel', c.vel, 3], ['invMass', c.invMass, 1], ['baseInvMass', c.baseInvMass, 1], ['invMass3', c.invMass3, 3],
-      ['pinCount', c.pinCount, 1], ['render.positions', c.render.positions, 3], ['render.normals', c.render.normals, 3],
-      ['guard.rest', c.guard.rest, 3], ['guard.safe', c.guard.safe, 3], ['guard.pieceBox', c.guard.pieceBox, 7],
-      ['topology.restPositions', c.topology.restPositions, 3], ['topology.masses', c.topology.masses, 1], ['piece', c.piece, 1],
+      ['prev', c.prev, 3],
+      ['vel', c.vel, 3],
+      ['invMass', c.invMass, 1],
+      ['baseInvMass', c.baseInvMass, 1],
+      ['invMass3', c.invMass3, 3],
+      ['pinCount', c.pinCount, 1],
+      ['render.positions', c.render.positions, 3],
+      ['render.normals', c.render.normals, 3],
+      ['guard.rest', c.guard.rest, 3],
+      ['guard.safe', c.guard.safe, 3],
+      ['guard.pieceBox', c.guard.pieceBox, 7],
+      ['topology.restPositions', c.topology.restPositions, 3],
+      ['topology.masses', c.topology.masses, 1],
+      ['piece', c.piece, 1],
     ]
     if (c.topology.unused) arrays.push(['topology.unused', c.topology.unused, 1])
-    if (c.wind) arrays.push(['wind.air', c.wind.air, 4], ['wind.accel', c.wind.accel, 3], ['wind.normals', c.wind.normals, 3], ['wind.scratch', c.wind.scratch, 3])
+    if (c.wind)
+      arrays.push(['wind.air', c.wind.air, 4], ['wind.accel', c.wind.accel, 3], ['wind.normals', c.wind.normals, 3], [
+        'wind.scratch',
+        c.wind.scratch,
+        3,
+      ])
     const self = c.collision.self
     if (self) {
-      arrays.push(['self.entries', self.entries, 1], ['self.bucket', self.bucket, 1], ['self.sorted', self.sorted, 3], ['self.touched', self.touched, 1])
+      arrays.push(['self.entries', self.entries, 1], ['self.bucket', self.bucket, 1], ['self.sorted', self.sorted, 3], [
+        'self.touched',
+        self.touched,
+        1,
+      ])
       if (self.capacity < 48 * P) arrays.push(['self.pairs', null, 1])
       if (self.crossCapacity > 0 && self.crossCapacity < 48 * P) arrays.push(['self.cross', null, 1])
     }
@@ -398,7 +493,11 @@ describe('setup order: every feature’s per-particle arrays follow the cloth’
     let n = 0
     for (let i = 0; i < c.count; i++) {
       for (let j = i + 1; j < c.count; j++) {
-        const rest = Math.hypot(t.restPositions[3 * i] - t.restPositions[3 * j], t.restPositions[3 * i + 1] - t.restPositions[3 * j + 1], t.restPositions[3 * i + 2] - t.restPositions[3 * j + 2])
+        const rest = Math.hypot(
+          t.restPositions[3 * i] - t.restPositions[3 * j],
+          t.restPositions[3 * i + 1] - t.restPositions[3 * j + 1],
+          t.restPositions[3 * i + 2] - t.restPositions[3 * j + 2],
+        )
         if (rest < 1.5 * D) continue
         const d = Math.hypot(c.pos[3 * i] - c.pos[3 * j], c.pos[3 * i + 1] - c.pos[3 * j + 1], c.pos[3 * i + 2] - c.pos[3 * j + 2])
         if (d < 0.5 * D) n++
@@ -468,7 +567,11 @@ describe('huge but finite values written into the Transform store', () => {
     addSphereCollider(world, ball, { body: hero, offset: [0, -0.5, 0.05], radius: 0.15 })
     const viewer = addEntity(world)
     setTransform(world, viewer, [0, 1.6, 4])
-    setClothBudget(world, { viewer, adapt: false, calibration: { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 } })
+    setClothBudget(world, {
+      viewer,
+      adapt: false,
+      calibration: { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 },
+    })
     createWindZone(world, { shape: 'sphere', position: [0, 1, 0], size: 2, direction: [1, 0, 0], strength: 3 })
     for (let f = 0; f < 30; f++) stepCloth(world, frame)
     return { world, hero, cape: cloths[0], viewer, T: getClothComponents(world).Transform }
@@ -478,7 +581,10 @@ describe('huge but finite values written into the Transform store', () => {
     for (const q of [[1e200, 0, 0, 1], [1e300, 1e300, 1e300, 1e300], [0, 1e-300, 0, 1e-300], [-1e308, 0, 1e308, 0]]) {
       const { world, hero, cape, T } = capeScene()
       const twin = capeScene()
-      T.qx[hero] = q[0]; T.qy[hero] = q[1]; T.qz[hero] = q[2]; T.qw[hero] = q[3]
+      T.qx[hero] = q[0]
+      T.qy[hero] = q[1]
+      T.qz[hero] = q[2]
+      T.qw[hero] = q[3]
       // the twin gets the same rotation, normalised by hand
       const m = Math.max(...q.map(Math.abs))
       const u = q.map((v) => v / m)
@@ -495,12 +601,14 @@ describe('huge but finite values written into the Transform store', () => {
     }
   })
 
-  for (const [what, write] of [
-    ['a scale of 1e300 on a pin target', (s: ReturnType<typeof capeScene>) => (s.T.sy[s.hero] = 1e300)],
-    ['a scale of 1e7 on a pin target', (s: ReturnType<typeof capeScene>) => (s.T.sx[s.hero] = 1e7)],
-    ['a position of 1e200 on a pin target', (s: ReturnType<typeof capeScene>) => (s.T.pz[s.hero] = 1e200)],
-    ['a position of 1e200 on the budget viewer', (s: ReturnType<typeof capeScene>) => (s.T.px[s.viewer] = 1e200)],
-  ] as const) {
+  for (
+    const [what, write] of [
+      ['a scale of 1e300 on a pin target', (s: ReturnType<typeof capeScene>) => (s.T.sy[s.hero] = 1e300)],
+      ['a scale of 1e7 on a pin target', (s: ReturnType<typeof capeScene>) => (s.T.sx[s.hero] = 1e7)],
+      ['a position of 1e200 on a pin target', (s: ReturnType<typeof capeScene>) => (s.T.pz[s.hero] = 1e200)],
+      ['a position of 1e200 on the budget viewer', (s: ReturnType<typeof capeScene>) => (s.T.px[s.viewer] = 1e200)],
+    ] as const
+  ) {
     it(`${what}: refused by the step with a ClothError naming the entity; nothing reaches the mesh; fixed, it runs on`, () => {
       const s = capeScene()
       const before = clothHash(s.world, s.cape)
@@ -636,7 +744,11 @@ describe('mesh vertices no triangle uses: kept where they are, outside the simul
     const a = fall([[0, 1.0, 0]], false), b = fall([], false)
     const ca = getClothState(a.world, a.cloth), cb = getClothState(b.world, b.cloth)
     let worst = 0
-    for (let i = 0; i < 81; i++) worst = Math.max(worst, Math.hypot(ca.pos[3 * i] - cb.pos[3 * i], ca.pos[3 * i + 1] - cb.pos[3 * i + 1], ca.pos[3 * i + 2] - cb.pos[3 * i + 2]))
+    for (let i = 0; i < 81; i++)
+      worst = Math.max(
+        worst,
+        Math.hypot(ca.pos[3 * i] - cb.pos[3 * i], ca.pos[3 * i + 1] - cb.pos[3 * i + 1], ca.pos[3 * i + 2] - cb.pos[3 * i + 2]),
+      )
     expect(worst).toBeLessThan(1e-6)
     const t = fall([[0, 1.0, 0], [5, 5, 5]], true)
     expect(getClothStats(t.world).tears).toBeGreaterThan(0)
@@ -651,7 +763,13 @@ describe('mesh vertices no triangle uses: kept where they are, outside the simul
     pinParticle(world, cloth, 0)
     const viewer = addEntity(world)
     setTransform(world, viewer, [0, 1.5, 3])
-    setClothBudget(world, { viewer, near: 5, far: 50, adapt: false, calibration: { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 } })
+    setClothBudget(world, {
+      viewer,
+      near: 5,
+      far: 50,
+      adapt: false,
+      calibration: { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 },
+    })
     stepCloth(world, frame)
     expect(getClothLod(world, cloth).distance).toBeLessThan(4)
   })
@@ -707,7 +825,10 @@ describe('meshes of several pieces', () => {
   /** Two 6×6 grids side by side in one mesh, 2 m up: the first pinned at its top corners, the second free. */
   function twoPieces(bending: 'line' | 'dihedral', tearable: boolean) {
     const g = gridMesh(6, 0.1)
-    const positions = [...g.positions.map((v, i) => (i % 3 === 1 ? v + 2 : v)), ...g.positions.map((v, i) => (i % 3 === 0 ? v + 1 : i % 3 === 1 ? v + 2 : v))]
+    const positions = [
+      ...g.positions.map((v, i) => (i % 3 === 1 ? v + 2 : v)),
+      ...g.positions.map((v, i) => (i % 3 === 0 ? v + 1 : i % 3 === 1 ? v + 2 : v)),
+    ]
     const indices = [...g.indices, ...g.indices.map((i) => i + 36)]
     const world = installClothPlugin(createWorld())
     const cloth = createClothFromMesh(world, { positions, indices, bending })

@@ -4,8 +4,30 @@
 import { addEntity, createWorld, entityExists, removeComponent, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, addSphereCollider, createCloth, getClothComponents, restoreClothState, saveClothState, drainClothResets, drainClothTears, getClothLod, getClothState, getClothStats, getPins, installClothPlugin,
-  makeTearable, onClothReset, onClothTear, pinParticle, pinRow, removeCloth, setClothBudget, setClothVisible, setTransform, stepCloth, unpin,
+  ClothError,
+  addSphereCollider,
+  createCloth,
+  getClothComponents,
+  restoreClothState,
+  saveClothState,
+  drainClothResets,
+  drainClothTears,
+  getClothLod,
+  getClothState,
+  getClothStats,
+  getPins,
+  installClothPlugin,
+  makeTearable,
+  onClothReset,
+  onClothTear,
+  pinParticle,
+  pinRow,
+  removeCloth,
+  setClothBudget,
+  setClothVisible,
+  setTransform,
+  stepCloth,
+  unpin,
 } from '../../src/index'
 
 const frame = 1 / 60
@@ -30,7 +52,8 @@ function frozenCapeScene() {
 /** Largest distance of the cloth's particles from a pose, m. */
 function farthest(pos: Float64Array, from: Float64Array, n: number): number {
   let d = 0
-  for (let i = 0; i < n; i++) d = Math.max(d, Math.hypot(pos[3 * i] - from[3 * i], pos[3 * i + 1] - from[3 * i + 1], pos[3 * i + 2] - from[3 * i + 2]))
+  for (let i = 0; i < n; i++)
+    d = Math.max(d, Math.hypot(pos[3 * i] - from[3 * i], pos[3 * i + 1] - from[3 * i + 1], pos[3 * i + 2] - from[3 * i + 2]))
   return d
 }
 

@@ -8,10 +8,30 @@ import * as api from '../../src/index'
 
 /** Exported functions and classes whose first parameter is not a world. */
 const NO_WORLD = new Set([
-  'ClothError', 'ClothSimulation', 'defineMaterial', 'resolveMaterial', 'calibrateClothCost',
-  'predictPositions', 'updateVelocities', 'solveDistances', 'solveDistancesXpbd', 'spreadInverseMasses', 'solveCompression',
-  'dampPairs', 'solveDihedrals', 'solveLineBending', 'solveTethers', 'writeRenderMesh', 'measureStretch',
-  'buildGridTopology', 'buildMeshTopology', 'buildGridMesh', 'dihedralAngle', 'buildTethers', 'checkClothHealth', 'buildConvexHull',
+  'ClothError',
+  'ClothSimulation',
+  'defineMaterial',
+  'resolveMaterial',
+  'calibrateClothCost',
+  'predictPositions',
+  'updateVelocities',
+  'solveDistances',
+  'solveDistancesXpbd',
+  'spreadInverseMasses',
+  'solveCompression',
+  'dampPairs',
+  'solveDihedrals',
+  'solveLineBending',
+  'solveTethers',
+  'writeRenderMesh',
+  'measureStretch',
+  'buildGridTopology',
+  'buildMeshTopology',
+  'buildGridMesh',
+  'dihedralAngle',
+  'buildTethers',
+  'checkClothHealth',
+  'buildConvexHull',
 ])
 
 /** Name of a function's first parameter, from its source (undefined for a class or no parameter). */

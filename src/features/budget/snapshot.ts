@@ -53,9 +53,13 @@ export function saveBudget(state: ClothWorldState, c: ClothState, s: BudgetSnaps
 export function checkBudget(s: BudgetSnapshot, arg: string, pinCount: number): void {
   const b = s.budget
   if (b === undefined) return
-  if (!(b instanceof Float64Array) || b.length !== BUDGET_DATA || !allFinite(b)) throw new ClothError(`${arg}.budget`, b, 'must be the budget state saved by saveClothState')
+  if (!(b instanceof Float64Array) || b.length !== BUDGET_DATA || !allFinite(b))
+    throw new ClothError(`${arg}.budget`, b, 'must be the budget state saved by saveClothState')
   const int = (v: number, min: number) => Number.isInteger(v) && v >= min
-  if (!int(b[0], -1e9) || !(b[1] > 0) || !int(b[4], 1) || !int(b[5], 1) || !int(b[6], 1) || !int(b[7], 0) || !int(b[10], 0) || !int(b[11], -1) || !int(b[12], -1) || !int(b[21], -1) || b[21] >= pinCount) {
+  if (
+    !int(b[0], -1e9) || !(b[1] > 0) || !int(b[4], 1) || !int(b[5], 1) || !int(b[6], 1) || !int(b[7], 0) || !int(b[10], 0) ||
+    !int(b[11], -1) || !int(b[12], -1) || !int(b[21], -1) || b[21] >= pinCount
+  ) {
     throw new ClothError(`${arg}.budget`, b, 'must be the budget state saved by saveClothState (counts, levels, a pin index in range)')
   }
 }
