@@ -271,14 +271,18 @@ export function measureStretch(
   return measureStretchKernel(pos, edges, edgeRest, edgeCount, out)
 }
 
-/** Checked `checkClothHealth` (see `src/kernels/guard.ts`); non-finite positions are its subject, so they pass. */
-export function checkClothHealth(pos: Float64Array, vel: Float64Array, invMass: Float64Array, n: number, g: Float64Array): number {
+/**
+ * Checked `checkClothHealth` (see `src/kernels/guard.ts`); non-finite positions are its subject, so
+ * they pass. `skip` (optional, one byte per particle): particles marked 1 are left out.
+ */
+export function checkClothHealth(pos: Float64Array, vel: Float64Array, invMass: Float64Array, n: number, g: Float64Array, skip: Uint8Array | null = null): number {
   count('count', n)
   masses('invMass', invMass, n)
   f64('pos', pos, 3 * n, false)
   f64('vel', vel, 3 * n, false)
   f64('guard', g, GUARD_PARAM_COUNT)
-  return checkClothHealthKernel(pos, vel, invMass, n, g)
+  if (skip !== null && (!(skip instanceof Uint8Array) || skip.length < n)) throw new ClothError('skip', skip, `must be null or a Uint8Array of at least ${n} entries`)
+  return checkClothHealthKernel(pos, vel, invMass, n, g, skip)
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -16,7 +16,7 @@ import { measureStretch } from './kernels/mesh'
 import { createKernelParams } from './kernels/params'
 import { resolveMaterial, type ClothMaterialSpec } from './model/materials'
 import { checkGridOptions, checkMeshInput, checkTopologyOptions, type CheckedTopologyOptions } from './model/options'
-import { EMPTY_TETHERS, buildTethers, type TetherMode } from './model/tethers'
+import { EMPTY_TETHERS, buildTethers, loosenTethers, type TetherMode } from './model/tethers'
 import { buildGridTopology, buildMeshTopology } from './model/builders'
 import { checkUvs, gridUvs, planarUvs } from './model/uvs'
 import type { BendSide, BendingModel, ClothTopology, ShearModel } from './model/topology'
@@ -152,11 +152,13 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
   if (options.masses !== undefined) {
     masses = checkFiniteArray('options.masses', options.masses)
     if (masses.length !== n) throw new ClothError('options.masses', masses, `must have one entry per vertex (${n})`)
-    for (let i = 0; i < n; i++) if (!(masses[i] > 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   }
   const uvs = options.uvs === undefined ? undefined : checkUvs('options.uvs', options.uvs, n)
   const common = checkCommon(options, n, state)
   const topology = buildMeshTopology(positions, indices, common.material, common.topologyOptions)
+  // (a vertex no triangle uses is no part of the cloth: its mass is not read, and may be 0)
+  const unused = topology.unused
+  if (masses) for (let i = 0; i < n; i++) if (!(masses[i] > 0) && (unused === null || unused[i] === 0 || masses[i] < 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   const uv = uvs === undefined ? planarUvs(topology.restPositions, n, topology.triangles, topology.triangleCount) : Float32Array.from(uvs)
   return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses, uv)
 }
@@ -215,8 +217,14 @@ function spawnCloth(
     for (let i = 0; i < n; i++) total += topology.masses[i]
     scale = o.mass / total
   }
+  const unused = topology.unused
   for (let i = 0; i < n; i++) invMass[i] = 1 / (masses ? masses[i] : topology.masses[i] * scale)
   for (let i = 0; i < n; i++) {
+    // a vertex no triangle uses is no part of the cloth: it stays where it is (see ClothTopology.unused)
+    if (unused !== null && unused[i] === 1) {
+      invMass[i] = 0
+      continue
+    }
     // a particle lighter than a nanogram (or a density or mass so small that 1/m overflows) is
     // rejected: its inverse mass would turn the constraint sums into Infinity and NaN
     if (!(invMass[i] <= MAX_INV_MASS)) {
@@ -241,8 +249,8 @@ function spawnCloth(
     invMass3: new Float64Array(3 * n),
     pinCount: new Uint16Array(n),
     accel: null,
-    piece: null,
-    pieceCount: 1,
+    piece: topology.pieces, // (a tearable cloth gets its own labels, relabelled as it tears)
+    pieceCount: topology.pieceCount,
     substeps: o.substeps,
     iterations: o.iterations,
     solver: o.solver,
@@ -257,7 +265,7 @@ function spawnCloth(
     lineLambda: new Float64Array(topology.lineCount),
     hingeLambda: new Float64Array(topology.hingeCount),
     version: 0,
-    tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false },
+    tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false, loosen: false },
     render: {
       positions: new Float32Array(3 * n),
       normals: new Float32Array(3 * n),
@@ -286,6 +294,7 @@ export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   const ct = c.tethers
   ct.dirty = false
   if (!ct.enabled) {
+    ct.loosen = false
     ct.set = EMPTY_TETHERS
     return
   }
@@ -297,6 +306,8 @@ export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   for (let i = 0; i < c.count; i++) if (c.pinCount[i] > 0) anchors.push(i)
   const t = c.topology
   ct.set = buildTethers(t.restPositions, c.count, t.edges, t.edgeCount, anchors, ct.mode, ct.perParticle, ct.slack)
+  if (ct.loosen) loosenTethers(ct.set, c.pos)
+  ct.loosen = false
   state.stats.tetherRebuilds++
 }
 
@@ -337,6 +348,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
   ct.slack = t.slack
   ct.perParticle = t.perParticle
   ct.dirty = true
+  ct.loosen = true
   wakeClothState(state, c)
 }
 

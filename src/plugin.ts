@@ -7,7 +7,7 @@ import { createTearableStore } from '../components/Tearable'
 import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3 } from './core/errors'
 import { findClothWorld, getClothWorld } from './world/access'
 import { growStores, transformSourceOf } from './world/capacity'
-import { createKinematics } from './world/kinematics'
+import { createKinematics, transformLost } from './world/kinematics'
 import { $cloth, type ClothPluginOptions, type ClothState, type ClothWorldState, type TransformSource } from './world/state'
 import { createStats } from './world/stats'
 import { releasePin } from './features/pins/api'
@@ -16,8 +16,9 @@ import { createWindWorld, installWind } from './features/wind/api'
 import { createCollisionWorld, installCollision } from './features/collision/api'
 import { createBudgetWorld, installBudget } from './features/budget/api'
 import { DEFAULT_SLEEP, createSleepWorld, resolveSleepOptions } from './features/sleep/api'
-import { createGuardWorld, defaultGuardSettings, resolveGuardOptions } from './features/guard/api'
+import { createGuardWorld, defaultGuardSettings, forgetResetEvents, resolveGuardOptions } from './features/guard/api'
 import { createTearWorld, installTearing } from './features/tearing/api'
+import { forgetTearEvents } from './features/tearing/events'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -100,6 +101,7 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
     resetTransform(state.components.Transform, eid)
   })
   observe(w, onRemove(state.transforms.component), (eid: number) => {
+    transformLost(state, eid)
     for (const cloth of state.cloths) {
       const pins = cloth.pins.list
       for (let k = pins.length - 1; k >= 0; k--) {
@@ -118,6 +120,9 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
       if (entityExists(w, pin)) removeEntity(w, pin)
     }
     Cloth.state[eid] = undefined
+    // events not yet delivered would name an id another cloth may get next
+    forgetTearEvents(state, eid)
+    forgetResetEvents(state.guard, eid)
     if (cloth.sleep.asleep) {
       cloth.sleep.asleep = false
       state.sleep.count--

@@ -24,13 +24,13 @@ import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
 import { ClothError } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorld } from './world/access'
-import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, restoreSlot, saveSlot } from './world/kinematics'
+import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'
 import { checkGrabs, restoreGrabs, saveGrabs, type GrabSnapshot } from './features/grab/snapshot'
 import { checkWind, restoreWind, saveWind, type WindSnapshot } from './features/wind/snapshot'
 import { checkCollision, restoreCollision, saveCollision, type CollisionSnapshot } from './features/collision/snapshot'
-import { restoreBudget } from './features/budget/snapshot'
+import { checkBudget, restoreBudget, saveBudget, type BudgetSnapshot } from './features/budget/snapshot'
 import { checkSleep, restoreSleep, saveSleep, type SleepSnapshot } from './features/sleep/snapshot'
 import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './features/guard/snapshot'
 import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearSnapshot } from './features/tearing/snapshot'
@@ -40,7 +40,7 @@ import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearS
  * Each feature writes its own section (`src/features/<feature>/snapshot.ts`); this file keeps the
  * header, the particles and settings, the world's step timing, the order and the checks.
  */
-export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot, CollisionSnapshot, SleepSnapshot, GuardSnapshot, TearSnapshot {
+export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot, CollisionSnapshot, BudgetSnapshot, SleepSnapshot, GuardSnapshot, TearSnapshot {
   readonly format: 'bitecs-cloth-state/1'
   /** Shape of the cloth it came from: particles, distance constraints, hinges, triangles. */
   readonly shape: Int32Array
@@ -48,7 +48,7 @@ export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot,
   prev: Float64Array
   vel: Float64Array
   invMass: Float64Array
-  /** substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle, tethersDirty, skipTeleport. */
+  /** substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle, tethersDirty (0; 1; 2: after a change of pins or settings), skipTeleport. */
   settings: Float64Array
   tetherMode: TetherMode
   /** The cloth's tethers (immutable arrays, shared rather than copied). */
@@ -58,6 +58,10 @@ export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot,
   /** Entities the world's colliders and wind zones follow (distinct, creation order), and their motion history. */
   bodies: Int32Array
   bodyData: Float64Array
+  /** Their scale history (see `PinsSnapshot.targetScales`); absent in older snapshots. */
+  bodyScales?: Float64Array
+  /** Their generations (see `PinsSnapshot.targetGenerations`): a body that lost its transform since is not rewound. */
+  bodyGenerations?: Uint32Array
 }
 
 type Writable = { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
@@ -85,6 +89,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   saveBodies(state, s)
   saveWind(state, s)
   saveCollision(c, s)
+  saveBudget(state, c, s)
   saveSleep(c, s)
   saveGuard(c, s)
   saveTearing(state, c, s)
@@ -114,6 +119,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   checkBodies(s, arg)
   checkWind(s, arg)
   checkCollision(s, arg)
+  checkBudget(s, arg, s.pins.length / 3)
   checkSleep(s, arg)
   checkGuard(s, arg)
   checkTearing(s, arg, n)
@@ -128,7 +134,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   restoreBodies(state, s)
   restoreWind(state, s)
   restoreCollision(c, s)
-  restoreBudget(state, c)
+  restoreBudget(state, c, s)
   restoreSleep(state, c, s)
   restoreGuard(c, s)
   restoreTearing(state, c, s)
@@ -160,7 +166,8 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.settings[5] = ct.enabled ? 1 : 0
   s.settings[6] = ct.slack
   s.settings[7] = ct.perParticle
-  s.settings[8] = ct.dirty ? 1 : 0
+  // 1: rebuild; 2: rebuild after a change of pins or settings (loosened, see loosenTethers)
+  s.settings[8] = ct.dirty ? (ct.loosen ? 2 : 1) : 0
   s.settings[9] = c.pins.skipTeleport ? 1 : 0
   s.tetherMode = ct.mode
   s.tethers = ct.set
@@ -227,7 +234,8 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   ct.enabled = s.settings[5] === 1
   ct.slack = s.settings[6]
   ct.perParticle = s.settings[7] | 0
-  ct.dirty = s.settings[8] === 1
+  ct.dirty = s.settings[8] === 1 || s.settings[8] === 2
+  ct.loosen = s.settings[8] === 2
   c.pins.skipTeleport = s.settings[9] === 1
   ct.mode = s.tetherMode
   ct.set = s.tethers
@@ -250,12 +258,16 @@ function saveBodies(state: ClothWorldState, s: Writable): void {
   for (let q = 0; q < total; q++) if (bodyAt(state, q) >= 0 && firstBody(state, q)) nb++
   s.bodies = fit32(s.bodies, nb)
   s.bodyData = fit64(s.bodyData, SLOT_DATA * nb)
+  s.bodyScales = fit64(s.bodyScales, SLOT_SCALE_DATA * nb)
+  s.bodyGenerations = s.bodyGenerations && s.bodyGenerations.length === nb ? s.bodyGenerations : new Uint32Array(nb)
   let b = 0
   for (let q = 0; q < total; q++) {
     const e = bodyAt(state, q)
     if (e < 0 || !firstBody(state, q)) continue
     s.bodies[b] = e
     saveSlot(k, k.slotOf[e], s.bodyData, SLOT_DATA * b)
+    saveSlotScale(k, k.slotOf[e], s.bodyScales, SLOT_SCALE_DATA * b)
+    s.bodyGenerations[b] = transformGeneration(k, e)
     b++
   }
 }
@@ -264,15 +276,28 @@ function checkBodies(s: ClothSnapshot, arg: string): void {
   if (!(s.bodies instanceof Int32Array) || !(s.bodyData instanceof Float64Array) || s.bodyData.length !== SLOT_DATA * s.bodies.length) {
     throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
   }
-  if (!allFinite(s.bodyData)) throw new ClothError(arg, s, 'holds a non-finite number')
+  if (
+    (s.bodyScales !== undefined && (!(s.bodyScales instanceof Float64Array) || s.bodyScales.length !== SLOT_SCALE_DATA * s.bodies.length)) ||
+    (s.bodyGenerations !== undefined && (!(s.bodyGenerations instanceof Uint32Array) || s.bodyGenerations.length !== s.bodies.length))
+  ) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
+  }
+  if (!allFinite(s.bodyData) || (s.bodyScales !== undefined && !allFinite(s.bodyScales))) throw new ClothError(arg, s, 'holds a non-finite number')
 }
 
-/** Restores the bodies still tracked (a collider or zone removed since has nothing to restore). */
+/**
+ * Restores the bodies still tracked (a collider or zone removed since has nothing to restore, nor
+ * does an entity that got a removed body's id since).
+ */
 function restoreBodies(state: ClothWorldState, s: ClothSnapshot): void {
   const k = state.kinematics
   for (let b = 0; b < s.bodies.length; b++) {
     const e = s.bodies[b]
-    if (e < k.slotOf.length && k.slotOf[e] >= 0) restoreSlot(k, k.slotOf[e], s.bodyData, SLOT_DATA * b)
+    if (s.bodyGenerations !== undefined && s.bodyGenerations[b] !== transformGeneration(k, e)) continue
+    if (e < k.slotOf.length && k.slotOf[e] >= 0) {
+      restoreSlot(k, k.slotOf[e], s.bodyData, SLOT_DATA * b)
+      restoreSlotScale(state, k.slotOf[e], s.bodyScales ?? null, SLOT_SCALE_DATA * b)
+    }
   }
 }
 

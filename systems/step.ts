@@ -29,14 +29,20 @@ export function stepCloth(world: object, dt: number): number {
   if (overflow) steps = state.maxStepsPerFrame
   if (steps === 0) return 0
   k.framed = true
-  for (let s = 1; s <= steps; s++) {
-    state.accumulator -= fixed
-    // where this step ends within the time since the last sample (all of it when time is dropped)
-    const since = time[K_SINCE_SAMPLE]
-    time[K_STEP_FRACTION] = overflow ? s / steps : Math.min(1, (since - Math.max(0, state.accumulator)) / since)
-    clothFixedStep(world)
+  try {
+    for (let s = 1; s <= steps; s++) {
+      state.accumulator -= fixed
+      // where this step ends within the time since the last sample (all of it when time is dropped)
+      const since = time[K_SINCE_SAMPLE]
+      time[K_STEP_FRACTION] = overflow ? s / steps : Math.min(1, (since - Math.max(0, state.accumulator)) / since)
+      clothFixedStep(world)
+    }
+  } finally {
+    // also when a step threw (a host transform refused in the sync phase): the next call starts a
+    // frame of its own and samples the transforms again
+    k.framed = false
+    k.newFrame = true
   }
-  k.framed = false
   k.newFrame = true
   if (overflow || state.accumulator < 0) state.accumulator = 0
   time[K_SINCE_SAMPLE] = 0

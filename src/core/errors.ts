@@ -137,6 +137,12 @@ export function isArrayLike(value: unknown): value is ArrayLike<unknown> {
  */
 export const MAX_COORDINATE = 1e9
 
+/**
+ * Largest accepted transform scale (per axis). A scale multiplies offsets of up to MAX_COORDINATE;
+ * beyond 1e6 the products leave the range where squared lengths stay finite.
+ */
+export const MAX_SCALE = 1e6
+
 /** A 3-vector of finite numbers, each within ±MAX_COORDINATE (a world position or offset). */
 export function checkPoint(argument: string, value: unknown): ArrayLike<number> {
   const v = checkVec3(argument, value)

@@ -18,20 +18,49 @@ export function rotateVec3(
   out[o + 2] = vz + qw * tz + (qx * ty - qy * tx)
 }
 
-/** Writes q normalised (identity if degenerate) into out[o..o+3]. */
+/** Writes q normalised (identity if it is zero or not finite) into out[o..o+3]. */
 export function normalizeQuat(x: number, y: number, z: number, w: number, out: Float64Array, o: number): void {
-  const l = Math.sqrt(x * x + y * y + z * z + w * w)
-  if (!(l > 1e-12) || !Number.isFinite(l)) {
-    out[o] = 0
-    out[o + 1] = 0
-    out[o + 2] = 0
-    out[o + 3] = 1
-    return
+  out[o] = x
+  out[o + 1] = y
+  out[o + 2] = z
+  out[o + 3] = w
+  normalizeQuatAt(out, o)
+}
+
+/**
+ * Normalises the quaternion at q[o..o+3] in place; identity when it is zero or holds a non-finite
+ * component. Any other quaternion is a rotation, however large or small its components: when their
+ * squares overflow (a component beyond ~1e154) or vanish, it is first divided by its largest
+ * component. (Array and offset: called per tracked entity in a step, where doubles passed to a
+ * call would be boxed.)
+ */
+export function normalizeQuatAt(q: Float64Array, o: number): void {
+  let x = q[o], y = q[o + 1], z = q[o + 2], w = q[o + 3]
+  let l = Math.sqrt(x * x + y * y + z * z + w * w)
+  if (!(l > 1e-150 && l < 1e150)) {
+    let m = x < 0 ? -x : x
+    const ay = y < 0 ? -y : y, az = z < 0 ? -z : z, aw = w < 0 ? -w : w
+    if (ay > m) m = ay
+    if (az > m) m = az
+    if (aw > m) m = aw
+    // (x − x is NaN for NaN or ±∞, which the comparisons above let through)
+    if (!(m > 0 && m < Infinity) || x - x + (y - y) + (z - z) + (w - w) !== 0) {
+      q[o] = 0
+      q[o + 1] = 0
+      q[o + 2] = 0
+      q[o + 3] = 1
+      return
+    }
+    x /= m
+    y /= m
+    z /= m
+    w /= m
+    l = Math.sqrt(x * x + y * y + z * z + w * w)
   }
-  out[o] = x / l
-  out[o + 1] = y / l
-  out[o + 2] = z / l
-  out[o + 3] = w / l
+  q[o] = x / l
+  q[o + 1] = y / l
+  q[o + 2] = z / l
+  q[o + 3] = w / l
 }
 
 /**

@@ -550,11 +550,13 @@ export function collidePlane(
  * One pass over a cloth's particles for the per-step broadphase: out[0..5] their bounds (min xyz,
  * max xyz), out[6] the largest squared speed, out[7..9] the mean velocity of the free particles and,
  * when `deviation` is 1, out[10] the largest |v − mean| of a free particle (m/s; else 0).
+ * Particles with `skip[i]` = 1 (vertices no triangle uses) are left out.
  */
-export function measureCloth(pos: Float64Array, vel: Float64Array, invMass: Float64Array, count: number, deviation: number, out: Float64Array): void {
+export function measureCloth(pos: Float64Array, vel: Float64Array, invMass: Float64Array, count: number, deviation: number, out: Float64Array, skip: Uint8Array | null = null): void {
   let x0 = Infinity, y0 = Infinity, z0 = Infinity, x1 = -Infinity, y1 = -Infinity, z1 = -Infinity
   let v2max = 0, mx = 0, my = 0, mz = 0, n = 0
   for (let i = 0; i < count; i++) {
+    if (skip !== null && skip[i] === 1) continue // a vertex no triangle uses: no part of the cloth
     const j = 3 * i
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     if (x < x0) x0 = x

@@ -8,6 +8,9 @@
  *   (inverse mass 0); a cloth without pins may span at most `G_REACH` along each axis;
  * - speed: the rms particle speed relative to the cloth's mean velocity is at most √`G_SPEED2`.
  *   (Relative: a cape on a fast vehicle moves fast as a whole; an exploding one moves apart.)
+ *
+ * Particles with `skip[i]` = 1 (vertices no triangle uses: no part of the cloth) are left out of
+ * every test.
  */
 
 /** 1 to test finiteness, 0 to skip. */
@@ -34,6 +37,7 @@ export function checkClothHealth(
   invMass: Float64Array,
   count: number,
   g: Float64Array,
+  skip: Uint8Array | null = null,
 ): number {
   // every parameter is read on every call (a typed-array read first met in optimized code on a
   // rare path deoptimizes it)
@@ -44,7 +48,10 @@ export function checkClothHealth(
   let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity
   let pMaxX = -Infinity, pMaxY = -Infinity, pMaxZ = -Infinity
   let sx = 0, sy = 0, sz = 0, s2 = 0
+  let n = 0
   for (let i = 0; i < count; i++) {
+    if (skip !== null && skip[i] === 1) continue
+    n++
     const j = 3 * i
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     const vx = vel[j], vy = vel[j + 1], vz = vel[j + 2]
@@ -69,7 +76,7 @@ export function checkClothHealth(
     sz += vz
     s2 += vx * vx + vy * vy + vz * vz
   }
-  if (count === 0) return HEALTH_OK
+  if (n === 0) return HEALTH_OK
   const nonFinite = bad !== 0
   const testFinite = finite !== 0
   if (nonFinite && testFinite) return HEALTH_NONFINITE
@@ -90,7 +97,7 @@ export function checkClothHealth(
   if (bz > excess) excess = bz
   excess -= reach
   g[G_OUT_EXCESS] = excess
-  const inv = 1 / count
+  const inv = 1 / n
   const mx = sx * inv, my = sy * inv, mz = sz * inv
   const rel2 = s2 * inv - (mx * mx + my * my + mz * mz)
   g[G_OUT_SPEED2] = rel2
@@ -118,6 +125,7 @@ export function checkPieceHealth(
   pieceCount: number,
   box: Float64Array,
   g: Float64Array,
+  skip: Uint8Array | null = null,
 ): number {
   const finite = g[G_FINITE], reach = g[G_REACH], speed2 = g[G_SPEED2]
   for (let p = 0; p < pieceCount; p++) {
@@ -130,7 +138,10 @@ export function checkPieceHealth(
   let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity
   let pMaxX = -Infinity, pMaxY = -Infinity, pMaxZ = -Infinity
   let sx = 0, sy = 0, sz = 0, s2 = 0
+  let n = 0
   for (let i = 0; i < count; i++) {
+    if (skip !== null && skip[i] === 1) continue
+    n++
     const j = 3 * i
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     const vx = vel[j], vy = vel[j + 1], vz = vel[j + 2]
@@ -156,11 +167,12 @@ export function checkPieceHealth(
     sz += vz
     s2 += vx * vx + vy * vy + vz * vz
   }
-  if (count === 0) return HEALTH_OK
+  if (n === 0) return HEALTH_OK
   if (bad !== 0 && finite !== 0) return HEALTH_NONFINITE
   let excess = -Infinity
   for (let p = 0; p < pieceCount; p++) {
     const o = 7 * p
+    if (box[o] > box[o + 3]) continue // no particle (a vertex no triangle uses, skipped)
     const pinned = box[o + 6] === 1
     // pinned: how far the piece's box sticks out of the pins' box; unpinned: its extent
     const ax = pinned ? pMinX - box[o] : box[o + 3] - box[o], bx = pinned ? box[o + 3] - pMaxX : 0
@@ -175,7 +187,7 @@ export function checkPieceHealth(
   }
   excess -= reach
   g[G_OUT_EXCESS] = excess
-  const inv = 1 / count
+  const inv = 1 / n
   const mx = sx * inv, my = sy * inv, mz = sz * inv
   const rel2 = s2 * inv - (mx * mx + my * my + mz * mz)
   g[G_OUT_SPEED2] = rel2

@@ -95,11 +95,14 @@ export function maxEdgeStrain(pos: Float64Array, edges: Int32Array, edgeRest: Fl
 
 /**
  * Axis-aligned bounds of particles [0, count) into out[o..o+5] (min xyz, max xyz), for culling
- * wind zones against a cloth and the box a cloth sleeps in.
+ * wind zones against a cloth and the box a cloth sleeps in. Particles with `skip[i]` = 1 (vertices
+ * no triangle uses) are left out.
  */
-export function particleBounds(pos: Float64Array, count: number, out: Float64Array, o: number): void {
+export function particleBounds(pos: Float64Array, count: number, out: Float64Array, o: number, skip: Uint8Array | null = null): void {
   let x0 = Infinity, y0 = Infinity, z0 = Infinity, x1 = -Infinity, y1 = -Infinity, z1 = -Infinity
-  for (let i = 0; i < 3 * count; i += 3) {
+  for (let k = 0; k < count; k++) {
+    if (skip !== null && skip[k] === 1) continue
+    const i = 3 * k
     const x = pos[i], y = pos[i + 1], z = pos[i + 2]
     if (x < x0) x0 = x
     if (x > x1) x1 = x

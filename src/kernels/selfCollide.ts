@@ -56,15 +56,20 @@ export function hashCell(ix: number, iy: number, iz: number, mask: number): numb
  * Counting-sort spatial hash of `count` particles: afterwards the particles of bucket b are
  * entries[start[b] .. start[b + 1]) (ascending), and `sorted` holds their positions in that order
  * (xyz, so the queries read neighbours from contiguous memory). `start` has mask + 2 slots;
- * `bucket` one per particle.
+ * `bucket` one per particle. Particles with `skip[i]` = 1 (vertices no triangle uses) are left
+ * out. Returns the number of entries (pass it to `gatherPairs` as the count).
  */
 export function buildHash(
   pos: Float64Array, count: number, start: Int32Array, entries: Int32Array, bucket: Int32Array, sorted: Float64Array,
-  mask: number, p: Float64Array,
-): void {
+  mask: number, p: Float64Array, skip: Uint8Array | null = null,
+): number {
   const inv = p[S_INV_CELL]
   start.fill(0)
   for (let i = 0; i < count; i++) {
+    if (skip !== null && skip[i] === 1) {
+      bucket[i] = -1
+      continue
+    }
     const j = 3 * i
     const b = hashCell(Math.floor(pos[j] * inv) | 0, Math.floor(pos[j + 1] * inv) | 0, Math.floor(pos[j + 2] * inv) | 0, mask)
     bucket[i] = b
@@ -78,20 +83,22 @@ export function buildHash(
   }
   start[mask + 1] = sum
   // placing back to front leaves start[b] at the bucket's first entry, particles ascending
-  for (let i = count - 1; i >= 0; i--) entries[--start[bucket[i]]] = i
-  for (let e = 0; e < count; e++) {
+  for (let i = count - 1; i >= 0; i--) if (bucket[i] >= 0) entries[--start[bucket[i]]] = i
+  for (let e = 0; e < sum; e++) {
     const j = 3 * entries[e]
     sorted[3 * e] = pos[j]
     sorted[3 * e + 1] = pos[j + 1]
     sorted[3 * e + 2] = pos[j + 2]
   }
+  return sum
 }
 
 /**
  * Candidate pairs (i of cloth A, k of cloth B) closer than p[S_RADIUS] now, found through B's hash
  * (`start`, `entriesB`, `sortedB`) and appended to `pairs` (2 particle indices each) from
  * `offset`, at most up to `capacity` pairs in total. A's particles are visited in its own hash
- * order (`entriesA`, `sortedA`), so consecutive queries touch the same buckets.
+ * order (`entriesA`, `sortedA`, `countA` entries as `buildHash` returned), so consecutive queries
+ * touch the same buckets.
  *
  * With `restA` given (self-collision, A = B) each pair is taken once (from the particle earlier in
  * hash order), and pairs closer than p[S_REST_FILTER] in the rest shape (mesh neighbours, which

@@ -20,7 +20,8 @@ export function assemble(
   rows: number,
 ): ClothTopology {
   const n = (rest.length / 3) | 0
-  const levels = particleLevels(rest, n, mesh, options.orderFrom)
+  const unused = unusedVertices(tris, n)
+  const levels = particleLevels(rest, n, mesh, unused, options.orderFrom)
   const complianceOf = pairCompliance(mesh, material, n)
   const d = distanceConstraints(rest, pairs, levels, complianceOf)
   const c = compressionConstraints(rest, comp, levels, complianceOf)
@@ -34,7 +35,9 @@ export function assemble(
   return {
     particleCount: n,
     restPositions: rest,
-    masses: particleMasses(rest, tris, mesh.triangleArea, material.density),
+    masses: particleMasses(rest, tris, mesh.triangleArea, material.density, unused),
+    unused,
+    ...meshPieces(tris, n, unused),
     triangles: tris,
     triangleCount: (tris.length / 3) | 0,
     edges: mesh.edges,
@@ -190,12 +193,49 @@ function dropDegenerateHinges(rest: Float64Array, hinges: Int32Array, mesh: Mesh
   return keep.length === hinges.length ? hinges : Int32Array.from(keep)
 }
 
+/** Connected pieces of the triangles (see `ClothTopology.pieces`): union-find over the triangles' corners. */
+function meshPieces(tris: Uint32Array, n: number, unused: Uint8Array | null): { pieces: Int32Array | null; pieceCount: number } {
+  const root = new Int32Array(n)
+  for (let i = 0; i < n; i++) root[i] = i
+  const find = (i: number): number => {
+    while (root[i] !== i) {
+      root[i] = root[root[i]]
+      i = root[i]
+    }
+    return i
+  }
+  for (let k = 0; k + 2 < tris.length; k += 3) {
+    const a = find(tris[k]), b = find(tris[k + 1]), c = find(tris[k + 2])
+    const m = a < b ? (a < c ? a : c) : b < c ? b : c
+    root[a] = m
+    root[b] = m
+    root[c] = m
+  }
+  const pieces = new Int32Array(n)
+  let count = 0
+  for (let i = 0; i < n; i++) {
+    if (unused !== null && unused[i] === 1) continue // (piece 0; the guard skips them)
+    const r = find(i)
+    pieces[i] = r === i ? count++ : pieces[r]
+  }
+  return count > 1 ? { pieces, pieceCount: count } : { pieces: null, pieceCount: 1 }
+}
+
+/** 1 for each vertex no triangle uses, or null when every vertex is used (see `ClothTopology.unused`). */
+function unusedVertices(tris: Uint32Array, n: number): Uint8Array | null {
+  const unused = new Uint8Array(n).fill(1)
+  for (let k = 0; k < tris.length; k++) unused[tris[k]] = 0
+  for (let i = 0; i < n; i++) if (unused[i] === 1) return unused
+  return null
+}
+
 /**
  * Masses from areal density: each triangle gives a third of its mass to each corner. A particle
  * with tiny or no adjacent area would get a tiny mass and an extreme mass ratio with its
- * neighbours, which Gauss-Seidel handles badly, so masses are clamped to at least 10 % of the mean.
+ * neighbours, which Gauss-Seidel handles badly, so masses are clamped to at least 10 % of the mean
+ * (over the vertices triangles use; a vertex no triangle uses gets 0: it is no part of the cloth).
  */
-function particleMasses(rest: Float64Array, tris: Uint32Array, areas: Float64Array, density: number): Float64Array {
+function particleMasses(rest: Float64Array, tris: Uint32Array, areas: Float64Array, density: number, unused: Uint8Array | null): Float64Array {
   const n = (rest.length / 3) | 0
   const mass = new Float64Array(n)
   for (let t = 0; t < areas.length; t++) {
@@ -204,19 +244,23 @@ function particleMasses(rest: Float64Array, tris: Uint32Array, areas: Float64Arr
     mass[tris[3 * t + 1]] += share
     mass[tris[3 * t + 2]] += share
   }
-  let total = 0
-  for (let i = 0; i < n; i++) total += mass[i]
-  const floor = total > 0 ? (0.1 * total) / n : density * 1e-4
-  for (let i = 0; i < n; i++) if (mass[i] < floor) mass[i] = floor
+  let total = 0, used = 0
+  for (let i = 0; i < n; i++) {
+    if (unused !== null && unused[i] === 1) continue
+    total += mass[i]
+    used++
+  }
+  const floor = total > 0 ? (0.1 * total) / used : density * 1e-4
+  for (let i = 0; i < n; i++) if (mass[i] < floor && (unused === null || unused[i] === 0)) mass[i] = floor
   return mass
 }
 
 /**
  * Per-particle sweep level: breadth-first distance (in edges) from `from`, or, by default, height
- * bands of one mean edge length counted down from the highest particle. Particles not reached get
- * the largest level.
+ * bands of one mean edge length counted down from the highest particle a triangle uses. Particles
+ * not reached get the largest level.
  */
-function particleLevels(rest: Float64Array, n: number, mesh: MeshInfo, from?: ArrayLike<number>): Int32Array {
+function particleLevels(rest: Float64Array, n: number, mesh: MeshInfo, unused: Uint8Array | null, from?: ArrayLike<number>): Int32Array {
   const level = new Int32Array(n)
   if (from && from.length > 0) {
     const adjStart = new Int32Array(n + 1)
@@ -258,7 +302,7 @@ function particleLevels(rest: Float64Array, n: number, mesh: MeshInfo, from?: Ar
     return level
   }
   let top = -Infinity
-  for (let i = 0; i < n; i++) top = Math.max(top, rest[3 * i + 1])
+  for (let i = 0; i < n; i++) if (unused === null || unused[i] === 0) top = Math.max(top, rest[3 * i + 1])
   let sum = 0
   for (let e = 0; e < mesh.edgeCount; e++) sum += dist(rest, mesh.edges[2 * e], mesh.edges[2 * e + 1])
   const band = mesh.edgeCount > 0 && sum > 0 ? (sum / mesh.edgeCount) * 0.5 : 1

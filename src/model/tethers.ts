@@ -98,6 +98,25 @@ export function buildTethers(
   return out
 }
 
+/**
+ * A tether set rebuilt while the cloth moves (pins added or released, tears) starts no tighter than
+ * the cloth is: a tether whose particle is farther from its anchor now than its rest length gets
+ * the current distance instead. A tether is a hard one-sided limit, so a violated one would pull
+ * its particle back within one substep, and that displacement becomes velocity: a pin toggled every
+ * frame on a moving cape (tethers rebuilt each time, some to the new anchor) threw its hem about at
+ * 6-8 m/s. Tethers tighten back to rest at the next rebuild that finds the cloth relaxed.
+ */
+export function loosenTethers(set: TetherSet, pos: Float64Array): void {
+  const { particle, anchor, rest } = set
+  for (let q = 0; q < set.count; q++) {
+    const i = 3 * particle[q], a = 3 * anchor[q]
+    const dx = pos[i] - pos[a], dy = pos[i + 1] - pos[a + 1], dz = pos[i + 2] - pos[a + 2]
+    const d = Math.sqrt(dx * dx + dy * dy + dz * dz)
+    // (a margin: on an undeformed cloth the distance may differ from the rest length in the last bit)
+    if (d > rest[q] * (1 + 1e-9)) rest[q] = d
+  }
+}
+
 function distance(p: ArrayLike<number>, a: number, b: number): number {
   const x = p[3 * b] - p[3 * a], y = p[3 * b + 1] - p[3 * a + 1], z = p[3 * b + 2] - p[3 * a + 2]
   return Math.sqrt(x * x + y * y + z * z)

@@ -38,8 +38,25 @@ export interface ClothTopology {
   readonly particleCount: number
   /** Rest positions, xyz interleaved, m. */
   readonly restPositions: Float64Array
-  /** Particle masses, kg (area-weighted from the material density, clamped against tiny triangles). */
+  /**
+   * Particle masses, kg (area-weighted from the material density, clamped against tiny triangles);
+   * 0 for vertices no triangle uses.
+   */
   readonly masses: Float64Array
+  /**
+   * 1 for each vertex no triangle uses (common in exported meshes), null when every vertex is used.
+   * Such a vertex is no part of the cloth: it keeps its place (inverse mass 0, never integrated),
+   * has no constraints, collides with nothing, and is left out of every bounds, the guard's, the
+   * sleep test's and the budget's. Rigid moves of the whole cloth (teleports) carry it along.
+   */
+  readonly unused: Uint8Array | null
+  /**
+   * Connected piece of each vertex (numbered from 0 in vertex order; unused vertices count as piece
+   * 0), or null when the triangles form one piece. A mesh of several pieces (a cape and a separate
+   * tassel) has its guard bounds measured per piece, like a torn cloth.
+   */
+  readonly pieces: Int32Array | null
+  readonly pieceCount: number
   /** Triangle vertex indices, 3 per triangle, counter-clockwise seen from the front. */
   readonly triangles: Uint32Array
   readonly triangleCount: number

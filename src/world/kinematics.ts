@@ -1,5 +1,5 @@
-import { ClothError, MAX_COORDINATE } from '../core/errors'
-import { multiplyQuatAt, relativeRotationAt } from '../core/math'
+import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../core/errors'
+import { multiplyQuatAt, normalizeQuatAt, relativeRotationAt } from '../core/math'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
 
 export { K_SINCE_SAMPLE, K_STEP_FRACTION }
@@ -14,6 +14,7 @@ export { K_SINCE_SAMPLE, K_STEP_FRACTION }
 export function createKinematics(): Kinematics {
   return {
     slotOf: new Int32Array(64).fill(-1),
+    generation: new Uint32Array(64),
     eid: new Int32Array(0),
     refs: new Int32Array(0),
     count: 0,
@@ -22,6 +23,10 @@ export function createKinematics(): Kinematics {
     sampleTo: new Float64Array(0),
     stepFrom: new Float64Array(0),
     stepTo: new Float64Array(0),
+    scaleSampleFrom: new Float64Array(0),
+    scaleSampleTo: new Float64Array(0),
+    scaleStepFrom: new Float64Array(0),
+    scaleStepTo: new Float64Array(0),
     jumped: new Uint8Array(0),
     moved: new Uint8Array(0),
     forceJump: new Uint8Array(0),
@@ -33,6 +38,7 @@ export function createKinematics(): Kinematics {
 }
 
 const pose = new Float64Array(7)
+const scale = new Float64Array(3)
 
 /**
  * Starts tracking `eid` (or adds a reference) and returns its slot. A new slot starts at rest at
@@ -61,6 +67,7 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
   k.moved[slot] = 0
   k.forceJump[slot] = 0
   readPoseInto(state, eid, pose)
+  readScaleInto(state, eid, scale, 0)
   const o = 7 * slot
   for (let j = 0; j < 7; j++) {
     k.sampleFrom[o + j] = pose[j]
@@ -68,7 +75,31 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
     k.stepFrom[o + j] = pose[j]
     k.stepTo[o + j] = pose[j]
   }
+  for (let j = 0; j < 3; j++) {
+    k.scaleSampleFrom[3 * slot + j] = scale[j]
+    k.scaleSampleTo[3 * slot + j] = scale[j]
+    k.scaleStepFrom[3 * slot + j] = scale[j]
+    k.scaleStepTo[3 * slot + j] = scale[j]
+  }
   return slot
+}
+
+/** Called when `eid` loses its transform (see `Kinematics.generation`). */
+export function transformLost(state: ClothWorldState, eid: number): void {
+  const k = state.kinematics
+  if (eid >= k.generation.length) {
+    let n = k.generation.length
+    while (n <= eid) n *= 2
+    const grown = new Uint32Array(n)
+    grown.set(k.generation)
+    k.generation = grown
+  }
+  k.generation[eid]++
+}
+
+/** `Kinematics.generation` of an entity id (0 for an id never seen to lose its transform). */
+export function transformGeneration(k: Kinematics, eid: number): number {
+  return eid < k.generation.length ? k.generation[eid] : 0
 }
 
 /** Drops a reference to `eid`'s slot; the slot is freed when nothing uses it. */
@@ -95,6 +126,10 @@ function growSlots(k: Kinematics, n: number): void {
   k.sampleTo = grow(k.sampleTo, 7)
   k.stepFrom = grow(k.stepFrom, 7)
   k.stepTo = grow(k.stepTo, 7)
+  k.scaleSampleFrom = grow(k.scaleSampleFrom, 3)
+  k.scaleSampleTo = grow(k.scaleSampleTo, 3)
+  k.scaleStepFrom = grow(k.scaleStepFrom, 3)
+  k.scaleStepTo = grow(k.scaleStepTo, 3)
   k.jumped = grow(k.jumped, 1)
   k.moved = grow(k.moved, 1)
   k.forceJump = grow(k.forceJump, 1)
@@ -103,23 +138,39 @@ function growSlots(k: Kinematics, n: number): void {
 
 /**
  * Reads an entity's pose from the transform source, normalising the rotation. A non-finite value
- * would poison every cloth it touches, so it is rejected here, where transforms enter the solver.
+ * would poison every cloth it touches, so it is rejected here, where transforms enter the solver:
+ * any component NaN or ±∞, or the position beyond ±MAX_COORDINATE. A rotation is any other
+ * quaternion, normalised without overflow however large its components (all zero: identity).
  */
 export function readPoseInto(state: ClothWorldState, eid: number, out: Float64Array): void {
   const t = state.transforms
   const px = t.px[eid], py = t.py[eid], pz = t.pz[eid]
-  let qx = t.qx[eid], qy = t.qy[eid], qz = t.qz[eid], qw = t.qw[eid]
-  if (!Number.isFinite(px + py + pz + qx + qy + qz + qw) || !(Math.abs(px) <= MAX_COORDINATE && Math.abs(py) <= MAX_COORDINATE && Math.abs(pz) <= MAX_COORDINATE)) {
+  const qx = t.qx[eid], qy = t.qy[eid], qz = t.qz[eid], qw = t.qw[eid]
+  // x − x is 0 for a finite x and NaN otherwise (a plain sum could overflow to ∞ for huge finite ones)
+  const finite = px - px + (py - py) + (pz - pz) + (qx - qx) + (qy - qy) + (qz - qz) + (qw - qw) === 0
+  if (!finite || !(Math.abs(px) <= MAX_COORDINATE && Math.abs(py) <= MAX_COORDINATE && Math.abs(pz) <= MAX_COORDINATE)) {
     throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], `must be finite, the position within ±${MAX_COORDINATE} m`)
-  }
-  const l = Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
-  if (l > 1e-12) {
-    qx /= l; qy /= l; qz /= l; qw /= l
-  } else {
-    qx = 0; qy = 0; qz = 0; qw = 1
   }
   out[0] = px; out[1] = py; out[2] = pz
   out[3] = qx; out[4] = qy; out[5] = qz; out[6] = qw
+  normalizeQuatAt(out, 3)
+}
+
+/**
+ * Reads an entity's scale into out[o..o+2]. Per axis: 1 where the source has no scale, and where
+ * the value is not finite and > 0 (a host scale of 0 for a hidden object counts as 1); a finite
+ * scale above MAX_SCALE is rejected, as a position beyond MAX_COORDINATE is (it would carry
+ * offsets out of the range where squared lengths stay finite).
+ */
+export function readScaleInto(state: ClothWorldState, eid: number, out: Float64Array, o: number): void {
+  const t = state.transforms
+  const sx = t.sx ? t.sx[eid] : 1, sy = t.sy ? t.sy[eid] : 1, sz = t.sz ? t.sz[eid] : 1
+  out[o] = sx > 0 && sx < Infinity ? sx : 1
+  out[o + 1] = sy > 0 && sy < Infinity ? sy : 1
+  out[o + 2] = sz > 0 && sz < Infinity ? sz : 1
+  if (out[o] > MAX_SCALE || out[o + 1] > MAX_SCALE || out[o + 2] > MAX_SCALE) {
+    throw new ClothError(`transform of entity ${eid}`, [sx, sy, sz], `must have a scale of at most ${MAX_SCALE} (one that is not finite and > 0 counts as 1)`)
+  }
 }
 
 /**
@@ -137,11 +188,23 @@ export function sampleFrame(state: ClothWorldState): void {
   const limit2 = state.teleportDistance * state.teleportDistance
   const span = k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep
   const ratio = span / state.fixedTimeStep
+  // every transform is checked before any is taken: a rejected one leaves the sample untouched
+  for (let slot = 0; slot < k.count; slot++) {
+    const eid = k.eid[slot]
+    if (eid < 0) continue
+    readPoseInto(state, eid, pose)
+    readScaleInto(state, eid, scale, 0)
+  }
   for (let slot = 0; slot < k.count; slot++) {
     const eid = k.eid[slot]
     k.jumped[slot] = 0
     if (eid < 0) continue
     readPoseInto(state, eid, pose)
+    const so = 3 * slot
+    k.scaleSampleFrom[so] = k.scaleSampleTo[so]
+    k.scaleSampleFrom[so + 1] = k.scaleSampleTo[so + 1]
+    k.scaleSampleFrom[so + 2] = k.scaleSampleTo[so + 2]
+    readScaleInto(state, eid, k.scaleSampleTo, so)
     const o = 7 * slot
     // where the last step's velocity would have carried the entity by now
     const ex = k.sampleTo[o] + (k.stepTo[o] - k.stepFrom[o]) * ratio
@@ -190,6 +253,7 @@ function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: numbe
  */
 export function beginKinematicStep(k: Kinematics): void {
   if (!k.framed) k.time[K_STEP_FRACTION] = 1
+  const f = k.time[K_STEP_FRACTION]
   for (let slot = 0; slot < k.count; slot++) {
     if (k.eid[slot] < 0) continue
     const o = 7 * slot
@@ -197,8 +261,33 @@ export function beginKinematicStep(k: Kinematics): void {
     interpolatePose(k.sampleFrom, k.sampleTo, o, k.time, K_STEP_FRACTION, k.stepTo, o)
     let moved = k.jumped[slot]
     for (let c = 0; c < 7 && moved === 0; c++) if (k.stepFrom[o + c] !== k.stepTo[o + c]) moved = 1
+    const so = 3 * slot
+    for (let c = 0; c < 3; c++) {
+      k.scaleStepFrom[so + c] = k.scaleStepTo[so + c]
+      const a = k.scaleSampleFrom[so + c], b = k.scaleSampleTo[so + c]
+      k.scaleStepTo[so + c] = f >= 1 ? b : a + (b - a) * f
+      if (k.scaleStepFrom[so + c] !== k.scaleStepTo[so + c]) moved = 1
+    }
     k.moved[slot] = moved
   }
+}
+
+/**
+ * Scale at fraction t[ti] of the current fixed step of the slot at `so` (3 × slot) into
+ * out[oo..oo+2]: linear between its scale at the step's start and end; f ≥ 1 gives the end exactly.
+ */
+export function interpolateScale(k: Kinematics, so: number, t: Float64Array, ti: number, out: Float64Array, oo: number): void {
+  const f = t[ti]
+  const a = k.scaleStepFrom, b = k.scaleStepTo
+  if (f >= 1) {
+    out[oo] = b[so]
+    out[oo + 1] = b[so + 1]
+    out[oo + 2] = b[so + 2]
+    return
+  }
+  out[oo] = a[so] + (b[so] - a[so]) * f
+  out[oo + 1] = a[so + 1] + (b[so + 1] - a[so + 1]) * f
+  out[oo + 2] = a[so + 2] + (b[so + 2] - a[so + 2]) * f
 }
 
 /**
@@ -252,6 +341,40 @@ export function saveSlot(k: Kinematics, slot: number, out: Float64Array, e: numb
   for (let j = 0; j < 10; j++) out[e + 28 + j] = k.jump[10 * slot + j]
   out[e + 38] = k.jumped[slot]
   out[e + 39] = k.forceJump[slot]
+}
+
+/** Values saved per tracked entity by `saveSlotScale`: its scale at the two frame samples and the step's ends (3 each). */
+export const SLOT_SCALE_DATA = 12
+
+/** Copies a slot's scale history into out[e..e + SLOT_SCALE_DATA) (snapshots). */
+export function saveSlotScale(k: Kinematics, slot: number, out: Float64Array, e: number): void {
+  const o = 3 * slot
+  for (let j = 0; j < 3; j++) {
+    out[e + j] = k.scaleSampleFrom[o + j]
+    out[e + 3 + j] = k.scaleSampleTo[o + j]
+    out[e + 6 + j] = k.scaleStepFrom[o + j]
+    out[e + 9 + j] = k.scaleStepTo[o + j]
+  }
+}
+
+/**
+ * Puts a slot's scale history back from from[e..e + SLOT_SCALE_DATA), or, with `from` null (a
+ * snapshot saved without scales), sets all four to the entity's scale now.
+ */
+export function restoreSlotScale(state: ClothWorldState, slot: number, from: Float64Array | null, e: number): void {
+  const k = state.kinematics
+  const o = 3 * slot
+  if (from === null) {
+    readScaleInto(state, k.eid[slot], scale, 0)
+    for (let j = 0; j < 3; j++) k.scaleSampleFrom[o + j] = k.scaleSampleTo[o + j] = k.scaleStepFrom[o + j] = k.scaleStepTo[o + j] = scale[j]
+    return
+  }
+  for (let j = 0; j < 3; j++) {
+    k.scaleSampleFrom[o + j] = from[e + j]
+    k.scaleSampleTo[o + j] = from[e + 3 + j]
+    k.scaleStepFrom[o + j] = from[e + 6 + j]
+    k.scaleStepTo[o + j] = from[e + 9 + j]
+  }
 }
 
 /** Puts a slot's motion history back from from[e..e + SLOT_DATA) (snapshots). */

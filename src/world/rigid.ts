@@ -1,4 +1,4 @@
-import { quatToMatrix } from '../core/math'
+import { quatToMatrix, relativeRotationAt } from '../core/math'
 import type { ClothState } from './state'
 
 /** Scratch of moveClothRigidly: the rotation matrix in [0, 9), the quaternion in [9, 13). */
@@ -39,4 +39,30 @@ export function moveClothRigidly(
     vel[i + 2] = m20 * x + m21 * y + m22 * z
   }
   c.version++
+}
+
+/** Rotation scratch of carryFrozen. */
+const CARRY = new Float64Array(4)
+
+/**
+ * A frozen cloth hangs from its pins all the same (see `features/budget/freeze.ts`): this brings it
+ * to where its reference pin's target has carried it since the freeze (or the last carry), rigidly,
+ * from the target's pose `refPose` to its pose in `poses` (`stepTo`: now, between steps;
+ * `stepFrom`: the start of the step, in the sync phase), which becomes the new `refPose`. Called
+ * before anything relies on where a frozen cloth is: a thaw, a pin added or removed, a teleport.
+ * Returns whether the cloth moved.
+ */
+export function carryFrozen(c: ClothState, poses: Float64Array): boolean {
+  const lod = c.budget
+  if (!lod.frozen || lod.refPin < 0) return false
+  const ref = lod.refPose
+  const o = 7 * lod.refSlot
+  // R = q_now · q_ref⁻¹ about the old position, then to the new one
+  relativeRotationAt(poses, o + 3, ref, 3, CARRY, 0)
+  const rx = CARRY[0], ry = CARRY[1], rz = CARRY[2], rw = CARRY[3]
+  const dx = poses[o] - ref[0], dy = poses[o + 1] - ref[1], dz = poses[o + 2] - ref[2]
+  if (dx === 0 && dy === 0 && dz === 0 && rx === 0 && ry === 0 && rz === 0) return false
+  moveClothRigidly(c, ref[0], ref[1], ref[2], rx, ry, rz, rw, poses[o], poses[o + 1], poses[o + 2])
+  for (let j = 0; j < 7; j++) ref[j] = poses[o + j]
+  return true
 }

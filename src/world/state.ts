@@ -130,6 +130,11 @@ export interface ClothTethers {
   perParticle: number
   /** Rebuild at the next step (pins changed, settings changed, the cloth tore). */
   dirty: boolean
+  /**
+   * The rebuild follows a change of pins or settings: its tethers start no tighter than the cloth
+   * is (`loosenTethers`). Not after tears alone.
+   */
+  loosen: boolean
 }
 
 /** Render buffers of a cloth (`ClothState.render`): float32, sized for the particle/triangle capacity. */
@@ -292,13 +297,20 @@ export interface ClothMesh {
  * A frame of variable length runs 0, 1 or several fixed steps; interpolating by time gives every
  * step exactly the motion of its own time slice, so pins do not jerk at frame rate.
  *
- * Poses are px py pz qx qy qz qw (stride 7). Per slot:
+ * Poses are px py pz qx qy qz qw (stride 7), scales sx sy sz (stride 3). Per slot:
  * - `sampleFrom`, `sampleTo`: the target's pose at the previous and at the current frame sample;
- * - `stepFrom`, `stepTo`: its pose at the start and end of the current fixed step.
+ * - `stepFrom`, `stepTo`: its pose at the start and end of the current fixed step;
+ * - `scaleSampleFrom` … `scaleStepTo`: its scale at the same four times (interpolated linearly).
  */
 export interface Kinematics {
   /** Slot of each entity id, −1 when untracked (grown on demand). */
   slotOf: Int32Array
+  /**
+   * Per entity id: how many times an entity with this id lost its transform (removed, or its
+   * transform component taken away), grown on demand. bitECS reuses ids, so a snapshot compares it
+   * to tell the pin target it saved from another entity that got the id since.
+   */
+  generation: Uint32Array
   /** Entity of each slot, −1 when free. */
   eid: Int32Array
   /** Pins/colliders using each slot. */
@@ -311,9 +323,13 @@ export interface Kinematics {
   sampleTo: Float64Array
   stepFrom: Float64Array
   stepTo: Float64Array
+  scaleSampleFrom: Float64Array
+  scaleSampleTo: Float64Array
+  scaleStepFrom: Float64Array
+  scaleStepTo: Float64Array
   /** 1 when the entity jumped (teleported) at the current frame sample. */
   jumped: Uint8Array
-  /** 1 when the entity's pose changes during the current fixed step (or it jumped): wakes sleepers. */
+  /** 1 when the entity's pose or scale changes during the current fixed step (or it jumped): wakes sleepers. */
   moved: Uint8Array
   /** 1 to treat the next sample as a jump whatever its distance (set by teleportCloth). */
   forceJump: Uint8Array

@@ -1,17 +1,18 @@
 import { addComponent, entityExists, hasComponent } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, checkPoint, checkQuat, checkVec3, isArrayLike } from '../core/errors'
+import { ClothError, MAX_SCALE, checkPoint, checkQuat, checkVec3, isArrayLike } from '../core/errors'
 import { normalizeQuat } from '../core/math'
 import { getClothWorld } from './access'
 import { growStores } from './capacity'
-import type { ClothWorldState } from './state'
+import type { TransformSource } from './state'
 
 type Writable = { [i: number]: number }
 
 /**
- * Writes an entity's world transform (adding the Transform component if it has none), for hosts
+ * Writes an entity's world transform (adding the transform component if it has none), for hosts
  * that do not write the stores themselves. The rotation is normalised; position and rotation must
- * be finite. With host transform stores (`installClothPlugin({ transforms })`), writes into those.
+ * be finite. With host transform stores (`installClothPlugin({ transforms })`), writes into those
+ * (adding the host's component, with an identity transform, to an entity that lacks it).
  */
 export function setTransform(
   world: object,
@@ -26,17 +27,26 @@ export function setTransform(
   if (rotation !== undefined) checkQuat('rotation', rotation)
   if (scale !== undefined) {
     checkVec3('scale', scale)
-    for (let i = 0; i < 3; i++) if (!(scale[i] > 0) || scale[i] > 1e6) throw new ClothError('scale', scale, 'must be positive (at most 1e6)')
-  }
-  const src = state.transforms
-  if (!hasComponent(world as never, eid, src.component)) {
-    if (src.component !== state.components.Transform) {
-      throw new ClothError('eid', eid, 'has no transform component of the host engine')
-    }
-    growStores(state, eid)
-    addComponent(world as never, eid, state.components.Transform)
+    for (let i = 0; i < 3; i++) if (!(scale[i] > 0) || scale[i] > MAX_SCALE) throw new ClothError('scale', scale, `must be positive (at most ${MAX_SCALE})`)
   }
   const t = state.transforms
+  const own = t.component === state.components.Transform
+  if (!own) checkHostRoom(t, eid)
+  if (!hasComponent(world as never, eid, t.component)) {
+    if (own) {
+      growStores(state, eid)
+      addComponent(world as never, eid, state.components.Transform) // (its observer writes the identity)
+    } else {
+      addComponent(world as never, eid, t.component)
+      // bitECS never clears data: an earlier entity with this id may have left its transform
+      const w = t as unknown as Record<string, Writable | undefined>
+      for (const key of ['px', 'py', 'pz', 'qx', 'qy', 'qz', 'sx', 'sy', 'sz']) {
+        const arr = w[key]
+        if (arr) arr[eid] = key[0] === 's' ? 1 : 0
+      }
+      ;(t.qw as Writable)[eid] = 1
+    }
+  }
   ;(t.px as Writable)[eid] = position[0]
   ;(t.py as Writable)[eid] = position[1]
   ;(t.pz as Writable)[eid] = position[2]
@@ -52,6 +62,15 @@ export function setTransform(
     ;(t.sx as Writable)[eid] = scale[0]
     ;(t.sy as Writable)[eid] = scale[1]
     ;(t.sz as Writable)[eid] = scale[2]
+  }
+}
+
+/** Throws ClothError unless every typed array of host transform stores has an entry for `eid` (writes past the end would be dropped). */
+function checkHostRoom(t: TransformSource, eid: number): void {
+  for (const arr of [t.px, t.py, t.pz, t.qx, t.qy, t.qz, t.qw, t.sx, t.sy, t.sz]) {
+    if (arr !== undefined && ArrayBuffer.isView(arr) && eid >= arr.length) {
+      throw new ClothError('eid', eid, `does not fit the host's transform arrays (length ${arr.length}); grow them first`)
+    }
   }
 }
 
@@ -79,18 +98,6 @@ export function getTransform(world: object, eid: number, outPosition?: vec3 | Wr
     outRotation[3] = t.qw[eid]
   }
   return true
-}
-
-/**
- * Scale of an entity's transform along an axis: used when finite and > 0, else 1 (also where the
- * source has no scale). Pin placement and collider poses apply the same rule inline per substep.
- */
-export function readScale(state: ClothWorldState, eid: number, axis: 0 | 1 | 2): number {
-  const t = state.transforms
-  const arr = axis === 0 ? t.sx : axis === 1 ? t.sy : t.sz
-  if (!arr) return 1
-  const s = arr[eid]
-  return s > 0 && s < Infinity ? s : 1
 }
 
 /** Throws ClothError unless `eid` is a live entity of `world`. */

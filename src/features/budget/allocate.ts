@@ -113,7 +113,7 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
     lod.priority = 1 / (1 + (d / b.near) * (d / b.near))
     const freeze = (b.freezeInvisible && !lod.visible) || d > b.cull
     if (freeze && !lod.frozen) freezeCloth(state, c)
-    else if (!freeze && lod.frozen) thaw(state, c)
+    else if (!freeze && lod.frozen) thaw(state, c, state.kinematics.stepFrom)
     // distance: full quality within `near`, substeps scaled by near/d beyond, the floor past `far`
     const top = topLevel(c)
     let level = top
@@ -210,14 +210,14 @@ function measureCentre(state: ClothWorldState, c: ClothState): void {
   if (lod.frozen) {
     const k = state.kinematics
     const slot = lod.refSlot
-    if (slot >= 0 && k.eid[slot] === lod.refEntity) {
+    if (lod.refPin >= 0) {
       const o = 7 * slot
       // centre moved by the target's translation since the freeze (rotation ignored: an estimate)
       for (let a = 0; a < 3; a++) centre[a] = lod.frozenCentre[a] + k.stepTo[o + a] - lod.refPose[a]
-    }
+    } else centre.set(lod.frozenCentre)
     return
   }
   const box = lod.measure
-  particleBounds(c.pos, c.count, box, 0)
+  particleBounds(c.pos, c.count, box, 0, c.topology.unused)
   for (let a = 0; a < 3; a++) centre[a] = 0.5 * (box[a] + box[a + 3])
 }

@@ -1,10 +1,10 @@
-import { hasComponent, observe, onRemove } from 'bitecs'
+import { hasComponent, observe, onAdd, onRemove } from 'bitecs'
 import { ClothError, checkInteger, checkObject, checkPositive } from '../../core/errors'
 import { getCloth, getClothWorld } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
-import { thaw } from './freeze'
+import { adoptReference, releaseReference, thaw } from './freeze'
 import { applyConfig, configCost } from './levels'
 import { Q_FACTOR, Q_MEASURED, Q_PREDICTED, type BudgetWorld, type ClothBudget } from './types'
 
@@ -30,8 +30,8 @@ import { Q_FACTOR, Q_MEASURED, Q_PREDICTED, type BudgetWorld, type ClothBudget }
  * higher level does do is pull in the stretch the lower one let build up; levels therefore rise
  * one rung per allocation, which keeps every change below the cloth's own motion (measured in
  * tests/budget.test.ts). A frozen cloth that thaws is first carried rigidly along
- * with its pin target's motion since it froze (like a teleport), so a cape on a character that
- * walked on meanwhile is not yanked.
+ * with the motion of a pin target it still hangs from (like a teleport), so a cape on a character
+ * that walked on meanwhile is not yanked (see `freeze.ts`).
  *
  * The cost model: time per fixed step of a cloth = substeps/stepEvery × (particles × a +
  * iterations × projections × b + tethers × 0.6 b + particles × colliders in range × c + d), where
@@ -159,7 +159,7 @@ export function createClothBudget(substeps: number, iterations: number): ClothBu
     priority: 1,
     centre: new Float64Array(3),
     frozenCentre: new Float64Array(3),
-    refEntity: -1,
+    refPin: -1,
     refSlot: -1,
     refPose: new Float64Array(7),
     measure: new Float64Array(7),
@@ -215,7 +215,7 @@ export function configureBudget(world: object, options: ClothBudgetOptions | nul
     q.settings = null
     for (let ci = 0; ci < state.cloths.length; ci++) {
       const c = state.cloths[ci]
-      if (c.budget.frozen) thaw(state, c)
+      if (c.budget.frozen) thaw(state, c, state.kinematics.stepTo) // (between steps)
       c.budget.level = c.budget.applied = -1
       applyConfig(state, c, c.budget.wantSubsteps, c.budget.wantIterations, 1)
     }
@@ -303,10 +303,15 @@ export function getClothBudgetStats(world: object): ClothBudgetStats {
   return { predictedMs: t[Q_PREDICTED] * t[Q_FACTOR] * 1e-6, measuredMs: t[Q_MEASURED], correction: t[Q_FACTOR] }
 }
 
-/** Registers the budget's observer (called by `installClothPlugin`): a viewer that loses its Transform is dropped. */
+/**
+ * Registers the budget's observers (called by `installClothPlugin`): a viewer that loses its
+ * Transform is dropped; pins that come and go change what carries a frozen cloth (see `freeze.ts`).
+ */
 export function installBudget(world: object, state: ClothWorldState): void {
   observe(world as never, onRemove(state.transforms.component), (eid: number) => {
     const b = state.budget.settings
     if (b !== null && b.viewer === eid) b.viewer = -1
   })
+  observe(world as never, onAdd(state.components.Pin), (pin: number) => adoptReference(state, pin))
+  observe(world as never, onRemove(state.components.Pin), (pin: number) => releaseReference(state, pin))
 }

@@ -1,48 +1,82 @@
-import { relativeRotationAt } from '../../core/math'
-import { moveClothRigidly } from '../../world/rigid'
+import { particleBounds } from '../../kernels/mesh'
+import { carryFrozen } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 
 /**
- * Freezes a cloth: it keeps its state (velocities too) and is skipped by every phase. The pose of
- * its first pin target is remembered, to carry the cloth along when it thaws.
+ * Freezing. A frozen cloth keeps its state (velocities too) and is skipped by every phase. It
+ * hangs from its pins all the same: it is carried rigidly by the motion of one of them (the
+ * reference pin) since the freeze, when it thaws or before its pins change (`carryFrozen`), so a
+ * cape on a character that walked on meanwhile is not yanked. Only a live pin counts: when the
+ * reference pin goes (unpinned, or its target removed, whose id another entity may then reuse),
+ * the cloth is carried by the motion until then (it hung from that target until then) and another
+ * pin with a target becomes the reference, from its target's pose now; with none left the cloth
+ * stays where it was let go, and a pin added later becomes the reference.
  */
+
+/** Freezes a cloth, taking its first pin with a target as the reference. */
 export function freezeCloth(state: ClothWorldState, c: ClothState): void {
   const lod = c.budget
   lod.frozen = true
-  lod.refSlot = -1
-  lod.refEntity = -1
   lod.frozenCentre.set(lod.centre)
+  pickReference(state, c, -1)
+}
+
+/**
+ * Thaws a frozen cloth, carried rigidly by its reference pin's target since the freeze, to the
+ * target's pose in `poses`: `stepFrom` in the sync phase (where the pins start this step from),
+ * `stepTo` between steps (the simulation's now).
+ */
+export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array): void {
+  const lod = c.budget
+  if (carryFrozen(c, poses)) wakeClothState(state, c)
+  lod.frozen = false
+  lod.phase = 0
+  lod.refPin = -1
+  lod.refSlot = -1
+}
+
+/** Called when a pin is added: a frozen cloth without a reference takes it (when it has a target). */
+export function adoptReference(state: ClothWorldState, pin: number): void {
+  const c = state.components.Cloth.state[state.components.Pin.cloth[pin]]
+  if (!c || !c.budget.frozen || c.budget.refPin >= 0) return
+  const slot = state.components.Pin.slot[pin]
+  if (slot >= 0) setReference(state, c, pin, slot)
+}
+
+/**
+ * Called when a pin goes away (after the pins feature has released it): if it was a frozen cloth's
+ * reference, the cloth is carried by its target's motion until now and another pin takes over.
+ */
+export function releaseReference(state: ClothWorldState, pin: number): void {
+  const c = state.components.Cloth.state[state.components.Pin.cloth[pin]]
+  if (!c || !c.budget.frozen || c.budget.refPin !== pin) return
+  // between steps: the target's pose at the end of the last step (its slot may just have been
+  // freed, with the pose still in it)
+  if (carryFrozen(c, state.kinematics.stepTo)) {
+    particleBounds(c.pos, c.count, c.budget.measure, 0, c.topology.unused)
+    for (let a = 0; a < 3; a++) c.budget.frozenCentre[a] = 0.5 * (c.budget.measure[a] + c.budget.measure[a + 3])
+  }
+  pickReference(state, c, pin)
+}
+
+/** The cloth's first pin with a target (other than `except`) becomes the reference, from its target's pose now. */
+function pickReference(state: ClothWorldState, c: ClothState, except: number): void {
+  c.budget.refPin = -1
+  c.budget.refSlot = -1
   const P = state.components.Pin
-  const k = state.kinematics
   const pins = c.pins.list
   for (let q = 0; q < pins.length; q++) {
     const slot = P.slot[pins[q]]
-    if (slot < 0) continue
-    lod.refSlot = slot
-    lod.refEntity = k.eid[slot]
-    for (let j = 0; j < 7; j++) lod.refPose[j] = k.stepTo[7 * slot + j]
-    break
+    if (slot < 0 || pins[q] === except) continue
+    setReference(state, c, pins[q], slot)
+    return
   }
 }
 
-/** Thaws a frozen cloth, carried rigidly by its reference target's motion since the freeze. */
-export function thaw(state: ClothWorldState, c: ClothState): void {
+function setReference(state: ClothWorldState, c: ClothState, pin: number, slot: number): void {
   const lod = c.budget
-  lod.frozen = false
-  lod.phase = 0
-  const k = state.kinematics
-  const slot = lod.refSlot
-  lod.refSlot = -1
-  if (slot < 0 || k.eid[slot] !== lod.refEntity) return
-  const ref = lod.refPose
-  const o = 7 * slot
-  // R = q_now · q_ref⁻¹ about the old position, then to the new one (the pose the pins start from)
-  const r = lod.measure
-  relativeRotationAt(k.stepFrom, o + 3, ref, 3, r, 0)
-  const rx = r[0], ry = r[1], rz = r[2], rw = r[3]
-  const dx = k.stepFrom[o] - ref[0], dy = k.stepFrom[o + 1] - ref[1], dz = k.stepFrom[o + 2] - ref[2]
-  if (dx === 0 && dy === 0 && dz === 0 && rx === 0 && ry === 0 && rz === 0) return
-  moveClothRigidly(c, ref[0], ref[1], ref[2], rx, ry, rz, rw, k.stepFrom[o], k.stepFrom[o + 1], k.stepFrom[o + 2])
-  wakeClothState(state, c)
+  lod.refPin = pin
+  lod.refSlot = slot
+  for (let j = 0; j < 7; j++) lod.refPose[j] = state.kinematics.stepTo[7 * slot + j]
 }

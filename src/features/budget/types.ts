@@ -79,8 +79,11 @@ export interface ClothBudget {
   /** Centre of the particles' bounds at the last allocation, and where it was when the cloth froze. */
   centre: Float64Array
   frozenCentre: Float64Array
-  /** Entity, kinematic slot and pose (px py pz qx qy qz qw) of the freeze's reference target (−1: none). */
-  refEntity: number
+  /**
+   * While frozen: the reference pin (−1: none), its target's kinematic slot, and the target's pose
+   * (px py pz qx qy qz qw) when it became the reference (see `freeze.ts`).
+   */
+  refPin: number
   refSlot: number
   refPose: Float64Array
   /** Measurement scratch: the particles' bounds (6), then the largest edge strain. */

@@ -5,7 +5,7 @@ import { clearActiveColliders, reserveActiveColliders, wakeAroundCollider } from
 import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkFinite, checkInteger, checkNonNegative, checkPoint, checkPositive, checkQuat, checkVec3 } from '../../core/errors'
 import { buildConvexHull } from '../../model/hull'
 import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, F_SW, F_SWR } from '../../kernels/collide'
-import { interpolatePose, readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
+import { interpolatePose, interpolateScale, readPoseInto, readScaleInto, trackEntity, untrackEntity } from '../../world/kinematics'
 import { getClothWorld } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothWorldState } from '../../world/state'
@@ -257,7 +257,8 @@ export function getColliderPose(world: object, eid: number, outPosition?: vec3 |
   if (typeof eid !== 'number' || !hasComponent(world as never, eid, C)) return false
   const t = state.collision.poses
   readPoseInto(state, C.body[eid], t)
-  composePose(state, eid, t, 0, t, 7)
+  readScaleInto(state, C.body[eid], scales, 0)
+  composePose(state, eid, t, 0, scales, 0, t, 7)
   if (outPosition) for (let k = 0; k < 3; k++) outPosition[k] = t[7 + k]
   if (outRotation) for (let k = 0; k < 4; k++) outRotation[k] = t[10 + k]
   return true
@@ -272,18 +273,16 @@ export function getColliderHull(world: object, eid: number): Readonly<ConvexHull
 // Per-step and per-substep collider work (called by the collide phase). Scalars stay in typed
 // arrays: the helpers take only arrays and integers, so nothing is boxed.
 
-/** Collider pose from a body pose (src[so..so+6]) into out[oo..oo+6]: p = pb + qb·(s ⊙ offset), q = qb·ql. */
-function composePose(state: ClothWorldState, eid: number, src: Float64Array, so: number, out: Float64Array, oo: number): void {
+/** Scale scratch: the body's scale at two times of a step. */
+const scales = new Float64Array(6)
+
+/**
+ * Collider pose from a body pose (src[so..so+6]) and scale (scale[sco..sco+2]) into
+ * out[oo..oo+6]: p = pb + qb·(s ⊙ offset), q = qb·ql.
+ */
+function composePose(state: ClothWorldState, eid: number, src: Float64Array, so: number, scale: Float64Array, sco: number, out: Float64Array, oo: number): void {
   const C = state.collision.Collider
-  const T = state.transforms
-  const body = C.body[eid]
-  let ox = C.offset[3 * eid], oy = C.offset[3 * eid + 1], oz = C.offset[3 * eid + 2]
-  if (T.sx && T.sy && T.sz) {
-    const sx = T.sx[body], sy = T.sy[body], sz = T.sz[body]
-    if (sx > 0 && sx < Infinity) ox *= sx
-    if (sy > 0 && sy < Infinity) oy *= sy
-    if (sz > 0 && sz < Infinity) oz *= sz
-  }
+  const ox = C.offset[3 * eid] * scale[sco], oy = C.offset[3 * eid + 1] * scale[sco + 1], oz = C.offset[3 * eid + 2] * scale[sco + 2]
   const qx = src[so + 3], qy = src[so + 4], qz = src[so + 5], qw = src[so + 6]
   const tx = 2 * (qy * oz - qz * oy), ty = 2 * (qz * ox - qx * oz), tz = 2 * (qx * oy - qy * ox)
   const px = src[so] + ox + qw * tx + (qy * tz - qz * ty)
@@ -306,8 +305,8 @@ export function sweepColliderBounds(state: ClothWorldState, eid: number): void {
   const k = state.kinematics
   const t = state.collision.poses
   const so = 7 * C.slot[eid]
-  composePose(state, eid, k.stepFrom, so, t, 0)
-  composePose(state, eid, k.stepTo, so, t, 7)
+  composePose(state, eid, k.stepFrom, so, k.scaleStepFrom, 3 * C.slot[eid], t, 0)
+  composePose(state, eid, k.stepTo, so, k.scaleStepTo, 3 * C.slot[eid], t, 7)
   const sw = C.swept
   const o = 8 * eid
   const b = 4 * eid
@@ -350,9 +349,11 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
   T[1] = (k + 1) / n
   const so = 7 * C.slot[eid]
   interpolatePose(K.stepFrom, K.stepTo, so, T, 0, t, 0)
-  composePose(state, eid, t, 0, t, 14)
+  interpolateScale(K, 3 * C.slot[eid], T, 0, scales, 0)
+  composePose(state, eid, t, 0, scales, 0, t, 14)
   interpolatePose(K.stepFrom, K.stepTo, so, T, 1, t, 7)
-  composePose(state, eid, t, 7, t, 21)
+  interpolateScale(K, 3 * C.slot[eid], T, 1, scales, 3)
+  composePose(state, eid, t, 7, scales, 3, t, 21)
   f[F_PS] = t[14]; f[F_PS + 1] = t[15]; f[F_PS + 2] = t[16]
   f[F_PE] = t[21]; f[F_PE + 1] = t[22]; f[F_PE + 2] = t[23]
   quatToMatrix(t, 17, f, F_RS)

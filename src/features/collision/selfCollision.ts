@@ -124,6 +124,7 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
     start: old && old.start.length === table + 1 ? old.start : new Int32Array(table + 1),
     visited: old && old.visited.length === table + 1 ? old.visited : new Int32Array(table + 1),
     entries: old && old.entries.length === n ? old.entries : new Int32Array(n),
+    hashed: 0,
     bucket: old && old.bucket.length === n ? old.bucket : new Int32Array(n),
     sorted: old && old.sorted.length === 3 * n ? old.sorted : new Float64Array(3 * n),
     pairs: old && old.capacity === capacity ? old.pairs : new Int32Array(2 * capacity),
@@ -148,8 +149,9 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
   for (let k = 0; k < m; k++) {
     const other = cw.selfCloths[k].collision.self!
     if (other.blocks.length < 3 * m) other.blocks = new Int32Array(3 * m)
-    if (m >= 2 && other.crossCapacity === 0) {
-      other.crossCapacity = PAIRS_PER_PARTICLE * (other.bucket.length)
+    // (again when a cloth grew: tearing reserves more particles, whatever came first)
+    if (m >= 2 && other.crossCapacity < PAIRS_PER_PARTICLE * other.bucket.length) {
+      other.crossCapacity = PAIRS_PER_PARTICLE * other.bucket.length
       other.cross = new Int32Array(2 * other.crossCapacity)
     }
   }
@@ -218,7 +220,7 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
       sp[S_RADIUS] = R
       sp[S_INV_CELL] = 1 / sb.values[0]
       const first = st.crossCount
-      st.crossCount = gatherPairs(st.sorted, st.entries, A.invMass, A.count, null, sb.sorted, sb.entries, B.invMass, sb.start, sb.mask, sb.visited, st.cross, first, st.crossCapacity, sp)
+      st.crossCount = gatherPairs(st.sorted, st.entries, A.invMass, st.hashed, null, sb.sorted, sb.entries, B.invMass, sb.start, sb.mask, sb.visited, st.cross, first, st.crossCapacity, sp)
       if (st.crossCount === first) continue
       const o = 3 * st.blockCount++
       st.blocks[o] = b
@@ -231,10 +233,10 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
 /** Builds a cloth's hash from its current positions and gathers its self pairs. */
 function rebuildSelfPairs(c: ClothState, st: SelfCollisionState, sp: Float64Array): void {
   sp[S_INV_CELL] = 1 / st.values[0]
-  buildHash(c.pos, c.count, st.start, st.entries, st.bucket, st.sorted, st.mask, sp)
+  st.hashed = buildHash(c.pos, c.count, st.start, st.entries, st.bucket, st.sorted, st.mask, sp, c.topology.unused)
   sp[S_RADIUS] = st.thickness + 2 * st.values[1]
   sp[S_REST_FILTER] = REST_FILTER * st.thickness
-  st.pairCount = gatherPairs(st.sorted, st.entries, c.invMass, c.count, c.topology.restPositions, st.sorted, st.entries, c.invMass, st.start, st.mask, st.visited, st.pairs, 0, st.capacity, sp)
+  st.pairCount = gatherPairs(st.sorted, st.entries, c.invMass, st.hashed, c.topology.restPositions, st.sorted, st.entries, c.invMass, st.start, st.mask, st.visited, st.pairs, 0, st.capacity, sp)
 }
 
 /**

@@ -44,7 +44,7 @@ export function beginCollisionStep(state: ClothWorldState): void {
       }
     }
     if (!candidates && cc.self === null) continue
-    measureCloth(c.pos, c.vel, c.invMass, c.count, cc.self !== null ? 1 : 0, m)
+    measureCloth(c.pos, c.vel, c.invMass, c.count, cc.self !== null ? 1 : 0, m, c.topology.unused)
     // how far a particle can get this step: its speed now, gravity, and room for acceleration
     const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
     const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt) + 0.01

@@ -67,6 +67,8 @@ export interface SelfCollisionState {
   /** Per-bucket stamp of the last query that scanned it (plus the running stamp at the end). */
   visited: Int32Array
   entries: Int32Array
+  /** Particles in the hash (the cloth's, less vertices no triangle uses). */
+  hashed: number
   bucket: Int32Array
   /** Positions in hash order (xyz), refreshed with the hash each step. */
   sorted: Float64Array

@@ -65,7 +65,7 @@ export function createClothGuard(topology: ClothTopology, pos: Float64Array, set
     safe: Float64Array.from(pos),
     safeCount: topology.particleCount,
     rest: Float64Array.from(pos),
-    pieceBox: new Float64Array(0),
+    pieceBox: new Float64Array(topology.pieces === null ? 0 : 7 * topology.pieceCount),
     sinceSafe: 0,
     failStreak: 0,
   }
@@ -138,6 +138,7 @@ export function drainClothResets(world: object): ClothResetEvent[] {
   const out: ClothResetEvent[] = []
   for (let k = 0; k < w.evCount; k++) {
     const slot = (w.evHead + k) % EVENT_CAPACITY
+    if (w.evCloth[slot] < 0) continue // its cloth was removed (see forgetResetEvents)
     out.push({
       cloth: w.evCloth[slot],
       reason: REASONS[w.evReason[slot]],
@@ -149,6 +150,17 @@ export function drainClothResets(world: object): ClothResetEvent[] {
   w.evHead = 0
   w.evCount = 0
   return out
+}
+
+/**
+ * Called when a cloth is removed: its reset events not yet delivered (to the listeners of the
+ * current step, or to `drainClothResets`) are dropped, since its id may soon name another cloth.
+ */
+export function forgetResetEvents(w: GuardWorld, cloth: number): void {
+  for (let k = 0; k < w.evCount; k++) {
+    const slot = (w.evHead + k) % EVENT_CAPACITY
+    if (w.evCloth[slot] === cloth) w.evCloth[slot] = -1
+  }
 }
 
 /** Changes a cloth's guard settings (over its current ones); `false` turns its guard off. */

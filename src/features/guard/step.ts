@@ -9,8 +9,9 @@ import { EVENT_CAPACITY, REASONS } from './types'
  * fall away from the pins it no longer hangs from, but must keep its own shape.
  */
 export function checkGuardHealth(c: ClothState): number {
-  if (c.piece !== null && c.pieceCount > 1) return checkPieceHealth(c.pos, c.vel, c.invMass, c.count, c.piece, c.pieceCount, c.guard.pieceBox, c.guard.params)
-  return checkClothHealth(c.pos, c.vel, c.invMass, c.count, c.guard.params)
+  const unused = c.topology.unused
+  if (c.piece !== null && c.pieceCount > 1) return checkPieceHealth(c.pos, c.vel, c.invMass, c.count, c.piece, c.pieceCount, c.guard.pieceBox, c.guard.params, unused)
+  return checkClothHealth(c.pos, c.vel, c.invMass, c.count, c.guard.params, unused)
 }
 
 /** A good step: count it and copy the pose when the snapshot interval is due. */
@@ -65,6 +66,7 @@ export function deliverResets(state: ClothWorldState): void {
   for (let k = raised; k > 0; k--) {
     const slot = (w.evHead + w.evCount - k) % EVENT_CAPACITY
     for (let l = 0; l < w.listeners.length; l++) {
+      if (w.evCloth[slot] < 0) break // its cloth was removed by a listener (forgetResetEvents)
       e.cloth = w.evCloth[slot]
       e.reason = REASONS[w.evReason[slot]]
       e.step = w.evStep[slot]
@@ -85,8 +87,11 @@ function findOffender(c: ClothState, reason: number): number {
     return -1
   }
   // bounds: farthest from the centroid of the pinned particles (or of the cloth); speed: fastest
+  // (vertices no triangle uses are no part of the cloth)
+  const unused = c.topology.unused
   let cx = 0, cy = 0, cz = 0, m = 0
   for (let i = 0; i < c.count; i++) {
+    if (unused !== null && unused[i] === 1) continue
     if (reason === HEALTH_SPEED || (c.invMass[i] === 0) === (c.pins.list.length > 0)) {
       const j = 3 * i
       cx += reason === HEALTH_SPEED ? vel[j] : pos[j]
@@ -103,6 +108,7 @@ function findOffender(c: ClothState, reason: number): number {
   const a = reason === HEALTH_SPEED ? vel : pos
   let best = -1, bestD = -1
   for (let i = 0; i < c.count; i++) {
+    if (unused !== null && unused[i] === 1) continue
     const j = 3 * i
     const d = (a[j] - cx) ** 2 + (a[j + 1] - cy) ** 2 + (a[j + 2] - cz) ** 2
     if (d > bestD) {

@@ -1,13 +1,13 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from '../../core/errors'
+import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from '../../core/errors'
 import { normalizedQuat, rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
-import { moveClothRigidly } from '../../world/rigid'
+import { carryFrozen, moveClothRigidly } from '../../world/rigid'
 import type { ClothWorldState } from '../../world/state'
-import { checkEntity, readScale } from '../../world/transform'
+import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
 
 /** Options of `pinParticle`. */
@@ -51,20 +51,26 @@ export function pinParticle(
   checkObject('options', options)
   const blendTime = options.blendTime === undefined ? 0.25 : checkNonNegative('options.blendTime', options.blendTime)
 
+  // a frozen cloth is first brought to where its pins have carried it (the particle is held there)
+  carryFrozen(c, state.kinematics.stepTo)
+  // the pin continues from the target's pose at the end of the last step (the simulation's now)
+  const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
+  const k = state.kinematics
+  if (slot >= 0) for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j]
+  // where the particle is now, in the target's frame
+  toLocal(state, slot, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
+  if (!(Math.abs(tmp[0]) <= MAX_COORDINATE && Math.abs(tmp[1]) <= MAX_COORDINATE && Math.abs(tmp[2]) <= MAX_COORDINATE)) {
+    if (slot >= 0) untrackEntity(state, tgt)
+    throw new ClothError('target', tgt, `is scaled so small that the particle would lie beyond ±${MAX_COORDINATE} m in its frame`)
+  }
+
   const pin = addEntity(world as never)
   growStores(state, pin)
   const P = state.components.Pin
   P.cloth[pin] = cloth
   P.particle[pin] = index
   P.target[pin] = tgt
-  // the pin continues from the target's pose at the end of the last step (the simulation's now)
-  const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
   P.slot[pin] = slot
-  const k = state.kinematics
-  if (slot >= 0) for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j]
-
-  // where the particle is now, in the target's frame
-  toLocal(state, tgt, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
   P.blendFrom[3 * pin] = tmp[0]
   P.blendFrom[3 * pin + 1] = tmp[1]
   P.blendFrom[3 * pin + 2] = tmp[2]
@@ -87,6 +93,7 @@ export function pinParticle(
   if (c.pinCount[index]++ === 0) {
     c.invMass[index] = 0
     c.tethers.dirty = true
+    c.tethers.loosen = true
   }
   return pin
 }
@@ -137,15 +144,20 @@ export function releasePin(state: ClothWorldState, pin: number): void {
   if (--c.pinCount[i] === 0) {
     c.invMass[i] = c.baseInvMass[i]
     c.tethers.dirty = true
+    c.tethers.loosen = true
   }
 }
 
-/** Writes the target-local coordinates of world point (x, y, z) into out[o..o+2]. */
+/**
+ * Writes the coordinates of world point (x, y, z) in the frame of the target tracked in `slot`
+ * (pose at pose[po..], scale at the end of the last step) into out[o..o+2]; with no target
+ * (slot −1), the point itself.
+ */
 function toLocal(
-  state: ClothWorldState, target: number, pose: Float64Array, po: number,
+  state: ClothWorldState, slot: number, pose: Float64Array, po: number,
   x: number, y: number, z: number, out: Float64Array, o: number,
 ): void {
-  if (target === 0) {
+  if (slot < 0) {
     out[o] = x
     out[o + 1] = y
     out[o + 2] = z
@@ -153,9 +165,10 @@ function toLocal(
   }
   // inverse rotation: conjugate quaternion
   rotateVec3(-pose[po + 3], -pose[po + 4], -pose[po + 5], pose[po + 6], x - pose[po], y - pose[po + 1], z - pose[po + 2], out, o)
-  out[o] /= readScale(state, target, 0)
-  out[o + 1] /= readScale(state, target, 1)
-  out[o + 2] /= readScale(state, target, 2)
+  const s = state.kinematics.scaleStepTo
+  out[o] /= s[3 * slot]
+  out[o + 1] /= s[3 * slot + 1]
+  out[o + 2] /= s[3 * slot + 2]
 }
 
 /**
@@ -179,21 +192,30 @@ export function teleportCloth(
   const c = getCloth(state, cloth)
   checkPoint('translation', translation)
   const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))
+  if (pivot !== undefined) checkPoint('pivot', pivot)
+  carryFrozen(c, state.kinematics.stepTo) // moved from where its pins have carried it
   let px = 0, py = 0, pz = 0
   if (pivot !== undefined) {
     checkPoint('pivot', pivot)
     px = pivot[0]
     py = pivot[1]
     pz = pivot[2]
-  } else if (c.count > 0) {
+  } else {
+    // the centroid of the particles triangles use (a vertex no triangle uses is no part of the cloth)
+    const unused = c.topology.unused
+    let m = 0
     for (let i = 0; i < c.count; i++) {
+      if (unused !== null && unused[i] === 1) continue
       px += c.pos[3 * i]
       py += c.pos[3 * i + 1]
       pz += c.pos[3 * i + 2]
+      m++
     }
-    px /= c.count
-    py /= c.count
-    pz /= c.count
+    if (m > 0) {
+      px /= m
+      py /= m
+      pz /= m
+    }
   }
   moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, px + translation[0], py + translation[1], pz + translation[2])
   const P = state.components.Pin

@@ -1,7 +1,7 @@
 import { entityExists, hasComponent, removeEntity } from 'bitecs'
 import { allFinite, fit32, fit64 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
-import { SLOT_DATA, restoreSlot, saveSlot } from '../../world/kinematics'
+import { SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { pinParticle } from './api'
 
@@ -16,6 +16,17 @@ export interface PinsSnapshot {
   targets: Int32Array
   /** Per target: sampleFrom, sampleTo, stepFrom, stepTo (7 each), jump (10), jumped, forceJump. */
   targetData: Float64Array
+  /**
+   * Per target: its scale at the same four times (3 each). Absent in snapshots from versions that
+   * did not track scale: the targets' scales are then taken as they are at the restore.
+   */
+  targetScales?: Float64Array
+  /**
+   * Per target: how many times an entity with its id had lost its transform when saved (see
+   * `Kinematics.generation`); a restore refuses a target that lost it since, even if the id names
+   * an entity with a transform again. Absent in older snapshots: not checked.
+   */
+  targetGenerations?: Uint32Array
 }
 
 const PIN_DATA = 8
@@ -39,6 +50,8 @@ export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot)
   s.pinData = fit64(s.pinData, PIN_DATA * np)
   s.targets = fit32(s.targets, nt)
   s.targetData = fit64(s.targetData, SLOT_DATA * nt)
+  s.targetScales = fit64(s.targetScales, SLOT_SCALE_DATA * nt)
+  s.targetGenerations = s.targetGenerations && s.targetGenerations.length === nt ? s.targetGenerations : new Uint32Array(nt)
   let t = 0
   for (let q = 0; q < np; q++) {
     const pin = pins[q]
@@ -58,6 +71,8 @@ export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot)
     if (target === 0 || !firstTargetIndex(P, pins, q, target)) continue
     s.targets[t] = target
     saveSlot(k, k.slotOf[target], s.targetData, SLOT_DATA * t)
+    saveSlotScale(k, k.slotOf[target], s.targetScales, SLOT_SCALE_DATA * t)
+    s.targetGenerations[t] = transformGeneration(k, target)
     t++
   }
 }
@@ -71,12 +86,27 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
-  if (!allFinite(s.pinData) || !allFinite(s.targetData)) throw new ClothError(arg, s, 'holds a non-finite number')
+  if (s.targetScales !== undefined && (!(s.targetScales instanceof Float64Array) || s.targetScales.length !== SLOT_SCALE_DATA * s.targets.length)) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
+  }
+  if (!allFinite(s.pinData) || !allFinite(s.targetData) || (s.targetScales !== undefined && !allFinite(s.targetScales))) {
+    throw new ClothError(arg, s, 'holds a non-finite number')
+  }
+  const gens = s.targetGenerations
+  if (gens !== undefined && (!(gens instanceof Uint32Array) || gens.length !== s.targets.length)) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
+  }
   const np = s.pins.length / 3
   for (let q = 0; q < np; q++) {
     const target = s.pins[3 * q + 2]
     if (target !== 0 && (!entityExists(world as never, target) || !hasComponent(world as never, target, state.transforms.component))) {
       throw new ClothError(arg, s, `pins entity ${target}, which no longer exists or has no Transform`)
+    }
+    if (target !== 0 && gens !== undefined) {
+      const t = s.targets.indexOf(target)
+      if (t >= 0 && gens[t] !== transformGeneration(state.kinematics, target)) {
+        throw new ClothError(arg, s, `pins entity ${target}, which lost its Transform (was removed) after the save: the id now names another entity`)
+      }
     }
     if (!(s.pins[3 * q + 1] >= 0 && s.pins[3 * q + 1] < n)) throw new ClothError(arg, s, 'holds a pin on a particle out of range')
   }
@@ -125,7 +155,11 @@ export function restorePins(state: ClothWorldState, c: ClothState, s: PinsSnapsh
     P.blendTime[pin] = s.pinData[d + 7]
   }
   const k = state.kinematics
-  for (let t = 0; t < s.targets.length; t++) restoreSlot(k, k.slotOf[s.targets[t]], s.targetData, SLOT_DATA * t)
+  for (let t = 0; t < s.targets.length; t++) {
+    const slot = k.slotOf[s.targets[t]]
+    restoreSlot(k, slot, s.targetData, SLOT_DATA * t)
+    restoreSlotScale(state, slot, s.targetScales ?? null, SLOT_SCALE_DATA * t)
+  }
 }
 
 function firstTargetIndex(P: { target: Uint32Array }, pins: number[], q: number, t: number): boolean {

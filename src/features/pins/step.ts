@@ -1,10 +1,11 @@
 import { P_H, P_STEP_FRACTION } from '../../kernels/params'
-import { interpolatePose } from '../../world/kinematics'
+import { interpolatePose, interpolateScale } from '../../world/kinematics'
 import { moveClothRigidly } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 
-/** Pose scratch of placePins: the target's pose at the substep's fraction of the step. */
+/** Pose and scale scratch of placePins: the target's pose and scale at the substep's fraction of the step. */
 const pose = new Float64Array(7)
+const scale = new Float64Array(3)
 
 /**
  * At a frame sample: if one of the cloth's pin targets jumped (teleported), carry the whole cloth
@@ -39,13 +40,12 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): void {
  */
 export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number, advance = true): void {
   const P = state.components.Pin
-  const T = state.transforms
-  const sxs = T.sx, sys = T.sy, szs = T.sz
   const h = c.params[P_H]
   c.params[P_STEP_FRACTION] = (k + 1) / n
   const pos = c.pos
-  const from = state.kinematics.stepFrom, to = state.kinematics.stepTo
-  let poseSlot = -1 // the target whose pose `pose` holds (a pinned row shares one target)
+  const K = state.kinematics
+  const from = K.stepFrom, to = K.stepTo
+  let poseSlot = -1 // the target whose pose and scale `pose` and `scale` hold (a pinned row shares one target)
   const pins = c.pins.list
   for (let q = 0; q < pins.length; q++) {
     const pin = pins[q]
@@ -70,18 +70,16 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
       pos[i + 2] = lz
       continue
     }
-    if (sxs && sys && szs) {
-      const sx = sxs[tgt], sy = sys[tgt], sz = szs[tgt]
-      if (sx > 0 && sx < Infinity) lx *= sx
-      if (sy > 0 && sy < Infinity) ly *= sy
-      if (sz > 0 && sz < Infinity) lz *= sz
-    }
-    // the target's pose (k + 1)/n of the way through the step
+    // the target's pose and scale (k + 1)/n of the way through the step
     const slot = P.slot[pin]
     if (slot !== poseSlot) {
       interpolatePose(from, to, 7 * slot, c.params, P_STEP_FRACTION, pose, 0)
+      interpolateScale(K, 3 * slot, c.params, P_STEP_FRACTION, scale, 0)
       poseSlot = slot
     }
+    lx *= scale[0]
+    ly *= scale[1]
+    lz *= scale[2]
     const px = pose[0], py = pose[1], pz = pose[2], qx = pose[3], qy = pose[4], qz = pose[5], qw = pose[6]
     // v' = v + w·t + q × t, t = 2·q × v
     const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)

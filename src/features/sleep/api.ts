@@ -7,8 +7,9 @@ import { wakeClothState } from '../../world/wake'
  * Sleeping. A cloth whose particles all stayed slower than a threshold for a while (default
  * 1 cm/s for 1 s) falls asleep: its velocities are zeroed and every phase skips it, so it costs a
  * few checks per step instead of a simulation. It wakes, at the start of a step, when
- * - a pin target of it moves or jumps;
- * - a collider whose layers match moves (or appears, or goes away) within reach of its bounds;
+ * - a pin target of it moves, jumps or is scaled;
+ * - a collider whose layers match moves (or appears, or goes away, or its body is scaled) within
+ *   reach of its bounds;
  * - a wind zone reaches its bounds (a cloth in the wind never falls asleep either);
  * - a self-colliding cloth it can collide with comes within reach;
  * - the world's gravity changes;

@@ -20,7 +20,7 @@ export function updateSleep(state: ClothWorldState, c: ClothState): void {
   if (s.still < s.delay) return
   s.still = 0
   // the box it would sleep in (what the wake tests look at)
-  particleBounds(c.pos, c.count, s.bounds, 0)
+  particleBounds(c.pos, c.count, s.bounds, 0, c.topology.unused)
   // still in a steady wind: the wind may change any time, so stay awake (and test again after
   // another delay)
   if (state.wind.zones.length > 0 && windReaches(state, s.bounds)) return

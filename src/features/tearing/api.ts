@@ -72,6 +72,7 @@ export function createTearWorld(): TearWorld {
   return {
     pending: new Float64Array(0),
     pendingCount: 0,
+    delivering: 0,
     queue: new Float64Array(256 * EV),
     queueCount: 0,
     dropped: 0,

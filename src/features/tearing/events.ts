@@ -29,8 +29,24 @@ export function drainClothTears(world: object, fn: ClothTearListener): number {
   if (typeof fn !== 'function') throw new ClothError('fn', fn, 'must be a function')
   const n = tw.queueCount
   tw.queueCount = 0
-  for (let i = 0; i < n; i++) fn(readEvent(tw.queue, i, tw.event))
-  return n
+  let delivered = 0
+  for (let i = 0; i < n; i++) {
+    if (tw.queue[i * EV] < 0) continue // its cloth was removed (see forgetTearEvents)
+    fn(readEvent(tw.queue, i, tw.event))
+    delivered++
+  }
+  return delivered
+}
+
+/**
+ * Called when a cloth is removed: its tear events not yet delivered (to the listeners of the
+ * current step, or to `drainClothTears`) are dropped, since its id may soon name another cloth.
+ */
+export function forgetTearEvents(state: ClothWorldState, cloth: number): void {
+  const tw = state.tearing
+  const pending = tw.pendingCount > tw.delivering ? tw.pendingCount : tw.delivering
+  for (let i = 0; i < pending; i++) if (tw.pending[i * EV] === cloth) tw.pending[i * EV] = -1
+  for (let i = 0; i < tw.queueCount; i++) if (tw.queue[i * EV] === cloth) tw.queue[i * EV] = -1
 }
 
 function readEvent(buf: Float64Array, i: number, e: ClothTearEvent): ClothTearEvent {
@@ -56,6 +72,7 @@ export function dispatchTearEvents(state: ClothWorldState): void {
   tw.pendingCount = 0
   const room = (tw.queue.length / EV) | 0
   for (let i = 0; i < n; i++) {
+    if (tw.pending[i * EV] < 0) continue // its cloth was removed
     if (tw.queueCount >= room) {
       tw.dropped++
       continue
@@ -66,8 +83,13 @@ export function dispatchTearEvents(state: ClothWorldState): void {
   }
   const listeners = tw.listeners
   if (listeners.length === 0) return
+  // while the listeners run, a cloth one of them removes has its remaining events dropped
+  tw.delivering = n
   for (let i = 0; i < n; i++) {
-    readEvent(tw.pending, i, tw.event)
-    for (let l = 0; l < listeners.length; l++) listeners[l](tw.event)
+    for (let l = 0; l < listeners.length; l++) {
+      if (tw.pending[i * EV] < 0) break
+      listeners[l](readEvent(tw.pending, i, tw.event))
+    }
   }
+  tw.delivering = 0
 }

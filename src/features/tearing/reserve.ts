@@ -127,6 +127,7 @@ function reserveTopology(src: ClothTopology, count: number, P: number, E: number
     particleCount: count,
     restPositions: grownArray(src.restPositions, 3 * P),
     masses: grownArray(src.masses, P),
+    unused: src.unused === null ? null : grownArray(src.unused, P), // (particles made by tears are used)
     triangles: Uint32Array.from(src.triangles),
     edges: grownArray(src.edges.subarray(0, 2 * src.edgeCount), 2 * E),
     edgeRest: grownArray(src.edgeRest.subarray(0, src.edgeCount), E),

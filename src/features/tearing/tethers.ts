@@ -1,4 +1,4 @@
-import { createAnchorScratch, nearestAnchorsAlongMesh, type AnchorScratch, type TetherSet } from '../../model/tethers'
+import { createAnchorScratch, loosenTethers, nearestAnchorsAlongMesh, type AnchorScratch, type TetherSet } from '../../model/tethers'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import type { ClothTear } from './types'
 
@@ -51,6 +51,8 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
     }
   }
   out.count = m
+  if (ct.loosen) loosenTethers(out, c.pos)
+  ct.loosen = false
 }
 
 /** Reserves a tearable cloth's tether arrays again for `perParticle` tethers per particle at its particle capacity. */

@@ -26,6 +26,8 @@ export interface TearWorld {
   /** Tears of the current step, EV doubles each (sized for every tearable cloth's cap). */
   pending: Float64Array
   pendingCount: number
+  /** Events of `pending` being handed to the listeners (after the step; 0 otherwise). */
+  delivering: number
   /** Events waiting for `drainClothTears`. */
   queue: Float64Array
   queueCount: number

@@ -191,7 +191,7 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
     const o = k * ZONE_STRIDE
     if (P[o + Z_SHAPE] !== 0) {
       if (!haveBounds) {
-        particleBounds(c.pos, c.count, b, 0)
+        particleBounds(c.pos, c.count, b, 0, c.topology.unused)
         haveBounds = true
       }
       if (b[3] < P[o + Z_MIN] || b[0] > P[o + Z_MAX] || b[4] < P[o + Z_MIN + 1] || b[1] > P[o + Z_MAX + 1] ||

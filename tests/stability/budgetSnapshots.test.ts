@@ -1,0 +1,145 @@
+// Snapshots under quality targets and level of detail: save, step on (with other inputs), restore,
+// step again, and the run is byte for byte that of a twin world that never restored: the budget's
+// allocation countdown, its timing, the quality controller's counters and wanted substeps, each
+// cloth's level, its every-n-th-step phase and its freeze are part of the state (rollback netcode
+// needs byte identity with every feature on).
+import { addEntity, createWorld } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  createCloth,
+  getClothBudgetStats,
+  getClothLod,
+  getClothState,
+  installClothPlugin,
+  pinRow,
+  restoreClothState,
+  saveClothState,
+  setClothBudget,
+  setClothQualityTarget,
+  setClothVisible,
+  setTransform,
+  stepCloth,
+  type ClothBudgetOptions,
+  type ClothSnapshot,
+} from '../../src/index'
+import { hashBytes } from '../helpers'
+
+const CAL = { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 }
+
+interface Setup {
+  budget?: ClothBudgetOptions
+  /** Quality target on the first cape. */
+  target?: boolean
+  /** Toggle the capes' visibility with the frames. */
+  visibility?: boolean
+}
+
+/** Three capes on three running characters, a viewer walking away and back. */
+function build(setup: Setup) {
+  const world = installClothPlugin(createWorld(), { sleep: false })
+  const heroes: number[] = [], capes: number[] = []
+  for (let k = 0; k < 3; k++) {
+    const hero = addEntity(world)
+    setTransform(world, hero, [4 * k, 1.6, 0])
+    const cape = createCloth(world, {
+      width: 0.5,
+      height: 0.8,
+      resolution: [6, 9],
+      position: [4 * k, 1.5, -0.15],
+      substeps: 8,
+      iterations: 2,
+    })
+    pinRow(world, cape, 0, hero)
+    heroes.push(hero)
+    capes.push(cape)
+  }
+  const viewer = addEntity(world)
+  setTransform(world, viewer, [0, 2, 5])
+  if (setup.budget) setClothBudget(world, { viewer, calibration: CAL, adapt: false, ...setup.budget })
+  if (setup.target) setClothQualityTarget(world, capes[0], { maxStretch: 0.004, calibration: CAL })
+  return { world, heroes, capes, viewer }
+}
+type Scene = ReturnType<typeof build>
+
+/** The host's inputs of frame f (absolute: applying them again sets the same state). */
+function inputs(s: Scene, setup: Setup, f: number, variant = 0): number {
+  const t = f / 60 + 7 * variant
+  for (let k = 0; k < 3; k++) {
+    const a = 2 * t + k
+    setTransform(s.world, s.heroes[k], [4 * k + Math.sin(a), 1.6, Math.cos(1.3 * a)], [0, Math.sin(a / 2), 0, Math.cos(a / 2)])
+  }
+  // the viewer walks away to 60 m and back, so the levels move through every rung
+  setTransform(s.world, s.viewer, [0, 2, 5 + 60 * Math.abs(Math.sin(t / 4))])
+  if (setup.visibility) setClothVisible(s.world, s.capes[2], Math.floor(f / 25 + variant) % 3 !== 2)
+  return (0.7 + 0.6 * ((f * 7919) % 13) / 13) / 60
+}
+
+function hash(s: Scene): string {
+  return s.capes
+    .map((cl) => {
+      const c = getClothState(s.world, cl)
+      const n = 3 * c.count
+      const lod = getClothLod(s.world, cl)
+      return hashBytes(c.pos.subarray(0, n)) + hashBytes(c.vel.subarray(0, n)) + JSON.stringify(lod)
+    })
+    .join('|') + JSON.stringify(getClothBudgetStats(s.world))
+}
+
+/** Runs `at` frames, saves, runs 37 frames of other inputs, restores, runs on; compares with a twin that never restored. */
+function rollback(setup: Setup, at: number, after = 90) {
+  const a = build(setup), b = build(setup)
+  for (let f = 0; f < at; f++) {
+    stepCloth(a.world, inputs(a, setup, f))
+    stepCloth(b.world, inputs(b, setup, f))
+  }
+  const saved: ClothSnapshot[] = a.capes.map((cl) => saveClothState(a.world, cl))
+  for (let f = 0; f < 37; f++) stepCloth(a.world, inputs(a, setup, at + f, 1))
+  a.capes.forEach((cl, k) => restoreClothState(a.world, cl, saved[k]))
+  if (at > 0) inputs(a, setup, at - 1) // the host restores its own state too (Transforms, visibility)
+  const lods = new Set<string>()
+  for (let f = at; f < at + after; f++) {
+    stepCloth(a.world, inputs(a, setup, f))
+    stepCloth(b.world, inputs(b, setup, f))
+    expect(hash(a), `frame ${f} (saved at ${at})`).toBe(hash(b))
+    for (const cl of b.capes)
+      lods.add(JSON.stringify([getClothLod(b.world, cl).substeps, getClothLod(b.world, cl).stepEvery, getClothLod(b.world, cl).frozen]))
+  }
+  return lods
+}
+
+describe('snapshots under quality targets and level of detail: a rollback replays byte for byte', () => {
+  const saves = [1, 13, 29, 44, 60]
+
+  it('a quality target (maxStretch): the controller’s counters and wanted substeps are restored', () => {
+    const setup: Setup = { target: true }
+    const levels = new Set<string>()
+    for (const at of [1, 29, 44]) for (const l of rollback(setup, at, 60)) levels.add(l)
+    expect(levels.size).toBeGreaterThan(1) // the target moved the substeps
+  })
+
+  for (const farStepEvery of [2, 4] as const) {
+    it(`a budget with farStepEvery ${farStepEvery}: the allocation countdown and the every-n-th-step phase are restored`, () => {
+      const setup: Setup = { budget: { near: 6, far: 25, farStepEvery, interval: 7 } }
+      const levels = new Set<string>()
+      for (const at of saves) for (const l of rollback(setup, at, 150)) levels.add(l)
+      expect([...levels].some((l) => JSON.parse(l)[1] === farStepEvery)).toBe(true)
+    })
+  }
+
+  it('a time budget (msPerFrame, fixed cost numbers) with a quality target and frozen invisible cloths', () => {
+    const setup: Setup = { budget: { near: 6, far: 40, farStepEvery: 2, msPerFrame: 0.02, interval: 5 }, target: true, visibility: true }
+    const levels = new Set<string>()
+    for (const at of saves) for (const l of rollback(setup, at, 120)) levels.add(l)
+    expect([...levels].some((l) => JSON.parse(l)[2] === true)).toBe(true) // some cape froze
+  })
+
+  it('a snapshot saved without the budget section (older versions) still restores', () => {
+    const s = build({ budget: { interval: 5 } })
+    for (let f = 0; f < 20; f++) stepCloth(s.world, inputs(s, {}, f))
+    const saved = saveClothState(s.world, s.capes[0]) as ClothSnapshot & { budget?: Float64Array }
+    delete saved.budget
+    for (let f = 0; f < 20; f++) stepCloth(s.world, inputs(s, {}, f))
+    restoreClothState(s.world, s.capes[0], saved)
+    stepCloth(s.world, 1 / 60)
+  })
+})
