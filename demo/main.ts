@@ -1,8 +1,7 @@
 import { addEntity, createWorld, removeEntity } from 'bitecs'
-import { vec3 } from 'gl-matrix'
+import * as THREE from 'three'
 import {
   ClothMaterial,
-  getClothMesh,
   getClothState,
   getClothStretch,
   getClothTearCount,
@@ -15,14 +14,27 @@ import {
   stepCloth,
   unpin,
 } from '../src/index'
-import { Renderer } from './renderer'
+import { createClothGeometry, updateClothGeometry } from './three-shim'
 import type { DemoScene, DemoSettings, SceneInstance, SceneLabel } from './scene'
 import { scenes } from './scenes/index'
+import { View } from './view'
 
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T
 const canvas = $<HTMLCanvasElement>('view')
-const renderer = new Renderer(canvas)
 const params = new URLSearchParams(location.search)
+const view = new View(canvas, { antialias: params.get('aa') !== '0' })
+/**
+ * Dynamic resolution: the canvas renders at `resolution` × the device's pixel ratio, lowered
+ * while fewer than 24 frames a second are drawn (software WebGL, a weak GPU) and raised again
+ * above 50. `?pr=<ratio>` fixes the pixel ratio instead (the screenshot script uses `?pr=1`).
+ */
+const fixedRatio = params.has('pr') ? Number(params.get('pr')) : null
+const RESOLUTIONS = [1, 0.75, 0.5, 0.35]
+let resolution = 0
+function applyResolution(): void {
+  view.renderer.setPixelRatio(fixedRatio ?? Math.min(2, window.devicePixelRatio) * RESOLUTIONS[resolution])
+}
+applyResolution()
 
 const settings: DemoSettings = { material: 'cotton', substeps: 8, iterations: 1, tethers: true }
 let world: object
@@ -31,9 +43,9 @@ let instance: SceneInstance
 let paused = false
 let simTime = 0
 let frame = 0
-let stepMs = 0
-let fps = 60
-const stepOnce = { pending: 0 }
+let stepOnce = 0
+/** Stretch tint on the cloths (off by default). */
+let tint = false
 
 // ------------------------------------------------------------------------------------------
 // Panel
@@ -45,6 +57,7 @@ for (const m of Object.values(ClothMaterial)) materialSelect.add(new Option(m.na
 const substeps = $<HTMLInputElement>('substeps')
 const iterations = $<HTMLInputElement>('iterations')
 const tethers = $<HTMLInputElement>('tethers')
+const tintBox = $<HTMLInputElement>('tint')
 
 function showSettings(): void {
   materialSelect.value = settings.material
@@ -88,73 +101,54 @@ tethers.addEventListener('change', () => {
   settings.tethers = tethers.checked
   applySettings()
 })
-$('pause').addEventListener('click', () => {
-  paused = !paused
-  $('pause').textContent = paused ? 'Play' : 'Pause'
-})
-$('step').addEventListener('click', () => {
-  stepOnce.pending++
-})
+tintBox.addEventListener('change', () => setTint(tintBox.checked))
+$('pause').addEventListener('click', () => setPaused(!paused))
+$('step').addEventListener('click', () => stepOnce++)
 $('reset').addEventListener('click', () => loadScene(scene.id, false))
 
-// ------------------------------------------------------------------------------------------
-// Scenes
-
-function loadScene(id: string, useDefaults = true): void {
-  scene = scenes.find((s) => s.id === id) ?? scenes[0]
-  sceneSelect.value = scene.id
-  if (useDefaults) Object.assign(settings, { material: 'cotton', substeps: 8, iterations: 1, tethers: true }, scene.defaults)
-  if (instance) for (const c of instance.cloths) renderer.release(clothKey(c))
-  keys.clear()
-  world = installClothPlugin(createWorld())
-  const ui = $('extra')
-  ui.replaceChildren()
-  labelLayer.replaceChildren()
-  instance = scene.create({ world, settings, ui, refresh: applySettings })
-  simTime = 0
-  drag = null
-  $('hint').textContent = scene.hint ?? DEFAULT_HINT
-  const cam = scene.camera ?? { target: [0, 1, 0], distance: 4 }
-  vec3.set(renderer.camera.target, ...cam.target)
-  renderer.camera.distance = cam.distance
-  renderer.camera.yaw = cam.yaw ?? 0.6
-  renderer.camera.pitch = cam.pitch ?? 0.3
-  showSettings()
-  const url = new URL(location.href)
-  url.searchParams.set('scene', scene.id)
-  history.replaceState(null, '', url)
-}
-
-const DEFAULT_HINT = 'drag cloth with the mouse · right-drag or shift-drag to orbit · wheel to zoom'
-
-const keys = new Map<number, object>()
-/** Renderer buffers are keyed per cloth entity of the current world. */
-function clothKey(cloth: number): object {
-  let k = keys.get(cloth)
-  if (!k) keys.set(cloth, (k = {}))
-  return k
+function setPaused(p: boolean): void {
+  paused = p
+  $('pause').textContent = paused ? 'Play' : 'Pause'
 }
 
 // ------------------------------------------------------------------------------------------
-// Stretch tint: each vertex coloured by the largest strain of its structural edges
+// Cloth meshes, through the three.js adapter
 
-const ORANGE = [1.0, 0.45, 0.05]
-const colorBuffers = new Map<number, Float32Array>()
-const strain = new Map<number, Float32Array>()
+interface ClothView {
+  cloth: number
+  mesh: THREE.Mesh
+  geometry: THREE.BufferGeometry
+  material: THREE.Material
+  /** Vertex colours for the stretch tint, sized like the position attribute. */
+  colors: THREE.BufferAttribute | null
+  strain: Float32Array
+}
+const clothViews: ClothView[] = []
+/** The stretch tint: the cloth's lighting with a plain light-grey fabric turning orange as it stretches. */
+const tintMaterial = new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.8, side: THREE.DoubleSide })
 
-function stretchColors(cloth: number, base: ArrayLike<number>): Float32Array {
-  const c = getClothState(world, cloth)
-  let colors = colorBuffers.get(cloth)
-  if (!colors || colors.length !== 3 * c.count) {
-    colors = new Float32Array(3 * c.count)
-    colorBuffers.set(cloth, colors)
+function showCloth(cloth: number, material: THREE.Material): THREE.Mesh {
+  const geometry = createClothGeometry(world, cloth)
+  const mesh = new THREE.Mesh(geometry, material)
+  mesh.castShadow = mesh.receiveShadow = true
+  view.root.add(mesh)
+  clothViews.push({ cloth, mesh, geometry, material, colors: null, strain: new Float32Array(0) })
+  return mesh
+}
+
+const BASE = [0.78, 0.78, 0.76], ORANGE = [1.0, 0.35, 0.02]
+
+/** Each vertex coloured by the largest strain of its structural edges (fully orange at 10 %). */
+function paintStretch(v: ClothView): void {
+  const position = v.geometry.getAttribute('position') as THREE.BufferAttribute
+  if (!v.colors || v.colors.count !== position.count) {
+    v.colors = new THREE.BufferAttribute(new Float32Array(3 * position.count), 3)
+    v.geometry.setAttribute('color', v.colors)
   }
-  let s = strain.get(cloth)
-  if (!s || s.length !== c.count) {
-    s = new Float32Array(c.count)
-    strain.set(cloth, s)
-  }
-  s.fill(0)
+  const c = getClothState(world, v.cloth)
+  if (v.strain.length < c.count) v.strain = new Float32Array(position.count)
+  const s = v.strain
+  s.fill(0, 0, c.count)
   const t = c.topology
   for (let e = 0; e < t.stretchCount; e++) {
     const a = t.stretchIds[2 * e], b = t.stretchIds[2 * e + 1]
@@ -163,22 +157,75 @@ function stretchColors(cloth: number, base: ArrayLike<number>): Float32Array {
     if (st > s[a]) s[a] = st
     if (st > s[b]) s[b] = st
   }
+  const out = v.colors.array as Float32Array
   for (let i = 0; i < c.count; i++) {
-    const k = Math.min(1, Math.max(0, s[i] / 0.1)) // fully orange at 10 % stretch
-    for (let j = 0; j < 3; j++) colors[3 * i + j] = base[j] + (ORANGE[j] - base[j]) * k
+    const k = Math.min(1, Math.max(0, s[i] / 0.1))
+    for (let j = 0; j < 3; j++) out[3 * i + j] = BASE[j] + (ORANGE[j] - BASE[j]) * k
   }
-  return colors
+  v.colors.needsUpdate = true
 }
+
+function updateCloths(): void {
+  for (const v of clothViews) {
+    if (!v.mesh.visible) continue
+    updateClothGeometry(world, v.cloth, v.geometry)
+    if (tint) paintStretch(v)
+  }
+}
+
+function setTint(on: boolean): void {
+  tint = on
+  tintBox.checked = on
+  for (const v of clothViews) {
+    v.mesh.material = on ? tintMaterial : v.material
+    if (on) paintStretch(v)
+  }
+}
+
+// ------------------------------------------------------------------------------------------
+// Scenes
+
+function loadScene(id: string, useDefaults = true): void {
+  scene = scenes.find((s) => s.id === id) ?? scenes[0]
+  sceneSelect.value = scene.id
+  if (useDefaults) Object.assign(settings, { material: 'cotton', substeps: 8, iterations: 1, tethers: true }, scene.defaults)
+  view.clear()
+  clothViews.length = 0
+  world = installClothPlugin(createWorld())
+  const ui = $('extra')
+  ui.replaceChildren()
+  labelLayer.replaceChildren()
+  drag = null
+  const cam = scene.camera ?? { target: [0, 1, 0], distance: 4 }
+  view.orbit.target.set(...cam.target)
+  view.orbit.distance = cam.distance
+  view.orbit.yaw = cam.yaw ?? 0.6
+  view.orbit.pitch = cam.pitch ?? 0.3
+  view.camera.fov = cam.fov ?? 45
+  view.shadowRadius = scene.shadowRadius ?? 4
+  view.setSun(scene.sun ?? [-0.45, 0.8, 0.4], scene.shadowMapSize ?? 2048)
+  lastOrbit = -Infinity
+  instance = scene.create({ world, settings, ui, refresh: applySettings, root: view.root, showCloth, camera: view.camera })
+  simTime = 0
+  setTint(tint)
+  $('hint').textContent = scene.hint ?? DEFAULT_HINT
+  showSettings()
+  const url = new URL(location.href)
+  url.searchParams.set('scene', scene.id)
+  history.replaceState(null, '', url)
+}
+
+const DEFAULT_HINT = 'drag cloth with the mouse · right-drag or shift-drag to orbit · wheel to zoom'
 
 // ------------------------------------------------------------------------------------------
 // Mouse: drag a particle by pinning it to a hidden entity; orbit with right button or shift
 
 let drag: { cloth: number; pin: number; target: number; depth: number } | null = null
 let orbit: { x: number; y: number } | null = null
-let lastOrbit = -Infinity // performance.now() of the last manual orbit
+let lastOrbit = -Infinity // simTime of the last manual orbit
 /** Where and when the left button went down: a release close by is a click. */
 let press: { x: number; y: number; time: number } | null = null
-const rayO = vec3.create(), rayD = vec3.create()
+const rayO = new THREE.Vector3(), rayD = new THREE.Vector3()
 
 function ndc(e: PointerEvent): [number, number] {
   const r = canvas.getBoundingClientRect()
@@ -195,15 +242,15 @@ canvas.addEventListener('pointerdown', (e) => {
   }
   press = { x: e.clientX, y: e.clientY, time: performance.now() }
   const [x, y] = ndc(e)
-  renderer.camera.ray(x, y, rayO, rayD)
+  view.ray(x, y, rayO, rayD)
   let best = { d: 0.08, cloth: -1, index: -1, t: 0 }
   for (const cloth of instance.cloths) {
     const c = getClothState(world, cloth)
     for (let i = 0; i < c.count; i++) {
-      const px = c.pos[3 * i] - rayO[0], py = c.pos[3 * i + 1] - rayO[1], pz = c.pos[3 * i + 2] - rayO[2]
-      const t = px * rayD[0] + py * rayD[1] + pz * rayD[2]
+      const px = c.pos[3 * i] - rayO.x, py = c.pos[3 * i + 1] - rayO.y, pz = c.pos[3 * i + 2] - rayO.z
+      const t = px * rayD.x + py * rayD.y + pz * rayD.z
       if (t <= 0) continue
-      const d = Math.hypot(px - t * rayD[0], py - t * rayD[1], pz - t * rayD[2])
+      const d = Math.hypot(px - t * rayD.x, py - t * rayD.y, pz - t * rayD.z)
       if (d < best.d) best = { d, cloth, index: i, t }
     }
   }
@@ -218,14 +265,14 @@ canvas.addEventListener('pointerdown', (e) => {
 })
 canvas.addEventListener('pointermove', (e) => {
   if (orbit) {
-    renderer.camera.yaw -= (e.clientX - orbit.x) * 0.008
-    lastOrbit = performance.now()
-    renderer.camera.pitch = Math.max(-1.2, Math.min(1.4, renderer.camera.pitch + (e.clientY - orbit.y) * 0.008))
+    view.orbit.yaw -= (e.clientX - orbit.x) * 0.008
+    lastOrbit = simTime
+    view.orbit.pitch = Math.max(-0.2, Math.min(1.4, view.orbit.pitch + (e.clientY - orbit.y) * 0.008))
     orbit = { x: e.clientX, y: e.clientY }
   } else if (drag) {
     const [x, y] = ndc(e)
-    renderer.camera.ray(x, y, rayO, rayD)
-    setTransform(world, drag.target, vec3.scaleAndAdd(vec3.create(), rayO, rayD, drag.depth))
+    view.ray(x, y, rayO, rayD)
+    setTransform(world, drag.target, rayO.clone().addScaledVector(rayD, drag.depth).toArray())
   }
 })
 const endDrag = () => {
@@ -242,8 +289,8 @@ canvas.addEventListener('pointerup', (e) => {
   if (!p || !instance.click) return
   if (Math.hypot(e.clientX - p.x, e.clientY - p.y) > 5 || performance.now() - p.time > 400) return
   const [x, y] = ndc(e)
-  renderer.camera.ray(x, y, rayO, rayD)
-  instance.click(rayO, rayD)
+  view.ray(x, y, rayO, rayD)
+  instance.click(rayO.toArray(), rayD.toArray())
 })
 canvas.addEventListener('pointercancel', () => {
   press = null
@@ -251,119 +298,223 @@ canvas.addEventListener('pointercancel', () => {
 })
 canvas.addEventListener('wheel', (e) => {
   e.preventDefault()
-  renderer.camera.distance = Math.max(0.5, Math.min(40, renderer.camera.distance * Math.exp(e.deltaY * 0.001)))
+  view.orbit.distance = Math.max(0.8, Math.min(60, view.orbit.distance * Math.exp(e.deltaY * 0.001)))
 }, { passive: false })
 
 // ------------------------------------------------------------------------------------------
-// Loop
+// Frame: update, step, geometry, render; costs measured per frame and averaged over a second
+
+/** Main-thread ms per frame, averaged over the last second: the scene's own work, the cloth step, geometry updates, rendering. */
+const costs = { sceneMs: 0, stepMs: 0, geometryMs: 0, renderMs: 0, frameMs: 0 }
+const acc = { sceneMs: 0, stepMs: 0, geometryMs: 0, renderMs: 0, frameMs: 0, frames: 0, start: 0 }
+/** Time stamps of the frames drawn in the last second (the fps is their count). */
+const drawn: number[] = []
+let fps = 0
+/** ms per fixed step of the cloth work (averaged like the other costs). */
+let msPerStep = 0
+let stepsInWindow = 0
+
+/** Advances the simulation by `h` seconds: the scene's update, then the cloth step. */
+function advance(h: number): number {
+  simTime += h
+  const t0 = performance.now()
+  instance.update?.(simTime, h)
+  const t1 = performance.now()
+  const steps = instance.step ? instance.step(h) : stepCloth(world, h)
+  const t2 = performance.now()
+  acc.sceneMs += t1 - t0
+  acc.stepMs += t2 - t1
+  stepsInWindow += steps
+  followCamera(h)
+  return steps
+}
+
+/** The camera eases toward a followed point (0.12 s) and yaw (1.5 s), unless the user orbited lately. */
+function followCamera(h: number): void {
+  const follow = instance.follow?.()
+  if (follow) {
+    const t = view.orbit.target
+    const a = 1 - Math.exp(-h / 0.12)
+    t.x += (follow[0] - t.x) * a
+    t.y += (follow[1] - t.y) * a
+    t.z += (follow[2] - t.z) * a
+  }
+  const yaw = instance.followYaw?.()
+  if (yaw !== undefined && simTime - lastOrbit > 5) {
+    const d = yaw - view.orbit.yaw - 2 * Math.PI * Math.round((yaw - view.orbit.yaw) / (2 * Math.PI))
+    view.orbit.yaw += d * (1 - Math.exp(-h / 1.5))
+  }
+}
 
 let last = performance.now()
+let running = true
 function tick(now: number): void {
-  const dt = Math.min(0.1, Math.max(0, (now - last) / 1000)) // rAF stamps can precede the last read
+  if (!running) return
+  const dt = Math.min(scene.maxFrameTime ?? 0.1, Math.max(0, (now - last) / 1000)) // rAF stamps can precede the last read
   last = now
-  fps += (1 / Math.max(dt, 1e-3) - fps) * 0.05
-  const advance = !paused || stepOnce.pending > 0
-  if (advance) {
+  const f0 = performance.now()
+  if (!paused || stepOnce > 0) {
     const h = paused ? 1 / 60 : dt
-    if (paused) stepOnce.pending--
-    simTime += h
-    instance.update?.(simTime, h)
-    const t0 = performance.now()
-    const steps = stepCloth(world, h)
-    if (steps > 0) stepMs += ((performance.now() - t0) / steps - stepMs) * 0.1
+    if (paused) stepOnce--
+    if (h > 0) advance(h)
   }
-  render()
-  frame++
+  draw()
+  acc.frameMs += performance.now() - f0
+  countFrame(performance.now())
   requestAnimationFrame(tick)
+}
+
+function countFrame(now: number): void {
+  frame++
+  drawn.push(now)
+  while (drawn.length > 0 && drawn[0] <= now - 1000) drawn.shift()
+  fps = drawn.length
+  acc.frames++
+  if (now - acc.start >= 1000) {
+    const n = Math.max(1, acc.frames)
+    costs.sceneMs = acc.sceneMs / n
+    costs.stepMs = acc.stepMs / n
+    costs.geometryMs = acc.geometryMs / n
+    costs.renderMs = acc.renderMs / n
+    costs.frameMs = acc.frameMs / n
+    msPerStep = stepsInWindow > 0 ? acc.stepMs / stepsInWindow : msPerStep
+    acc.sceneMs = acc.stepMs = acc.geometryMs = acc.renderMs = acc.frameMs = 0
+    acc.frames = 0
+    acc.start = now
+    stepsInWindow = 0
+    if (fixedRatio === null && !paused) {
+      if (fps < 24 && resolution < RESOLUTIONS.length - 1) resolution++
+      else if (fps > 50 && resolution > 0) resolution--
+      else return
+      applyResolution()
+    }
+  }
+}
+
+/** Geometry, labels, render, overlay. */
+function draw(): void {
+  const t0 = performance.now()
+  instance.sync?.()
+  const t1 = performance.now()
+  updateCloths()
+  const t2 = performance.now()
+  // centre the scene in the canvas right of the panel (when the window is wide enough to have room)
+  const free = canvas.clientWidth - panel.getBoundingClientRect().right
+  view.shiftX = free > 500 ? (canvas.clientWidth - free) / canvas.clientWidth : 0
+  view.update()
+  view.render()
+  const t3 = performance.now()
+  acc.sceneMs += t1 - t0
+  acc.geometryMs += t2 - t1
+  acc.renderMs += t3 - t2
+  drawLabels(instance.labels?.() ?? [])
+  showStats()
 }
 
 // ------------------------------------------------------------------------------------------
 // Labels: HTML text over the canvas at projected world points
 
 const labelLayer = $('labels')
-const clip = new Float32Array(4)
+const projected = { x: 0, y: 0, visible: false }
 function drawLabels(labels: readonly SceneLabel[]): void {
   while (labelLayer.children.length > labels.length) labelLayer.lastElementChild!.remove()
   while (labelLayer.children.length < labels.length) labelLayer.appendChild(document.createElement('div'))
-  const m = renderer.camera.viewProj
-  const w = canvas.clientWidth, h = canvas.clientHeight
   for (let i = 0; i < labels.length; i++) {
     const { text, at, className } = labels[i]
     const el = labelLayer.children[i] as HTMLDivElement
     if (el.textContent !== text) el.textContent = text
     const cls = `label ${className ?? ''}`
     if (el.className !== cls) el.className = cls
-    for (let r = 0; r < 4; r++) clip[r] = m[r] * at[0] + m[4 + r] * at[1] + m[8 + r] * at[2] + m[12 + r]
-    const visible = clip[3] > 0.05
-    el.style.display = visible ? '' : 'none'
-    if (!visible) continue
-    el.style.transform = `translate(${((clip[0] / clip[3] + 1) / 2) * w}px, ${((1 - clip[1] / clip[3]) / 2) * h}px) translate(-50%, -100%)`
+    view.project(at, projected)
+    el.style.display = projected.visible ? '' : 'none'
+    if (projected.visible) el.style.transform = `translate(${projected.x}px, ${projected.y}px) translate(-50%, -100%)`
   }
 }
 
+// ------------------------------------------------------------------------------------------
+// Overlay
+
 let lastStats = { particles: 0, constraints: 0, maxStretch: 0 }
 const panel = $('panel')
-let lastRender = performance.now()
-function render(): void {
-  // centre the scene in the canvas right of the panel (when the window is wide enough to have room)
-  const free = canvas.clientWidth - panel.getBoundingClientRect().right
-  renderer.camera.shiftX = free > 500 ? (canvas.clientWidth - free) / canvas.clientWidth : 0
+const statsEl = $('stats')
+let statsShownAt = 0
+function showStats(): void {
   const now = performance.now()
-  const follow = instance.follow?.()
-  if (follow) {
-    // ease toward the followed point with a 0.12 s time constant, whatever the frame rate
-    const t = renderer.camera.target
-    const a = 1 - Math.exp(-Math.min(0.1, (now - lastRender) / 1000) / 0.12)
-    for (let k = 0; k < 3; k++) t[k] += (follow[k] - t[k]) * a
-  }
-  const yaw = instance.followYaw?.()
-  if (yaw !== undefined && now - lastOrbit > 5000) {
-    // swing the shorter way round, with a 1.5 s time constant
-    const cam = renderer.camera
-    const d = yaw - cam.yaw - 2 * Math.PI * Math.round((yaw - cam.yaw) / (2 * Math.PI))
-    cam.yaw += d * (1 - Math.exp(-Math.min(0.1, (now - lastRender) / 1000) / 1.5))
-  }
-  lastRender = now
-  renderer.begin()
-  instance.draw?.(renderer)
+  if (now - statsShownAt < 250) return // four times a second: readable, and cheap
+  statsShownAt = now
   let particles = 0, constraints = 0, maxStretch = 0, asleep = 0
   for (const cloth of instance.cloths) {
     if (isClothSleeping(world, cloth)) asleep++
     const c = getClothState(world, cloth)
-    const base = instance.colors?.get(cloth) ?? [0.78, 0.76, 0.7]
-    renderer.drawDynamic(clothKey(cloth), getClothMesh(world, cloth), stretchColors(cloth, base))
     particles += c.count
     constraints += c.topology.distCount + c.topology.compCount + c.topology.hingeCount + c.tethers.set.count
     maxStretch = Math.max(maxStretch, getClothStretch(world, cloth).max)
   }
   lastStats = { particles, constraints, maxStretch }
-  drawLabels(instance.labels?.() ?? [])
-  $('stats').textContent = [
-    `ms/step    ${stepMs.toFixed(3)}`,
-    `particles  ${particles}`,
+  const f = (v: number) => v.toFixed(2).padStart(6)
+  statsEl.textContent = [
+    `fps         ${fps}${fixedRatio === null && resolution > 0 ? ` (at ${RESOLUTIONS[resolution] * 100} % resolution)` : ''}`,
+    `ms/frame    ${f(costs.frameMs)}`,
+    `  step      ${f(costs.stepMs)}`,
+    `  geometry  ${f(costs.geometryMs)}`,
+    `  render    ${f(costs.renderMs)}`,
+    `  scene     ${f(costs.sceneMs)}`,
+    `ms/step     ${f(msPerStep)}`,
+    `particles   ${particles}`,
     `constraints ${constraints}`,
     `max stretch ${(maxStretch * 100).toFixed(2)} %`,
-    `fps        ${fps.toFixed(0)}`,
-    ...(asleep > 0 ? [`asleep     ${asleep} of ${instance.cloths.length}`] : []),
+    ...(asleep > 0 ? [`asleep      ${asleep} of ${instance.cloths.length}`] : []),
     ...(instance.stats?.() ?? []),
   ].join('\n')
 }
 
-/** Renders a frame now and reads the canvas back: how much of it differs from the clear colour. */
-function snapshot(): { coverage: number; colors: number } {
-  render()
-  const gl = renderer.gl
+// ------------------------------------------------------------------------------------------
+// Hooks for browser tests and the screenshot script
+
+/** Renders now and reads the canvas back (RGBA rows, bottom first). */
+function readPixels(): { w: number; h: number; px: Uint8Array } {
+  updateCloths()
+  view.update()
+  view.render()
+  const gl = view.renderer.getContext()
   const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight
   const px = new Uint8Array(4 * w * h)
   gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px)
-  let drawn = 0
+  return { w, h, px }
+}
+
+function differing(a: Uint8Array, b: Uint8Array): number {
+  let n = 0
+  for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 12) n++
+  return n / (a.length / 4)
+}
+
+/**
+ * What the cloths add to the picture: the share of pixels that change when the cloth meshes are
+ * hidden, and how many distinct colours (5 bits per channel) the picture has.
+ */
+function snapshot(): { clothCoverage: number; colors: number } {
+  const shown = readPixels().px
+  for (const v of clothViews) v.mesh.userData.wasVisible = v.mesh.visible
+  for (const v of clothViews) v.mesh.visible = false
+  const hidden = readPixels().px
+  for (const v of clothViews) v.mesh.visible = v.mesh.userData.wasVisible as boolean
   const seen = new Set<number>()
-  for (let i = 0; i < px.length; i += 4 * 7) {
-    const r = px[i], g = px[i + 1], b = px[i + 2]
-    if (Math.abs(r - 27) + Math.abs(g - 29) + Math.abs(b - 34) > 6) drawn++
-    seen.add((r >> 3) | ((g >> 3) << 5) | ((b >> 3) << 10))
-  }
-  return { coverage: drawn / (px.length / (4 * 7)), colors: seen.size }
+  for (let i = 0; i < shown.length; i += 4 * 7) seen.add((shown[i] >> 3) | ((shown[i + 1] >> 3) << 5) | ((shown[i + 2] >> 3) << 10))
+  return { clothCoverage: differing(shown, hidden), colors: seen.size }
+}
+
+/** Share of pixels that change when the stretch tint is turned on (the simulation paused meanwhile). */
+function tintDifference(): number {
+  const wasPaused = paused, wasTint = tint
+  paused = true
+  setTint(false)
+  const off = readPixels().px
+  setTint(true)
+  const on = readPixels().px
+  setTint(wasTint)
+  paused = wasPaused
+  return differing(off, on)
 }
 
 /** A cloth's particle positions now (a copy), for tests that compare frames. */
@@ -375,19 +526,30 @@ function positions(index = 0): number[] {
 
 /** Where a world point appears on the page, in CSS pixels (for tests that click on things). */
 function screenPoint(p: ArrayLike<number>): [number, number] {
-  const m = renderer.camera.viewProj
   const r = canvas.getBoundingClientRect()
-  const x = m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12]
-  const y = m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13]
-  const w = m[3] * p[0] + m[7] * p[1] + m[11] * p[2] + m[15]
-  return [r.left + ((x / w + 1) / 2) * r.width, r.top + ((1 - y / w) / 2) * r.height]
+  view.project(p, projected)
+  return [r.left + projected.x, r.top + projected.y]
 }
 
-/** Hook for browser tests. */
+/**
+ * Simulates `seconds` at a fixed 60 Hz without drawing (the loop stays paused), then draws one
+ * frame: the same picture whatever the machine's speed (the screenshot script uses it).
+ */
+function simulate(seconds: number): void {
+  setPaused(true)
+  const n = Math.round(seconds * 60)
+  for (let i = 0; i < n; i++) advance(1 / 60)
+  draw()
+}
+
 ;(window as unknown as { __demo: unknown }).__demo = {
   snapshot,
+  tintDifference,
   positions,
   screenPoint,
+  simulate,
+  setTint,
+  setPaused,
   get ready() {
     return frame > 2
   },
@@ -397,12 +559,15 @@ function screenPoint(p: ArrayLike<number>): [number, number] {
   get scene() {
     return scene.id
   },
+  /** Frame rate (frames drawn in the last second) and main-thread ms per frame, averaged over a second. */
   get stats() {
-    return { ...lastStats, stepMs, fps }
+    return { ...lastStats, ...costs, fps, msPerStep, outsideStepMs: costs.geometryMs + costs.renderMs, tint, pixelRatio: view.renderer.getPixelRatio() }
   },
   get world() {
     return world
   },
+  /** The three.js view (renderer, scene, camera). */
+  view,
   get cloths() {
     return instance.cloths
   },
@@ -417,10 +582,14 @@ function screenPoint(p: ArrayLike<number>): [number, number] {
     return n
   },
   scenes: scenes.map((s) => s.id),
+  moments: Object.fromEntries(scenes.map((s) => [s.id, s.moments ?? []])),
   loadScene,
   settings,
   applySettings,
 }
 
 loadScene(params.get('scene') ?? scenes[0].id)
+if (params.has('tint')) setTint(true)
+acc.start = performance.now()
 requestAnimationFrame(tick)
+window.addEventListener('pagehide', () => (running = false))

@@ -1,4 +1,4 @@
-import type { Renderer } from './renderer'
+import type * as THREE from 'three'
 
 /** Settings shared by every scene, driven by the panel. */
 export interface DemoSettings {
@@ -16,6 +16,16 @@ export interface SceneContext {
   ui: HTMLElement
   /** Re-applies `settings` (after the scene changed them) and shows them in the panel. */
   refresh(): void
+  /** three.js group the scene adds its objects to; emptied and disposed when the scene goes. */
+  root: THREE.Group
+  /**
+   * Draws a cloth: makes its mesh through `bitecs-cloth/three` with this material (two-sided,
+   * casting and receiving shadows), adds it to `root`, and keeps its geometry up to date after
+   * every step.
+   */
+  showCloth(cloth: number, material: THREE.Material): THREE.Mesh
+  /** The view: camera, renderer, sun (e.g. for the crowd's frustum test). */
+  camera: THREE.PerspectiveCamera
 }
 
 /** A text label drawn over the canvas at a world point (an HTML overlay). */
@@ -28,14 +38,17 @@ export interface SceneLabel {
 
 /** A live scene. */
 export interface SceneInstance {
-  /** Cloth entities to draw (with stretch tint) and count in the stats. */
+  /** Cloth entities of the scene (drag, stats, tests). */
   cloths: number[]
-  /** Base colour per cloth (defaults to a neutral cloth colour). */
-  colors?: Map<number, [number, number, number]>
   /** Called every frame before stepping: move characters, colliders, wind. */
   update?(time: number, dt: number): void
-  /** Draws everything that is not cloth. */
-  draw?(renderer: Renderer): void
+  /**
+   * Steps the world's cloths by `dt` (default `stepCloth(world, dt)`); returns the fixed steps
+   * taken. A scene that steps differently (the crowd) does it here, in one place.
+   */
+  step?(dt: number): number
+  /** Called before drawing: move three.js objects to the entities' poses. */
+  sync?(): void
   /** Applies a change of the panel's substeps/iterations/tethers (default: to every cloth). */
   applySettings?(settings: DemoSettings): void
   /** Extra stats lines. */
@@ -60,15 +73,37 @@ export interface SceneInstance {
   api?: Record<string, (...args: never[]) => unknown>
 }
 
+/** A moment of a scene worth a picture: `seconds` of simulation after loading, after `action`. */
+export interface SceneMoment {
+  name: 'rest' | 'motion'
+  seconds: number
+  /** Name of an `api` action to call, `actionAt` seconds after loading (default 0). */
+  action?: string
+  actionAt?: number
+}
+
 /** A scene in the menu. Scenes use only the public API of bitecs-cloth. */
 export interface DemoScene {
   id: string
   title: string
   /** Settings this scene starts with (the panel shows them). */
   defaults?: Partial<DemoSettings>
-  camera?: { target: [number, number, number]; distance: number; yaw?: number; pitch?: number }
+  camera?: { target: [number, number, number]; distance: number; yaw?: number; pitch?: number; fov?: number }
+  /** Half-size of the sun's shadow box around the camera target, m (default 4). */
+  shadowRadius?: number
+  /** Shadow map size, texels (default 2048). */
+  shadowMapSize?: number
+  /** Direction toward the sun (default from the front left: [−0.45, 0.8, 0.4]). */
+  sun?: [number, number, number]
+  /**
+   * Longest simulated time per drawn frame, s (default 0.1): when frames take longer, the scene
+   * runs slower than real time rather than taking ever more fixed steps per frame.
+   */
+  maxFrameTime?: number
   /** What the mouse does in this scene (shown at the bottom of the page). */
   hint?: string
+  /** Pictures for the README (`npm run screenshots`). */
+  moments?: SceneMoment[]
   create(ctx: SceneContext): SceneInstance
 }
 
@@ -80,6 +115,21 @@ export function addButton(ui: HTMLElement, label: string, onClick: () => void, i
   b.addEventListener('click', onClick)
   ui.appendChild(b)
   return b
+}
+
+/** Adds a row of buttons of which one is active (a segmented switch); returns a setter. */
+export function addSegmented<T extends string>(ui: HTMLElement, label: string, options: readonly [T, string][], value: T, onPick: (v: T) => void, idPrefix: string): (v: T) => void {
+  const row = document.createElement('div')
+  row.className = 'segmented'
+  if (label) row.append(label + ' ')
+  ui.appendChild(row)
+  const buttons = options.map(([v, text]) => addButton(row, text, () => pick(v, true), `${idPrefix}-${v}`))
+  const pick = (v: T, notify: boolean) => {
+    options.forEach(([o], k) => buttons[k].classList.toggle('active', o === v))
+    if (notify) onPick(v)
+  }
+  pick(value, false)
+  return (v: T) => pick(v, false)
 }
 
 /** Adds a labelled slider to a scene's control area; returns the input. */
@@ -108,6 +158,19 @@ export function addSlider(
     onInput(Number(input.value))
   })
   row.append(label, input, out)
+  ui.appendChild(row)
+  return input
+}
+
+/** Adds a labelled checkbox to a scene's control area; returns the input. */
+export function addToggle(ui: HTMLElement, label: string, value: boolean, onChange: (v: boolean) => void, id?: string): HTMLInputElement {
+  const row = document.createElement('label')
+  const input = document.createElement('input')
+  input.type = 'checkbox'
+  input.checked = value
+  if (id) input.id = id
+  input.addEventListener('change', () => onChange(input.checked))
+  row.append(label, input)
   ui.appendChild(row)
   return input
 }

@@ -1,4 +1,5 @@
 import { addEntity } from 'bitecs'
+import * as THREE from 'three'
 import {
   addPlaneCollider,
   createCloth,
@@ -11,6 +12,7 @@ import {
   setTransform,
   setWindZone,
 } from '../../src/index'
+import { chainMaterial, gridFabric, paint, shadows, steel } from '../fabrics'
 import { addButton, addSlider, type DemoSettings, type SceneLabel, type DemoScene } from '../scene'
 
 /** What the two sides compare; kept across resets of the scene, like the counts. */
@@ -28,15 +30,21 @@ const SIDE_X = 1.25 // each side's centre is this far left or right of the middl
  * side by side: a cloth patch hanging from a rail of pins (warp and weft distance constraints,
  * compression-only diagonals) in a breeze, and a hanging chain (a strip two particles wide). The
  * left side runs 1 substep × 1 iteration; the right side 12 iterations (or 12 substeps) of the
- * same solver. Edges tint orange as they stretch. The panel's iterations (or substeps) slider sets
+ * same solver. The patches carry a measuring grid, so stretch shows as squares drawn out into
+ * rectangles (the panel's stretch tint colours it). The panel's iterations (or substeps) slider sets
  * the right side; the other count is 1 on both sides.
  */
 export const accuracyScene: DemoScene = {
   id: 'accuracy',
   title: 'Accuracy side by side',
   defaults: { substeps: 1, iterations: 12, tethers: false, material: 'cotton' },
-  camera: { target: [0, 1.45, 0], distance: 4.6, yaw: 0, pitch: 0.08 },
-  create({ world, settings, ui, refresh }) {
+  camera: { target: [0, 1.45, 0], distance: 4.8, yaw: 0, pitch: 0.08 },
+  shadowRadius: 3.5,
+  moments: [
+    { name: 'rest', seconds: 4 },
+    { name: 'motion', seconds: 2.6, action: 'gust', actionAt: 1.2 },
+  ],
+  create({ world, settings, ui, refresh, root, showCloth }) {
     // the panel shows the compared count (the right side's); the other count is 1
     if (mode === 'iterations') Object.assign(settings, { substeps: 1, iterations: rightIterations })
     else Object.assign(settings, { substeps: rightSubsteps, iterations: 1 })
@@ -61,6 +69,22 @@ export const accuracyScene: DemoScene = {
       const chain = createCloth(world, { ...common, material: 'chainmail', width: 0.06, height: 1.2, resolution: [2, CHAIN_LINKS], position: [x - 0.6, TOP, 0] })
       pinParticle(world, chain, 0)
       pinParticle(world, chain, 1)
+      showCloth(patch, gridFabric(side < 0 ? '#e9e2d2' : '#d6e0ea'))
+      showCloth(chain, chainMaterial())
+      // the rig: a rail over each object, a post at each end
+      const railMat = steel()
+      const rail = (cx: number, half: number) => {
+        const m = new THREE.Mesh(new THREE.CylinderGeometry(0.016, 0.016, 2 * half, 12).rotateZ(Math.PI / 2), railMat)
+        m.position.set(cx, TOP + 0.02, 0)
+        root.add(shadows(m))
+      }
+      rail(x + 0.25, 0.6)
+      rail(x - 0.6, 0.1)
+      for (const px of [x - 0.72, x + 0.87]) {
+        const post = new THREE.Mesh(new THREE.BoxGeometry(0.05, TOP + 0.06, 0.05), paint(0x4a4f58, 0.5))
+        post.position.set(px, (TOP + 0.06) / 2, 0)
+        root.add(shadows(post))
+      }
       return [patch, chain]
     }
     const left = make(-1), right = make(1)
@@ -100,7 +124,8 @@ export const accuracyScene: DemoScene = {
       breeze = v
       setWindZone(world, wind, { strength: breeze })
     }, 'breeze')
-    addButton(ui, 'Gust', () => gustWind(world, wind, { strength: 3, duration: 2 }), 'gust')
+    const gust = () => gustWind(world, wind, { strength: 3, duration: 2 })
+    addButton(ui, 'Gust', gust, 'gust')
 
     const stretch = (cloths: number[]) => {
       let mean = 0, max = 0
@@ -123,20 +148,8 @@ export const accuracyScene: DemoScene = {
     let time = 0
     return {
       cloths: [...left, ...right],
-      colors: new Map([...left, ...right].map((c, k) => [c, k % 2 === 0 ? [0.78, 0.76, 0.7] : [0.62, 0.66, 0.72]] as const)),
       update(t) {
         time = t
-      },
-      draw(r) {
-        r.ground(0)
-        const steel = [0.62, 0.63, 0.66]
-        for (const side of [-1, 1]) {
-          const x = side * SIDE_X
-          r.capsule([x + 0.25, TOP + 0.02, 0], [0, 0, Math.SQRT1_2, Math.SQRT1_2], 0.018, 0.58, steel)
-          r.capsule([x - 0.6, TOP + 0.02, 0], [0, 0, Math.SQRT1_2, Math.SQRT1_2], 0.018, 0.08, steel)
-          // a post at each end of the rig
-          for (const px of [x - 0.72, x + 0.87]) r.capsule([px, TOP / 2, 0], [0, 0, 0, 1], 0.025, TOP / 2, [0.4, 0.42, 0.46])
-        }
       },
       labels() {
         // the text changes at most four times a second (readable numbers)
@@ -158,6 +171,7 @@ export const accuracyScene: DemoScene = {
         /** Stretch of each side now: { left: { mean, max }, right: { mean, max } }. */
         stretch: () => ({ left: stretch(left), right: stretch(right) }),
         mode: () => mode,
+        gust,
         setMode: (m: 'iterations' | 'substeps') => setMode(m),
       },
     }

@@ -1,5 +1,7 @@
 import { addEntity } from 'bitecs'
 import { quat, vec3 } from 'gl-matrix'
+import * as THREE from 'three'
+import { RoundedBoxGeometry } from 'three/examples/jsm/geometries/RoundedBoxGeometry.js'
 import {
   addBoxCollider,
   addCapsuleCollider,
@@ -15,7 +17,8 @@ import {
   setClothCollision,
   setTransform,
 } from '../../src/index'
-import type { Renderer } from '../renderer'
+import { cottonFabric, ginghamFabric, paint, shadows, towelFabric, wood } from '../fabrics'
+import { grainNormal } from '../textures'
 import { addButton, type DemoScene } from '../scene'
 
 /** Self-collision on or off, kept across resets of the scene. */
@@ -42,8 +45,13 @@ export const collisionsScene: DemoScene = {
   id: 'collisions',
   title: 'Colliders and self-collision',
   defaults: { substeps: 8, iterations: 1, material: 'cotton' },
-  camera: { target: [0, 0.5, 0], distance: 6.5, yaw: 0.35, pitch: 0.45 },
-  create({ world, settings, ui }) {
+  camera: { target: [0, 0.4, 0.45], distance: 5.3, yaw: 0.3, pitch: 0.36 },
+  shadowRadius: 4.5,
+  moments: [
+    { name: 'rest', seconds: 5 },
+    { name: 'motion', seconds: 0.42 },
+  ],
+  create({ world, settings, ui, root, showCloth }) {
     const ground = addEntity(world as never)
     setTransform(world, ground, [0, 0, 0])
     addPlaneCollider(world, ground)
@@ -99,22 +107,34 @@ export const collisionsScene: DemoScene = {
     const label = () => (button.textContent = `Self-collision: ${selfCollision ? 'on' : 'off'}`)
     label()
 
-    const colors: [number, number, number][] = [[0.85, 0.55, 0.2], [0.3, 0.6, 0.75], [0.75, 0.3, 0.45], [0.45, 0.7, 0.35], [0.85, 0.8, 0.7]]
+    const looks = [ginghamFabric('#d9822b', 6), cottonFabric('#2f7f95', '#e9e4d8'), ginghamFabric('#b8324f', 10), cottonFabric('#5d8f3c'), towelFabric('#3a6fb0')]
+    cloths.forEach((c, k) => showCloth(c, looks[k]))
+
+    // The solids are drawn 1 to 1.5 cm inside their colliders, and the crate with rounded edges:
+    // cloth particles rest on the collider (plus the cloth's thickness), but the flat triangles
+    // between them cut across a convex edge, and would show the edge of a shape drawn at the
+    // collider's exact size through the cloth.
     const p = vec3.create(), q = quat.create()
-    const pose = (e: number) => (getColliderPose(world, e, p, q), p)
-    const solid: [number, number, number] = [0.5, 0.52, 0.58]
+    const at = (e: number, m: THREE.Mesh) => {
+      getColliderPose(world, e, p, q)
+      m.position.set(p[0], p[1], p[2])
+      m.quaternion.set(q[0], q[1], q[2], q[3])
+      root.add(shadows(m))
+    }
+    const stone = new THREE.MeshStandardMaterial({ color: 0x8d8a84, roughness: 0.85, normalMap: grainNormal(3), normalScale: new THREE.Vector2(0.8, 0.8), flatShading: true })
+    at(ball, new THREE.Mesh(new THREE.SphereGeometry(0.44, 40, 24), paint(0x6c7a89, 0.45)))
+    at(log, new THREE.Mesh(new THREE.CapsuleGeometry(0.29, 0.7, 8, 24).rotateX(Math.PI / 2), wood()))
+    at(crate, new THREE.Mesh(new RoundedBoxGeometry(0.78, 0.68, 0.78, 4, 0.035), paint(0x7d6a55, 0.7)))
+    const hull = getColliderHull(world, rock)!
+    const hullGeometry = new THREE.BufferGeometry()
+    hullGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(hull.vertices).map((v) => v * 0.97), 3))
+    hullGeometry.setIndex(Array.from(hull.indices))
+    const rockGeometry = hullGeometry.toNonIndexed()
+    rockGeometry.computeVertexNormals()
+    at(rock, new THREE.Mesh(rockGeometry, stone))
     let lastTests = 0, lastPairs = 0, lastSteps = 0, testsPerStep = 0, pairsPerStep = 0
     return {
       cloths,
-      colors: new Map(cloths.map((c, k) => [c, colors[k]])),
-      draw(r: Renderer) {
-        r.ground(0)
-        r.sphere(pose(ball), 0.45, solid)
-        r.capsule(pose(log), q, 0.3, 0.35, solid)
-        r.box(pose(crate), q, [0.4, 0.35, 0.4], solid)
-        const hull = getColliderHull(world, rock)
-        if (hull) r.convex('rock', hull, pose(rock), q, solid)
-      },
       stats() {
         const s = getClothStats(world)
         if (s.steps > lastSteps) {

@@ -1,11 +1,12 @@
 import type { DemoScene } from '../scene'
+import { accuracyScene } from './accuracy'
 import { capeScene } from './cape'
 import { collisionsScene } from './collisions'
-import { sheetScene } from './sheet'
-import { flagScene } from './flag'
+import { crowdScene } from './crowd'
 import { curtainScene } from './curtain'
-import { accuracyScene } from './accuracy'
+import { flagScene } from './flag'
 import { materialsScene } from './materials'
+import { sheetScene } from './sheet'
 
 /** Every scene in the menu, in order. */
-export const scenes: DemoScene[] = [capeScene, sheetScene, flagScene, curtainScene, accuracyScene, materialsScene, collisionsScene]
+export const scenes: DemoScene[] = [capeScene, flagScene, curtainScene, materialsScene, collisionsScene, crowdScene, accuracyScene, sheetScene]

@@ -1,5 +1,7 @@
 import { addEntity } from 'bitecs'
+import * as THREE from 'three'
 import {
+  addCapsuleCollider,
   addPlaneCollider,
   createCloth,
   createWindZone,
@@ -9,29 +11,37 @@ import {
   setTransform,
   setWindZone,
 } from '../../src/index'
+import { ginghamFabric, leatherMaterial, paint, rubberMaterial, shadows, silkFabric, steel } from '../fabrics'
 import { addButton, addSlider, type DemoScene, type SceneLabel } from '../scene'
 
-const MATERIALS: { name: string; color: [number, number, number]; note: string }[] = [
-  { name: 'silk', color: [0.86, 0.74, 0.42], note: 'light, floppy, catches the wind' },
-  { name: 'cotton', color: [0.74, 0.77, 0.82], note: 'the default' },
-  { name: 'leather', color: [0.5, 0.3, 0.17], note: 'heavy and stiff' },
-  { name: 'rubber', color: [0.16, 0.5, 0.46], note: 'heavy and stretchy' },
+const MATERIALS: { name: string; look: () => THREE.Material; note: string }[] = [
+  { name: 'silk', look: silkFabric, note: 'light, floppy, catches the wind' },
+  { name: 'cotton', look: () => ginghamFabric('#3b62a8', 8), note: 'the default' },
+  { name: 'leather', look: leatherMaterial, note: 'heavy and stiff' },
+  { name: 'rubber', look: rubberMaterial, note: 'heavy and stretchy' },
 ]
 const SPACING = 1.1
 const TOP = 2.3
+const RAIL_RADIUS = 0.022
 
 /**
  * Silk, cotton, leather and rubber side by side, the same size and resolution, hanging from one
  * rail in the same wind: their weight, bending stiffness, stretch and drag come from the material
- * presets alone.
+ * presets alone. The rail is a capsule collider: cloth blown up against it drapes over it instead
+ * of passing through.
  */
 export const materialsScene: DemoScene = {
   id: 'materials',
   title: 'Materials',
   // tethers off: rubber's stretch is part of the comparison
   defaults: { substeps: 8, iterations: 1, tethers: false },
-  camera: { target: [0.3, 1.5, -0.2], distance: 4.9, yaw: 0.25, pitch: 0.16 },
-  create({ world, settings, ui }) {
+  camera: { target: [0, 1.45, 0], distance: 5.4, yaw: 0.3, pitch: 0.12 },
+  shadowRadius: 4,
+  moments: [
+    { name: 'rest', seconds: 4 },
+    { name: 'motion', seconds: 3.4, action: 'gust', actionAt: 2.2 },
+  ],
+  create({ world, settings, ui, root, showCloth }) {
     const ground = addEntity(world as never)
     setTransform(world, ground, [0, 0, 0])
     addPlaneCollider(world, ground)
@@ -51,13 +61,30 @@ export const materialsScene: DemoScene = {
         tethers: settings.tethers,
       })
       pinRow(world, cloth, 0)
+      showCloth(cloth, m.look())
       return cloth
     })
+    // the rail: a capsule collider just above the pinned top rows, drawn 2 mm thinner than it
+    const span = (MATERIALS.length - 1) * SPACING + 1.0
+    const railY = TOP + RAIL_RADIUS + 0.012
+    const railEntity = addEntity(world as never)
+    setTransform(world, railEntity, [0, railY, 0])
+    addCapsuleCollider(world, railEntity, { radius: RAIL_RADIUS, halfHeight: span / 2, axis: [1, 0, 0] })
+    const rail = new THREE.Mesh(new THREE.CylinderGeometry(RAIL_RADIUS - 0.002, RAIL_RADIUS - 0.002, span, 16).rotateZ(Math.PI / 2), steel())
+    rail.position.set(0, railY, 0)
+    root.add(shadows(rail))
+    for (const px of [-span / 2, span / 2]) {
+      const post = new THREE.Mesh(new THREE.CylinderGeometry(0.03, 0.035, railY + 0.05, 16), paint(0x3f444d, 0.45))
+      post.position.set(px, (railY + 0.05) / 2, 0)
+      root.add(shadows(post))
+    }
+
     addSlider(ui, 'Wind m/s', 0, 20, 0.5, strength, (v) => {
       strength = v
       setWindZone(world, wind, { strength })
     }, 'wind-strength')
-    addButton(ui, 'Gust', () => gustWind(world, wind, { strength: Math.max(5, strength), duration: 1.6 }), 'gust')
+    const gust = () => gustWind(world, wind, { strength: Math.max(5, strength), duration: 1.6 })
+    addButton(ui, 'Gust', gust, 'gust')
 
     const labels: SceneLabel[] = MATERIALS.flatMap((m, k) => {
       const spec = resolveMaterial(m.name)
@@ -69,16 +96,10 @@ export const materialsScene: DemoScene = {
     })
     return {
       cloths,
-      colors: new Map(cloths.map((c, k) => [c, MATERIALS[k].color])),
-      draw(r) {
-        r.ground(0)
-        const span = (MATERIALS.length - 1) * SPACING + 1.0
-        r.capsule([0, TOP + 0.02, 0], [0, 0, Math.SQRT1_2, Math.SQRT1_2], 0.02, span / 2, [0.62, 0.63, 0.66])
-        for (const px of [-span / 2, span / 2]) r.capsule([px, TOP / 2, 0], [0, 0, 0, 1], 0.03, TOP / 2, [0.4, 0.42, 0.46])
-      },
       labels: () => labels,
       locked: () => ['material'],
-      stats: () => [`wind       ${strength.toFixed(1)} m/s`],
+      stats: () => [`wind        ${strength.toFixed(1)} m/s`],
+      api: { gust, railY: () => railY, railRadius: () => RAIL_RADIUS },
     }
   },
 }

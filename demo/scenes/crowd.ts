@@ -1,0 +1,179 @@
+import { addEntity } from 'bitecs'
+import * as THREE from 'three'
+import {
+  createCloth,
+  getClothBudgetStats,
+  getClothLod,
+  getClothStretch,
+  pinRow,
+  setClothBudget,
+  setClothVisible,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
+import { Character, CrowdFigures, Track, type Gait } from '../character'
+import { simpleCotton } from '../fabrics'
+import { addToggle, type DemoScene } from '../scene'
+
+/** Level-of-detail classes the tint shows, with their colours. */
+const LOD_CLASSES: { label: string; color: number }[] = [
+  { label: '8+ substeps', color: 0x3fbf4a },
+  { label: '4–6', color: 0xc9d13a },
+  { label: '2–3', color: 0xf08a24 },
+  { label: '1', color: 0xe0352b },
+  { label: 'every n-th step', color: 0x9b4fd1 },
+  { label: 'frozen', color: 0x7d8590 },
+]
+
+function lodClass(lod: { substeps: number; stepEvery: number; frozen: boolean }): number {
+  if (lod.frozen) return 5
+  if (lod.stepEvery > 1) return 4
+  return lod.substeps >= 8 ? 0 : lod.substeps >= 4 ? 1 : lod.substeps >= 2 ? 2 : 3
+}
+
+const CAPE_COLOURS = ['#8c1620', '#1f4e8c', '#2f6b3a', '#6b3a8c', '#8c6a1f', '#1f7a7a', '#4a4a52', '#a0522d']
+const SHIRTS = [0x3f5a78, 0x7a4a3a, 0x5a6a3a, 0x6a5a7a, 0x8a7a5a, 0x3a6a6a, 0x7a3a4a, 0x5a5a5a]
+
+/** Tracks of the crowd: stadiums round the square, each with its gait, pace and direction. */
+const LANES: { radius: number; count: number; gait: Gait; pace: number; direction: 1 | -1 }[] = [
+  { radius: 2, count: 8, gait: 'walk', pace: 0.9, direction: 1 },
+  { radius: 3.3, count: 10, gait: 'run', pace: 0.75, direction: -1 },
+  { radius: 4.6, count: 13, gait: 'walk', pace: 1.1, direction: 1 },
+  { radius: 5.9, count: 15, gait: 'walk', pace: 1, direction: -1 },
+  { radius: 7.2, count: 18, gait: 'walk', pace: 0.95, direction: 1 },
+]
+
+/**
+ * A crowd: 64 characters walking and running round a square, each with a 24×24 cape on a torso
+ * capsule and two leg capsules. The world budget (`setClothBudget`) measures distance from the
+ * camera (an entity whose Transform follows it): capes near the camera keep 8 substeps, farther
+ * ones get fewer, down to one, within an 8 ms budget per frame; capes outside the view are marked
+ * invisible (`setClothVisible`) and freeze. "Tint by LOD" colours each cape by the level it runs.
+ */
+export const crowdScene: DemoScene = {
+  id: 'crowd',
+  title: 'Crowd (64 capes, budget and LOD)',
+  defaults: { substeps: 8, iterations: 1, material: 'cotton', tethers: true },
+  camera: { target: [2.5, 0.8, 4.5], distance: 10, yaw: 0.65, pitch: 0.32 },
+  shadowRadius: 13,
+  shadowMapSize: 1024,
+  // at most two fixed steps per drawn frame: on a slow machine the crowd runs in slow motion
+  // rather than spending ever more time per frame
+  maxFrameTime: 1 / 30,
+  moments: [
+    { name: 'rest', seconds: 3 },
+    { name: 'motion', seconds: 3, action: 'tintLod' },
+  ],
+  create({ world, settings, ui, root, showCloth, camera }) {
+    const characters: Character[] = []
+    const capes: number[] = []
+    const meshes: THREE.Mesh[] = []
+    const fabrics = CAPE_COLOURS.map((c) => simpleCotton(c))
+    let n = 0
+    for (const lane of LANES) {
+      const track = new Track(4, lane.radius)
+      for (let k = 0; k < lane.count; k++, n++) {
+        const hero = new Character(world, {
+          colliders: 'crowd',
+          track,
+          start: (k / lane.count) * track.length,
+          direction: lane.direction,
+          auto: false,
+          gait: lane.gait,
+          pace: lane.pace,
+          cadence: 0.93 + 0.14 * ((n * 0.618) % 1),
+        })
+        const cape = createCloth(world, {
+          width: 0.55,
+          height: 1,
+          resolution: 24,
+          position: hero.chestPoint(0, 0.49, -0.2).toArray(),
+          rotation: hero.chestRotation(),
+          material: settings.material,
+          substeps: settings.substeps,
+          iterations: settings.iterations,
+          tethers: settings.tethers,
+        })
+        pinRow(world, cape, 0, hero.chest)
+        characters.push(hero)
+        capes.push(cape)
+        meshes.push(showCloth(cape, fabrics[n % fabrics.length]))
+      }
+    }
+    const figures = new CrowdFigures(characters, SHIRTS)
+    root.add(figures.group)
+
+    // the budget measures distances from the camera, an entity the scene moves with the view
+    const viewer = addEntity(world as never)
+    setTransform(world, viewer, camera.position.toArray())
+    setClothBudget(world, { msPerFrame: 8, viewer, near: 6, far: 25 })
+
+    const lodMaterials = LOD_CLASSES.map((c) => new THREE.MeshStandardMaterial({ color: c.color, roughness: 0.8, side: THREE.DoubleSide }))
+    let tintLod = false
+    const tintBox = addToggle(ui, 'Tint by LOD', tintLod, (v) => (tintLod = v), 'tint-lod')
+    const legend = document.createElement('div')
+    legend.className = 'legend'
+    legend.innerHTML = LOD_CLASSES.map((c) => `<span><i style="background:#${c.color.toString(16).padStart(6, '0')}"></i>${c.label}</span>`).join('')
+    ui.appendChild(legend)
+
+    const frustum = new THREE.Frustum()
+    const m = new THREE.Matrix4()
+    const sphere = new THREE.Sphere(new THREE.Vector3(), 1.3)
+    const histogram = new Array<number>(LOD_CLASSES.length).fill(0)
+    let visibleCount = 0
+
+    /** Marks capes outside the camera's view invisible (the budget freezes them). */
+    const cull = () => {
+      camera.updateMatrixWorld()
+      frustum.setFromProjectionMatrix(m.multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse))
+      visibleCount = 0
+      for (let i = 0; i < capes.length; i++) {
+        characters[i].chestPoint(0, 0.1, -0.2, sphere.center)
+        const visible = frustum.intersectsSphere(sphere)
+        setClothVisible(world, capes[i], visible)
+        meshes[i].visible = visible
+        if (visible) visibleCount++
+      }
+    }
+
+    return {
+      cloths: capes,
+      update(_time, dt) {
+        for (const c of characters) c.update(dt)
+        setTransform(world, viewer, camera.position.toArray())
+        cull()
+      },
+      /** All of the crowd's cloth stepping happens here. */
+      step: (dt) => stepCloth(world, dt),
+      sync() {
+        figures.sync()
+        histogram.fill(0)
+        for (let i = 0; i < capes.length; i++) {
+          const k = lodClass(getClothLod(world, capes[i]))
+          histogram[k]++
+          meshes[i].material = tintLod ? lodMaterials[k] : fabrics[i % fabrics.length]
+        }
+      },
+      // the budget picks each cape's substeps; the panel's count is what near capes want
+      stats() {
+        const b = getClothBudgetStats(world)
+        return [
+          `budget      8 ms: ${b.predictedMs.toFixed(2)} predicted, ${b.measuredMs.toFixed(2)} measured`,
+          `visible     ${visibleCount} of ${capes.length} capes`,
+          ...LOD_CLASSES.map((c, k) => `  ${c.label.padEnd(16)}${histogram[k]}`),
+        ]
+      },
+      api: {
+        tintLod: () => {
+          tintLod = true
+          tintBox.checked = true
+        },
+        lods: () => capes.map((c) => getClothLod(world, c)),
+        histogram: () => Object.fromEntries(LOD_CLASSES.map((c, k) => [c.label, histogram[k]])),
+        budget: () => getClothBudgetStats(world),
+        visible: () => visibleCount,
+        maxStretch: () => Math.max(...capes.map((c) => getClothStretch(world, c).max)),
+      },
+    }
+  },
+}
