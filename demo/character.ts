@@ -49,7 +49,7 @@ export class Track {
 
 /** Body parts, in drawing order; their shapes are in PART_SHAPES. */
 export const PARTS = [
-  'torso', 'shoulders', 'pelvis', 'belt', 'neck', 'head', 'hair', 'eyeL', 'eyeR',
+  'torso', 'shoulders', 'pelvis', 'neck', 'head', 'hair', 'eyeL', 'eyeR',
   'thighL', 'thighR', 'shinL', 'shinR', 'footL', 'footR', 'upperArmL', 'upperArmR', 'forearmL', 'forearmR', 'handL', 'handR',
 ] as const
 export type PartName = (typeof PARTS)[number]
@@ -62,6 +62,10 @@ export interface PartPose {
 
 const L_THIGH = 0.44, L_SHIN = 0.43, ANKLE = 0.085
 const _v = new THREE.Vector3(), _w = new THREE.Vector3(), _q = new THREE.Quaternion(), _e = new THREE.Euler()
+// joints and directions of the pose being built (one character at a time)
+const hipP = new THREE.Vector3(), kneeP = new THREE.Vector3(), ankleP = new THREE.Vector3(), thighD = new THREE.Vector3(), shinD = new THREE.Vector3()
+const shoulderP = new THREE.Vector3(), elbowP = new THREE.Vector3(), wristP = new THREE.Vector3(), upperD = new THREE.Vector3(), foreD = new THREE.Vector3()
+const hairQ = new THREE.Quaternion(), pelvisQ = new THREE.Quaternion(), footQ = new THREE.Quaternion(), bendOut = new THREE.Quaternion()
 const UP = new THREE.Vector3(0, 1, 0)
 const tmp3 = [0, 0, 0], tmp4 = [0, 0, 0, 1]
 
@@ -238,18 +242,27 @@ export class Character {
     const stepping = this.turnLeft > 0 ? 0.35 : 0
     const hipAmp = Math.max(stepping, amp * (0.42 + 0.3 * run + 0.15 * sprint))
     const kneeAmp = Math.max(stepping * 1.5, amp * (0.7 + 0.65 * run))
-    // jump: crouch 0.12 s, fly 0.62 s (3 m/s up: 0.47 m high), land 0.18 s
+    // jump: crouch (0.16 s), push off (0.12 s: the legs straighten while the body speeds up to
+    // 2.6 m/s, so position and speed stay continuous), fly until the feet are down again (about
+    // 0.58 s, 0.5 m up at the top), land (0.2 s)
     let crouch = 0, air = 0, tuck = 0
     const t = this.jumpT
     if (t >= 0) {
-      const T0 = 0.12, T1 = 0.62, T2 = 0.18
+      const T0 = 0.16, T1 = 0.12, V = 2.6, G = 9.81, T3 = 0.2
+      const h0 = (V * T1) / 2
+      const flight = (V + Math.sqrt(V * V + 2 * G * h0)) / G
       if (t < T0) crouch = Math.sin((t / T0) * (Math.PI / 2))
       else if (t < T0 + T1) {
-        const f = t - T0
-        air = 3.04 * f - 0.5 * 9.81 * f * f
-        this.lift = 3.04 - 9.81 * f
-        tuck = Math.sin((f / T1) * Math.PI)
-      } else if (t < T0 + T1 + T2) crouch = Math.sin(((t - T0 - T1) / T2) * Math.PI)
+        const u = t - T0
+        crouch = Math.cos((u / T1) * (Math.PI / 2))
+        air = (V * u * u) / (2 * T1)
+        this.lift = (V * u) / T1
+      } else if (t < T0 + T1 + flight) {
+        const f = t - T0 - T1
+        air = h0 + V * f - 0.5 * G * f * f
+        this.lift = V - G * f
+        tuck = Math.sin((f / flight) * Math.PI)
+      } else if (t < T0 + T1 + flight + T3) crouch = 0.7 * Math.sin(((t - T0 - T1 - flight) / T3) * Math.PI)
       else this.jumpT = -1
     }
     const legs: [number, number][] = []
@@ -287,30 +300,28 @@ export class Character {
     set('shoulders', C(0, 0.43, -0.005, _v), this.chestQ)
     set('neck', C(0, 0.56, 0.0, _v), this.chestQ)
     set('head', C(0, 0.7, 0.01, _v), this.chestQ)
-    const headTilt = _q.setFromEuler(_e.set(-0.35, 0, 0))
-    const hairQ = this.chestQ.clone().multiply(headTilt)
+    hairQ.copy(this.chestQ).multiply(_q.setFromEuler(_e.set(-0.35, 0, 0)))
     set('hair', C(0, 0.712, -0.004, _v), hairQ)
     set('eyeL', C(0.045, 0.715, 0.118, _v), this.chestQ)
     set('eyeR', C(-0.045, 0.715, 0.118, _v), this.chestQ)
     // pelvis and belt turn with the legs, not the chest
-    const pelvisQ = this.rootQ.clone().multiply(_q.setFromEuler(_e.set(0.3 * this.lean, -0.5 * twist, 0)))
+    pelvisQ.copy(this.rootQ).multiply(_q.setFromEuler(_e.set(0.3 * this.lean, -0.5 * twist, 0)))
     set('pelvis', W(0, hipY + 0.03, 0, _v), pelvisQ)
-    set('belt', C(0, 0.07, 0, _v), this.chestQ)
 
     // legs, hip joints in the root frame
     for (const [k, side] of [[0, 1], [1, -1]] as const) {
       const [hip, knee] = legs[k]
       const s = side > 0 ? 'L' : 'R'
-      const hipP = W(side * 0.095, hipY, 0, new THREE.Vector3())
-      const thighD = limbDir(hip, new THREE.Vector3()).applyQuaternion(this.rootQ)
-      const kneeP = hipP.clone().addScaledVector(thighD, L_THIGH)
-      const shinD = limbDir(hip - knee, new THREE.Vector3()).applyQuaternion(this.rootQ)
-      const ankleP = kneeP.clone().addScaledVector(shinD, L_SHIN)
+      W(side * 0.095, hipY, 0, hipP)
+      limbDir(hip, thighD).applyQuaternion(this.rootQ)
+      kneeP.copy(hipP).addScaledVector(thighD, L_THIGH)
+      limbDir(hip - knee, shinD).applyQuaternion(this.rootQ)
+      ankleP.copy(kneeP).addScaledVector(shinD, L_SHIN)
       this.segment(`thigh${s}`, hipP, kneeP)
       this.segment(`shin${s}`, kneeP, ankleP)
       // the foot: flat on the ground in stance, pointing down a little in the swing
       const footPitch = Math.min(0, (hip - knee) * 0.8) - 0.4 * tuck
-      const footQ = this.rootQ.clone().multiply(_q.setFromEuler(_e.set(-footPitch, 0, 0)))
+      footQ.copy(this.rootQ).multiply(_q.setFromEuler(_e.set(-footPitch, 0, 0)))
       const footP = _w.set(0, -0.045, 0.05).applyQuaternion(footQ).add(ankleP)
       set(`foot${s}`, footP, footQ)
       if (this.legBones.length === 2) this.writeSegment(this.legBones[k], hipP, ankleP)
@@ -323,12 +334,12 @@ export class Character {
       const swing = Math.max(stepping * 0.5, amp * (0.35 + 0.5 * run)) * Math.sin(ph) + 0.2 * run + 0.6 * tuck - 0.3 * crouch
       const elbow = 0.2 + 1.25 * run + 0.15 * amp + 0.4 * crouch
       const out = 0.1 + 0.06 * run + 0.35 * tuck
-      const shoulderP = C(side * 0.235, 0.44, 0, new THREE.Vector3())
-      const bendOut = _q.setFromAxisAngle(_w.set(0, 0, 1), side * out)
-      const upperD = limbDir(swing, new THREE.Vector3()).applyQuaternion(bendOut).applyQuaternion(this.chestQ)
-      const elbowP = shoulderP.clone().addScaledVector(upperD, 0.29)
-      const foreD = limbDir(swing + elbow, new THREE.Vector3()).applyQuaternion(bendOut).applyQuaternion(this.chestQ)
-      const wristP = elbowP.clone().addScaledVector(foreD, 0.26)
+      C(side * 0.235, 0.44, 0, shoulderP)
+      bendOut.setFromAxisAngle(_w.set(0, 0, 1), side * out)
+      limbDir(swing, upperD).applyQuaternion(bendOut).applyQuaternion(this.chestQ)
+      elbowP.copy(shoulderP).addScaledVector(upperD, 0.29)
+      limbDir(swing + elbow, foreD).applyQuaternion(bendOut).applyQuaternion(this.chestQ)
+      wristP.copy(elbowP).addScaledVector(foreD, 0.26)
       this.segment(`upperArm${s}`, shoulderP, elbowP)
       this.segment(`forearm${s}`, elbowP, wristP)
       set(`hand${s}`, wristP.addScaledVector(foreD, 0.035), this.chestQ)
@@ -437,7 +448,6 @@ const PART_SHAPES: Record<PartName, { slot: Slot; geometry: () => THREE.BufferGe
     torso: { slot: 'shirt', geometry: () => capsule(0.18, 0.2, 'y', 16)().scale(1.04, 1, 0.92) },
     shoulders: { slot: 'shirt', geometry: capsule(0.088, 0.15, 'x') },
     pelvis: { slot: 'trousers', geometry: () => capsule(0.135, 0.06, 'x', 14)().scale(1, 1, 0.95) },
-    belt: { slot: 'belt', geometry: () => new THREE.CylinderGeometry(0.172, 0.176, 0.05, 24).scale(1.04, 1, 0.92) },
     neck: { slot: 'skin', geometry: () => new THREE.CylinderGeometry(0.05, 0.055, 0.12, 12) },
     head: { slot: 'skin', geometry: sphere(0.118, 24, 16) },
     hair: { slot: 'hair', geometry: () => new THREE.SphereGeometry(0.124, 24, 12, 0, 2 * Math.PI, 0, Math.PI * 0.55) },

@@ -111,13 +111,13 @@ export const rubberMaterial = () =>
   })
 
 /** Chain mail: a dark metal strip. */
-export const chainMaterial = () => new THREE.MeshStandardMaterial({ color: 0x8c9099, metalness: 0.9, roughness: 0.38, normalMap: weaveNormal(20, 4), side: THREE.DoubleSide })
+export const chainMaterial = () => new THREE.MeshStandardMaterial({ color: 0x8c9099, metalness: 0.5, roughness: 0.38, normalMap: weaveNormal(20, 4), side: THREE.DoubleSide })
 
 /** Brushed steel (rails, poles, hooks). */
-export const steel = () => new THREE.MeshStandardMaterial({ color: 0xb8bcc4, metalness: 0.85, roughness: 0.32 })
+export const steel = () => new THREE.MeshStandardMaterial({ color: 0xb8bcc4, metalness: 0.45, roughness: 0.3 })
 
 /** Brass (finials, rings). */
-export const brass = () => new THREE.MeshStandardMaterial({ color: 0xc8a04a, metalness: 0.9, roughness: 0.3 })
+export const brass = () => new THREE.MeshStandardMaterial({ color: 0xc8a04a, metalness: 0.55, roughness: 0.3 })
 
 /** Varnished wood. */
 export const wood = () => new THREE.MeshStandardMaterial({ map: woodTexture(), roughness: 0.55, metalness: 0 })

@@ -14,7 +14,8 @@ import {
   stepCloth,
   unpin,
 } from '../src/index'
-import { createClothGeometry, updateClothGeometry } from './three-shim'
+import { createClothGeometry, updateClothGeometry } from '../src/three/index'
+import { fillMissingUvs } from './three-shim'
 import type { DemoScene, DemoSettings, SceneInstance, SceneLabel } from './scene'
 import { scenes } from './scenes/index'
 import { View } from './view'
@@ -22,7 +23,9 @@ import { View } from './view'
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T
 const canvas = $<HTMLCanvasElement>('view')
 const params = new URLSearchParams(location.search)
+performance.mark('start')
 const view = new View(canvas, { antialias: params.get('aa') !== '0' })
+performance.measure('view', 'start')
 /**
  * Dynamic resolution: the canvas renders at `resolution` × the device's pixel ratio, lowered
  * while fewer than 24 frames a second are drawn (software WebGL, a weak GPU) and raised again
@@ -129,6 +132,7 @@ const tintMaterial = new THREE.MeshStandardMaterial({ vertexColors: true, roughn
 
 function showCloth(cloth: number, material: THREE.Material): THREE.Mesh {
   const geometry = createClothGeometry(world, cloth)
+  fillMissingUvs(world, cloth, geometry)
   const mesh = new THREE.Mesh(geometry, material)
   mesh.castShadow = mesh.receiveShadow = true
   view.root.add(mesh)
@@ -169,6 +173,7 @@ function updateCloths(): void {
   for (const v of clothViews) {
     if (!v.mesh.visible) continue
     updateClothGeometry(world, v.cloth, v.geometry)
+    fillMissingUvs(world, v.cloth, v.geometry)
     if (tint) paintStretch(v)
   }
 }
@@ -350,7 +355,7 @@ let last = performance.now()
 let running = true
 function tick(now: number): void {
   if (!running) return
-  const dt = Math.min(scene.maxFrameTime ?? 0.1, Math.max(0, (now - last) / 1000)) // rAF stamps can precede the last read
+  const dt = Math.min(scene.maxFrameTime ?? 0.05, Math.max(0, (now - last) / 1000)) // rAF stamps can precede the last read
   last = now
   const f0 = performance.now()
   if (!paused || stepOnce > 0) {
@@ -473,6 +478,7 @@ function showStats(): void {
 
 /** Renders now and reads the canvas back (RGBA rows, bottom first). */
 function readPixels(): { w: number; h: number; px: Uint8Array } {
+  instance.sync?.()
   updateCloths()
   view.update()
   view.render()
@@ -545,6 +551,8 @@ function simulate(seconds: number): void {
 ;(window as unknown as { __demo: unknown }).__demo = {
   snapshot,
   tintDifference,
+  readPixels,
+  differing,
   positions,
   screenPoint,
   simulate,
@@ -588,7 +596,9 @@ function simulate(seconds: number): void {
   applySettings,
 }
 
+performance.mark('load')
 loadScene(params.get('scene') ?? scenes[0].id)
+performance.measure('loadScene', 'load')
 if (params.has('tint')) setTint(true)
 acc.start = performance.now()
 requestAnimationFrame(tick)

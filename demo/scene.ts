@@ -75,7 +75,7 @@ export interface SceneInstance {
 
 /** A moment of a scene worth a picture: `seconds` of simulation after loading, after `action`. */
 export interface SceneMoment {
-  name: 'rest' | 'motion'
+  name: string
   seconds: number
   /** Name of an `api` action to call, `actionAt` seconds after loading (default 0). */
   action?: string
@@ -96,7 +96,7 @@ export interface DemoScene {
   /** Direction toward the sun (default from the front left: [−0.45, 0.8, 0.4]). */
   sun?: [number, number, number]
   /**
-   * Longest simulated time per drawn frame, s (default 0.1): when frames take longer, the scene
+   * Longest simulated time per drawn frame, s (default 0.05): when frames take longer, the scene
    * runs slower than real time rather than taking ever more fixed steps per frame.
    */
   maxFrameTime?: number

@@ -153,17 +153,17 @@ function mottle(ctx: CanvasRenderingContext2D, w: number, h: number, amount: num
 /** Ground: 1 m stone tiles, four by four per texture, with grout and per-tile shade. */
 export function groundTextures(): { map: THREE.Texture; normalMap: THREE.Texture } {
   const map = cached('ground', () => {
-    const size = 1024, tiles = 4, px = size / tiles
+    const size = 512, tiles = 4, px = size / tiles
     const [c, ctx] = canvas(size)
     const img = ctx.createImageData(size, size)
     for (let y = 0; y < size; y++) {
       for (let x = 0; x < size; x++) {
         const ti = Math.floor(x / px), tj = Math.floor(y / px)
         const shade = 0.93 + 0.1 * noise2(ti * 7.3, tj * 3.1, 1000, 41)
-        const n = fbm(x, y, size, 8, 5, 9)
+        const n = fbm(x, y, size, 8, 4, 9)
         const gx = Math.min(x % px, px - (x % px)), gy = Math.min(y % px, px - (y % px))
         const g = Math.min(gx, gy)
-        const grout = g < 1.5 ? 0.72 : g < 3 ? 0.88 : 1
+        const grout = g < 1 ? 0.72 : g < 2 ? 0.88 : 1
         const v = shade * (0.86 + 0.22 * n) * grout
         const i = 4 * (y * size + x)
         img.data[i] = 168 * v
@@ -176,12 +176,12 @@ export function groundTextures(): { map: THREE.Texture; normalMap: THREE.Texture
     return colorTexture(c)
   })
   const normalMap = cached('groundNormal', () => {
-    const size = 512, px = size / 4
+    const size = 256, px = size / 4
     const height = new Float32Array(size * size)
     for (let y = 0; y < size; y++) {
       for (let x = 0; x < size; x++) {
         const gx = Math.min(x % px, px - (x % px)), gy = Math.min(y % px, px - (y % px))
-        const edge = Math.min(1, Math.min(gx, gy) / 2)
+        const edge = Math.min(1, Math.min(gx, gy) / 1.5)
         height[y * size + x] = 0.6 * edge + 0.25 * fbm(x, y, size, 16, 3, 13)
       }
     }

@@ -2,9 +2,10 @@ import * as THREE from 'three'
 import { groundTextures } from './textures'
 
 /**
- * The three.js side of the demo: renderer, a generated sky that also lights the scene (an
- * environment map made from it at startup), a sun with soft shadows, a hemisphere fill, a tiled
- * ground, and an orbit camera. Scenes add their objects to `root`, which is emptied (and its
+ * The three.js side of the demo: renderer, a generated sky, a sun with soft shadows, a hemisphere
+ * light with the sky's and the ground's colours, a tiled ground, and an orbit camera. (No
+ * prefiltered environment map: filtering one costs seconds of startup in software WebGL.) Scenes
+ * add their objects to `root`, which is emptied (and its
  * geometries and materials disposed) when the scene changes.
  */
 export class View {
@@ -36,18 +37,7 @@ export class View {
     this.scene.fog = new THREE.Fog(horizon, 30, 140)
     const sky = makeSky(this.sunDir, horizon)
     this.scene.add(sky)
-    // image-based light from the same sky: soft blue from above, warm from the sun side
-    const pmrem = new THREE.PMREMGenerator(r)
-    const envScene = new THREE.Scene()
-    envScene.add(makeSky(this.sunDir, horizon))
-    const groundDisc = new THREE.Mesh(new THREE.CircleGeometry(400, 24).rotateX(-Math.PI / 2), new THREE.MeshBasicMaterial({ color: 0x6b6459 }))
-    groundDisc.position.y = -1
-    envScene.add(groundDisc)
-    this.scene.environment = pmrem.fromScene(envScene, 0.02, 0.1, 500).texture
-    this.scene.environmentIntensity = 0.55
-    pmrem.dispose()
-
-    this.hemi = new THREE.HemisphereLight(0xcfe0ff, 0x6a5a48, 0.9)
+    this.hemi = new THREE.HemisphereLight(0xcfe0ff, 0x7a6a58, 1.4)
     this.scene.add(this.hemi)
     const sun = (this.sun = new THREE.DirectionalLight(0xfff1dc, 2.6))
     sun.castShadow = true

@@ -13,7 +13,7 @@ import {
 } from '../../src/index'
 import { Character, CrowdFigures, Track, type Gait } from '../character'
 import { simpleCotton } from '../fabrics'
-import { addToggle, type DemoScene } from '../scene'
+import { addSegmented, addToggle, type DemoScene } from '../scene'
 
 /** Level-of-detail classes the tint shows, with their colours. */
 const LOD_CLASSES: { label: string; color: number }[] = [
@@ -31,6 +31,9 @@ function lodClass(lod: { substeps: number; stepEvery: number; frozen: boolean })
   return lod.substeps >= 8 ? 0 : lod.substeps >= 4 ? 1 : lod.substeps >= 2 ? 2 : 3
 }
 
+/** The budget's distances from the camera: full quality within NEAR, one substep beyond FAR, m. */
+const NEAR = 6, FAR = 25
+
 const CAPE_COLOURS = ['#8c1620', '#1f4e8c', '#2f6b3a', '#6b3a8c', '#8c6a1f', '#1f7a7a', '#4a4a52', '#a0522d']
 const SHIRTS = [0x3f5a78, 0x7a4a3a, 0x5a6a3a, 0x6a5a7a, 0x8a7a5a, 0x3a6a6a, 0x7a3a4a, 0x5a5a5a]
 
@@ -46,15 +49,16 @@ const LANES: { radius: number; count: number; gait: Gait; pace: number; directio
 /**
  * A crowd: 64 characters walking and running round a square, each with a 24×24 cape on a torso
  * capsule and two leg capsules. The world budget (`setClothBudget`) measures distance from the
- * camera (an entity whose Transform follows it): capes near the camera keep 8 substeps, farther
- * ones get fewer, down to one, within an 8 ms budget per frame; capes outside the view are marked
- * invisible (`setClothVisible`) and freeze. "Tint by LOD" colours each cape by the level it runs.
+ * camera (an entity whose Transform follows it): capes within 6 m keep 8 substeps, farther ones
+ * get fewer, down to one at 25 m, and a time budget per fixed step (4, 8 or 16 ms, or none) lowers
+ * levels further until the predicted cost fits; capes outside the view are marked invisible
+ * (`setClothVisible`) and freeze. "Tint by LOD" colours each cape by the level it runs.
  */
 export const crowdScene: DemoScene = {
   id: 'crowd',
   title: 'Crowd (64 capes, budget and LOD)',
   defaults: { substeps: 8, iterations: 1, material: 'cotton', tethers: true },
-  camera: { target: [2.5, 0.8, 4.5], distance: 10, yaw: 0.65, pitch: 0.32 },
+  camera: { target: [3, 0.8, 5.5], distance: 9, yaw: 0.65, pitch: 0.3 },
   shadowRadius: 13,
   shadowMapSize: 1024,
   // at most two fixed steps per drawn frame: on a slow machine the crowd runs in slow motion
@@ -63,6 +67,7 @@ export const crowdScene: DemoScene = {
   moments: [
     { name: 'rest', seconds: 3 },
     { name: 'motion', seconds: 3, action: 'tintLod' },
+    { name: 'lod', seconds: 3, action: 'lodByDistance' },
   ],
   create({ world, settings, ui, root, showCloth, camera }) {
     const characters: Character[] = []
@@ -106,7 +111,14 @@ export const crowdScene: DemoScene = {
     // the budget measures distances from the camera, an entity the scene moves with the view
     const viewer = addEntity(world as never)
     setTransform(world, viewer, camera.position.toArray())
-    setClothBudget(world, { msPerFrame: 8, viewer, near: 6, far: 25 })
+    type Budget = '4' | '8' | '16' | 'distance'
+    let budget: Budget = '8'
+    const setBudget = (b: Budget) => {
+      budget = b
+      setClothBudget(world, { msPerFrame: b === 'distance' ? undefined : Number(b), viewer, near: NEAR, far: FAR })
+    }
+    setBudget(budget)
+    const showBudget = addSegmented<Budget>(ui, 'Budget ms', [['4', '4'], ['8', '8'], ['16', '16'], ['distance', 'none']], budget, setBudget, 'budget')
 
     const lodMaterials = LOD_CLASSES.map((c) => new THREE.MeshStandardMaterial({ color: c.color, roughness: 0.8, side: THREE.DoubleSide }))
     let tintLod = false
@@ -158,7 +170,9 @@ export const crowdScene: DemoScene = {
       stats() {
         const b = getClothBudgetStats(world)
         return [
-          `budget      8 ms: ${b.predictedMs.toFixed(2)} predicted, ${b.measuredMs.toFixed(2)} measured`,
+          budget === 'distance'
+            ? `budget      none: by distance (full within ${NEAR} m, 1 substep beyond ${FAR} m)`
+            : `budget      ${budget} ms: ${b.predictedMs.toFixed(2)} predicted, ${b.measuredMs.toFixed(2)} measured`,
           `visible     ${visibleCount} of ${capes.length} capes`,
           ...LOD_CLASSES.map((c, k) => `  ${c.label.padEnd(16)}${histogram[k]}`),
         ]
@@ -167,6 +181,18 @@ export const crowdScene: DemoScene = {
         tintLod: () => {
           tintLod = true
           tintBox.checked = true
+        },
+        /** The LOD tint with levels by distance only (what the screenshot of the levels shows). */
+        lodByDistance: () => {
+          setBudget('distance')
+          showBudget('distance')
+          tintLod = true
+          tintBox.checked = true
+        },
+        /** Level of detail by distance only (no time budget). */
+        byDistance: () => {
+          setBudget('distance')
+          showBudget('distance')
         },
         lods: () => capes.map((c) => getClothLod(world, c)),
         histogram: () => Object.fromEntries(LOD_CLASSES.map((c, k) => [c.label, histogram[k]])),
