@@ -80,6 +80,8 @@ export interface SceneMoment {
   /** Name of an `api` action to call, `actionAt` seconds after loading (default 0). */
   action?: string
   actionAt?: number
+  /** Not one of the README's pictures: taken only with `npm run screenshots -- --all`. */
+  extra?: boolean
 }
 
 /** A scene in the menu. Scenes use only the public API of bitecs-cloth. */

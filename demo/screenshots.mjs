@@ -1,8 +1,9 @@
 // `npm run screenshots`: photographs every scene of the demo at rest and in motion, in headless
 // Chromium, into demo/screenshots/<scene>-<moment>.png (the README's pictures). Each picture is
 // taken after simulating a fixed number of 60 Hz frames, so it does not depend on the machine's
-// speed. Options: --out <dir> (default demo/screenshots), --scenes a,b (default all),
-// --width/--height (default 1280×720).
+// speed. Options: --out <dir> (default demo/screenshots), --scenes a,b (default all), --all (also
+// the extra moments, e.g. the cape walking, sprinting, turning and jumping),
+// --width/--height (default 960×540).
 import { existsSync, mkdirSync } from 'node:fs'
 import { join, resolve } from 'node:path'
 import { parseArgs } from 'node:util'
@@ -13,7 +14,7 @@ import { serveDemo } from './serve.mjs'
 export const CHROMIUM_ARGS = ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run']
 
 /** Loads every scene (or `only`) and saves one PNG per moment into `out`; returns the files. */
-export async function photograph({ out, only, width = 1280, height = 720, executablePath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium', log = console.log }) {
+export async function photograph({ out, only, all = false, width = 960, height = 540, executablePath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium', log = console.log }) {
   mkdirSync(out, { recursive: true })
   const { url, server } = await serveDemo(0)
   const browser = await chromium.launch({ executablePath, args: CHROMIUM_ARGS })
@@ -29,6 +30,7 @@ export async function photograph({ out, only, width = 1280, height = 720, execut
     for (const [scene, list] of Object.entries(moments)) {
       if (only && !only.includes(scene)) continue
       for (const m of list) {
+        if (m.extra && !all) continue
         await page.goto(`${url}?scene=${scene}&pr=1`, { waitUntil: 'domcontentloaded', timeout: 180_000 })
         await page.waitForFunction(() => window.__demo?.ready === true, null, { timeout: 180_000 })
         await page.evaluate(({ seconds, action, actionAt }) => {
@@ -58,7 +60,7 @@ export async function photograph({ out, only, width = 1280, height = 720, execut
 }
 
 if (process.argv[1] && resolve(process.argv[1]) === resolve(new URL(import.meta.url).pathname)) {
-  const { values } = parseArgs({ options: { out: { type: 'string' }, scenes: { type: 'string' }, width: { type: 'string' }, height: { type: 'string' } } })
+  const { values } = parseArgs({ options: { all: { type: 'boolean' }, out: { type: 'string' }, scenes: { type: 'string' }, width: { type: 'string' }, height: { type: 'string' } } })
   const exe = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium'
   if (!existsSync(exe)) {
     console.error(`no Chromium at ${exe}: install Debian's chromium package or set CHROMIUM_PATH`)
@@ -66,5 +68,5 @@ if (process.argv[1] && resolve(process.argv[1]) === resolve(new URL(import.meta.
   }
   const out = values.out ?? join(new URL('.', import.meta.url).pathname, 'screenshots')
   console.log(`photographing the demo into ${out}`)
-  await photograph({ out, only: values.scenes?.split(','), width: Number(values.width ?? 1280), height: Number(values.height ?? 720) })
+  await photograph({ out, only: values.scenes?.split(','), all: values.all, width: Number(values.width ?? 960), height: Number(values.height ?? 540) })
 }

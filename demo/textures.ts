@@ -160,11 +160,11 @@ export function groundTextures(): { map: THREE.Texture; normalMap: THREE.Texture
       for (let x = 0; x < size; x++) {
         const ti = Math.floor(x / px), tj = Math.floor(y / px)
         const shade = 0.93 + 0.1 * noise2(ti * 7.3, tj * 3.1, 1000, 41)
-        const n = fbm(x, y, size, 8, 4, 9)
+        const n = fbm(x, y, size, 4, 3, 9)
         const gx = Math.min(x % px, px - (x % px)), gy = Math.min(y % px, px - (y % px))
         const g = Math.min(gx, gy)
         const grout = g < 1 ? 0.72 : g < 2 ? 0.88 : 1
-        const v = shade * (0.86 + 0.22 * n) * grout
+        const v = shade * (0.9 + 0.14 * n) * grout
         const i = 4 * (y * size + x)
         img.data[i] = 168 * v
         img.data[i + 1] = 160 * v

@@ -18,10 +18,10 @@ export const capeScene: DemoScene = {
   moments: [
     { name: 'rest', seconds: 3, action: 'stand' },
     { name: 'motion', seconds: 3.2, action: 'run' },
-    { name: 'walk', seconds: 3, action: 'walk' },
-    { name: 'sprint', seconds: 3.5, action: 'sprint' },
-    { name: 'turn', seconds: 2.9, action: 'turn', actionAt: 2 },
-    { name: 'jump', seconds: 3.05, action: 'jump', actionAt: 2.5 },
+    { name: 'walk', seconds: 3, action: 'walk', extra: true },
+    { name: 'sprint', seconds: 3.5, action: 'sprint', extra: true },
+    { name: 'turn', seconds: 2.9, action: 'turn', actionAt: 2, extra: true },
+    { name: 'jump', seconds: 3.05, action: 'jump', actionAt: 2.5, extra: true },
   ],
   create({ world, settings, ui, root, showCloth }) {
     const hero = new Character(world)

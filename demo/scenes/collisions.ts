@@ -45,7 +45,7 @@ export const collisionsScene: DemoScene = {
   id: 'collisions',
   title: 'Colliders and self-collision',
   defaults: { substeps: 8, iterations: 1, material: 'cotton' },
-  camera: { target: [0, 0.4, 0.45], distance: 5.3, yaw: 0.3, pitch: 0.36 },
+  camera: { target: [0, 0.35, 0.45], distance: 6.2, yaw: 0.3, pitch: 0.36 },
   shadowRadius: 4.5,
   moments: [
     { name: 'rest', seconds: 5 },

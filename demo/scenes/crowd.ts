@@ -66,8 +66,7 @@ export const crowdScene: DemoScene = {
   maxFrameTime: 1 / 30,
   moments: [
     { name: 'rest', seconds: 3 },
-    { name: 'motion', seconds: 3, action: 'tintLod' },
-    { name: 'lod', seconds: 3, action: 'lodByDistance' },
+    { name: 'motion', seconds: 3, action: 'lodByDistance' },
   ],
   create({ world, settings, ui, root, showCloth, camera }) {
     const characters: Character[] = []

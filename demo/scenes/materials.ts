@@ -15,7 +15,7 @@ import { ginghamFabric, leatherMaterial, paint, rubberMaterial, shadows, silkFab
 import { addButton, addSlider, type DemoScene, type SceneLabel } from '../scene'
 
 const MATERIALS: { name: string; look: () => THREE.Material; note: string }[] = [
-  { name: 'silk', look: silkFabric, note: 'light, floppy, catches the wind' },
+  { name: 'silk', look: silkFabric, note: 'light, catches the wind' },
   { name: 'cotton', look: () => ginghamFabric('#3b62a8', 8), note: 'the default' },
   { name: 'leather', look: leatherMaterial, note: 'heavy and stiff' },
   { name: 'rubber', look: rubberMaterial, note: 'heavy and stretchy' },
@@ -89,10 +89,7 @@ export const materialsScene: DemoScene = {
     const labels: SceneLabel[] = MATERIALS.flatMap((m, k) => {
       const spec = resolveMaterial(m.name)
       const density = spec.density >= 1 ? `${spec.density} kg/m²` : `${Math.round(spec.density * 1000)} g/m²`
-      return [
-        { text: m.name[0].toUpperCase() + m.name.slice(1), at: [x0 + k * SPACING, 0.78, 0.2], className: 'title' },
-        { text: `${density}\n${m.note}`, at: [x0 + k * SPACING, 0.58, 0.2], className: 'dim' },
-      ]
+      return [{ text: `${m.name[0].toUpperCase() + m.name.slice(1)}\n${density}\n${m.note}`, at: [x0 + k * SPACING, 0.62, 0.2], className: 'card' }]
     })
     return {
       cloths,

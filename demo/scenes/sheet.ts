@@ -16,7 +16,7 @@ export const sheetScene: DemoScene = {
   shadowRadius: 2.5,
   moments: [
     { name: 'rest', seconds: 3 },
-    { name: 'motion', seconds: 2.5, action: 'corners', actionAt: 1.5 },
+    { name: 'motion', seconds: 1.1 },
   ],
   create({ world, settings, ui, root, showCloth }) {
     const n = 32

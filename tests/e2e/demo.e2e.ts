@@ -162,6 +162,7 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
     expect(await page.evaluate(() => __demo.stats.tint), 'tintDifference leaves the tint as it was').toBe(false)
     await page.click('#tint')
     expect(await page.evaluate(() => __demo.stats.tint)).toBe(true)
+    await page.screenshot({ path: join(shots, 'flag-tint.png') })
     await page.click('#tint')
     expect(await page.evaluate(() => __demo.stats.tint)).toBe(false)
     expect(errors).toEqual([])
