@@ -318,6 +318,8 @@ let fps = 0
 /** ms per fixed step of the cloth work (averaged like the other costs). */
 let msPerStep = 0
 let stepsInWindow = 0
+/** ms of the last frame's geometry updates. */
+let lastGeometryMs = 0
 
 /** Advances the simulation by `h` seconds: the scene's update, then the cloth step. */
 function advance(h: number): number {
@@ -411,6 +413,7 @@ function draw(): void {
   const t3 = performance.now()
   acc.sceneMs += t1 - t0
   acc.geometryMs += t2 - t1
+  lastGeometryMs = t2 - t1
   acc.renderMs += t3 - t2
   drawLabels(instance.labels?.() ?? [])
   showStats()
@@ -575,7 +578,7 @@ function simulate(seconds: number): void {
   },
   /** Frame rate (frames drawn in the last second) and main-thread ms per frame, averaged over a second. */
   get stats() {
-    return { ...lastStats, ...costs, fps, msPerStep, outsideStepMs: costs.geometryMs + costs.renderMs, tint, pixelRatio: view.renderer.getPixelRatio() }
+    return { ...lastStats, ...costs, lastGeometryMs, fps, msPerStep, outsideStepMs: costs.geometryMs + costs.renderMs, tint, pixelRatio: view.renderer.getPixelRatio() }
   },
   get world() {
     return world
