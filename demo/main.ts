@@ -2,6 +2,9 @@ import { addEntity, createWorld, removeEntity } from 'bitecs'
 import * as THREE from 'three'
 import {
   ClothMaterial,
+  type ClothRenderProxy,
+  createRenderProxy,
+  type RenderProxyOptions,
   getClothState,
   getClothStretch,
   getClothTearCount,
@@ -14,8 +17,7 @@ import {
   stepCloth,
   unpin,
 } from '../src/index'
-import { createClothGeometry, updateClothGeometry } from '../src/three/index'
-import { fillMissingUvs } from './three-shim'
+import { createClothGeometry, createProxyGeometry, updateClothGeometry, updateProxyGeometry } from '../src/three/index'
 import type { DemoScene, DemoSettings, SceneInstance, SceneLabel } from './scene'
 import { scenes } from './scenes/index'
 import { View } from './view'
@@ -23,9 +25,7 @@ import { View } from './view'
 const $ = <T extends HTMLElement>(id: string) => document.getElementById(id) as T
 const canvas = $<HTMLCanvasElement>('view')
 const params = new URLSearchParams(location.search)
-performance.mark('start')
 const view = new View(canvas, { antialias: params.get('aa') !== '0' })
-performance.measure('view', 'start')
 /**
  * Dynamic resolution: the canvas renders at `resolution` × the device's pixel ratio, lowered
  * while fewer than 24 frames a second are drawn (software WebGL, a weak GPU) and raised again
@@ -119,25 +119,44 @@ function setPaused(p: boolean): void {
 
 interface ClothView {
   cloth: number
+  /** The simulated mesh (drawn unless a render proxy stands in for it outside the stretch tint). */
   mesh: THREE.Mesh
   geometry: THREE.BufferGeometry
   material: THREE.Material
   /** Vertex colours for the stretch tint, sized like the position attribute. */
   colors: THREE.BufferAttribute | null
   strain: Float32Array
+  /** A finer render mesh driven by the cloth (`createRenderProxy`), and its three.js mesh. */
+  proxy: { handle: ClothRenderProxy; mesh: THREE.Mesh } | null
 }
 const clothViews: ClothView[] = []
 /** The stretch tint: the cloth's lighting with a plain light-grey fabric turning orange as it stretches. */
 const tintMaterial = new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.8, side: THREE.DoubleSide })
 
-function showCloth(cloth: number, material: THREE.Material): THREE.Mesh {
+function showCloth(cloth: number, material: THREE.Material, fine?: RenderProxyOptions): THREE.Mesh {
   const geometry = createClothGeometry(world, cloth)
-  fillMissingUvs(world, cloth, geometry)
   const mesh = new THREE.Mesh(geometry, material)
   mesh.castShadow = mesh.receiveShadow = true
   view.root.add(mesh)
-  clothViews.push({ cloth, mesh, geometry, material, colors: null, strain: new Float32Array(0) })
-  return mesh
+  let proxy: ClothView['proxy'] = null
+  if (fine) {
+    const handle = createRenderProxy(world, cloth, fine)
+    const proxyMesh = new THREE.Mesh(createProxyGeometry(world, handle), material)
+    proxyMesh.castShadow = proxyMesh.receiveShadow = true
+    view.root.add(proxyMesh)
+    proxy = { handle, mesh: proxyMesh }
+  }
+  const v: ClothView = { cloth, mesh, geometry, material, colors: null, strain: new Float32Array(0), proxy }
+  clothViews.push(v)
+  showProxy(v)
+  return proxy?.mesh ?? mesh
+}
+
+/** A cloth with a render proxy draws the proxy, except in the stretch tint (which colours particles). */
+function showProxy(v: ClothView): void {
+  if (!v.proxy) return
+  v.proxy.mesh.visible = !tint
+  v.mesh.visible = tint
 }
 
 const BASE = [0.78, 0.78, 0.76], ORANGE = [1.0, 0.35, 0.02]
@@ -171,9 +190,9 @@ function paintStretch(v: ClothView): void {
 
 function updateCloths(): void {
   for (const v of clothViews) {
+    if (v.proxy?.mesh.visible) updateProxyGeometry(world, v.proxy.handle, v.proxy.mesh.geometry)
     if (!v.mesh.visible) continue
     updateClothGeometry(world, v.cloth, v.geometry)
-    fillMissingUvs(world, v.cloth, v.geometry)
     if (tint) paintStretch(v)
   }
 }
@@ -183,7 +202,11 @@ function setTint(on: boolean): void {
   tintBox.checked = on
   for (const v of clothViews) {
     v.mesh.material = on ? tintMaterial : v.material
-    if (on) paintStretch(v)
+    showProxy(v)
+    if (on) {
+      updateClothGeometry(world, v.cloth, v.geometry)
+      paintStretch(v)
+    }
   }
 }
 
@@ -504,10 +527,11 @@ function differing(a: Uint8Array, b: Uint8Array): number {
  */
 function snapshot(): { clothCoverage: number; colors: number } {
   const shown = readPixels().px
-  for (const v of clothViews) v.mesh.userData.wasVisible = v.mesh.visible
-  for (const v of clothViews) v.mesh.visible = false
+  const meshes = clothViews.flatMap((v) => (v.proxy ? [v.mesh, v.proxy.mesh] : [v.mesh]))
+  const visible = meshes.map((m) => m.visible)
+  for (const m of meshes) m.visible = false
   const hidden = readPixels().px
-  for (const v of clothViews) v.mesh.visible = v.mesh.userData.wasVisible as boolean
+  meshes.forEach((m, k) => (m.visible = visible[k]))
   const seen = new Set<number>()
   for (let i = 0; i < shown.length; i += 4 * 7) seen.add((shown[i] >> 3) | ((shown[i + 1] >> 3) << 5) | ((shown[i + 2] >> 3) << 10))
   return { clothCoverage: differing(shown, hidden), colors: seen.size }
@@ -605,9 +629,7 @@ function simulate(seconds: number): void {
   applySettings,
 }
 
-performance.mark('load')
 loadScene(params.get('scene') ?? scenes[0].id)
-performance.measure('loadScene', 'load')
 if (params.has('tint')) setTint(true)
 acc.start = performance.now()
 requestAnimationFrame(tick)

@@ -1,4 +1,5 @@
 import type * as THREE from 'three'
+import type { RenderProxyOptions } from '../src/index'
 
 /** Settings shared by every scene, driven by the panel. */
 export interface DemoSettings {
@@ -21,9 +22,10 @@ export interface SceneContext {
   /**
    * Draws a cloth: makes its mesh through `bitecs-cloth/three` with this material (two-sided,
    * casting and receiving shadows), adds it to `root`, and keeps its geometry up to date after
-   * every step.
+   * every step. With `fine`, a render mesh finer than the cloth (`createRenderProxy`, in the cloth's
+   * rest frame) is drawn instead, except in the stretch tint. Returns the mesh drawn.
    */
-  showCloth(cloth: number, material: THREE.Material): THREE.Mesh
+  showCloth(cloth: number, material: THREE.Material, fine?: RenderProxyOptions): THREE.Mesh
   /** The view: camera, renderer, sun (e.g. for the crowd's frustum test). */
   camera: THREE.PerspectiveCamera
 }
