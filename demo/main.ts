@@ -236,6 +236,8 @@ function loadScene(id: string, useDefaults = true): void {
   instance = scene.create({ world, settings, ui, refresh: applySettings, root: view.root, showCloth, camera: view.camera })
   simTime = 0
   setTint(tint)
+  view.update()
+  view.renderer.compile(view.scene, view.camera) // every shader now, not at the first frame that shows its object
   $('hint').textContent = scene.hint ?? DEFAULT_HINT
   showSettings()
   const url = new URL(location.href)
