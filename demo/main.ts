@@ -1,4 +1,4 @@
-import { addEntity, createWorld, removeEntity } from 'bitecs'
+import { createWorld } from 'bitecs'
 import * as THREE from 'three'
 import {
   ClothMaterial,
@@ -10,12 +10,12 @@ import {
   getClothTearCount,
   installClothPlugin,
   isClothSleeping,
-  pinParticle,
+  grabParticle,
+  moveGrab,
+  releaseGrab,
   setClothQuality,
   setClothTethers,
-  setTransform,
   stepCloth,
-  unpin,
 } from '../src/index'
 import { createClothGeometry, createProxyGeometry, updateClothGeometry, updateProxyGeometry } from '../src/three/index'
 import type { DemoScene, DemoSettings, SceneInstance, SceneLabel } from './scene'
@@ -248,9 +248,10 @@ function loadScene(id: string, useDefaults = true): void {
 const DEFAULT_HINT = 'drag cloth with the mouse · right-drag or shift-drag to orbit · wheel to zoom'
 
 // ------------------------------------------------------------------------------------------
-// Mouse: drag a particle by pinning it to a hidden entity; orbit with right button or shift
+// Mouse: grab a particle (`grabParticle`: a soft grip with a force limit, so a moving cloth
+// stretches as under a hand) and move the grip with the cursor; orbit with right button or shift
 
-let drag: { cloth: number; pin: number; target: number; depth: number } | null = null
+let drag: { grab: number; depth: number } | null = null
 let orbit: { x: number; y: number } | null = null
 let lastOrbit = -Infinity // simTime of the last manual orbit
 /** Where and when the left button went down: a release close by is a click. */
@@ -289,9 +290,8 @@ canvas.addEventListener('pointerdown', (e) => {
     return
   }
   const c = getClothState(world, best.cloth)
-  const target = addEntity(world as never)
-  setTransform(world, target, [c.pos[3 * best.index], c.pos[3 * best.index + 1], c.pos[3 * best.index + 2]])
-  drag = { cloth: best.cloth, pin: pinParticle(world, best.cloth, best.index, target), target, depth: best.t }
+  const at = [c.pos[3 * best.index], c.pos[3 * best.index + 1], c.pos[3 * best.index + 2]]
+  drag = { grab: grabParticle(world, best.cloth, best.index, at), depth: best.t }
 })
 canvas.addEventListener('pointermove', (e) => {
   if (orbit) {
@@ -302,14 +302,13 @@ canvas.addEventListener('pointermove', (e) => {
   } else if (drag) {
     const [x, y] = ndc(e)
     view.ray(x, y, rayO, rayD)
-    setTransform(world, drag.target, rayO.clone().addScaledVector(rayD, drag.depth).toArray())
+    moveGrab(world, drag.grab, rayO.clone().addScaledVector(rayD, drag.depth).toArray())
   }
 })
 const endDrag = () => {
   orbit = null
   if (!drag) return
-  unpin(world, drag.pin)
-  removeEntity(world as never, drag.target)
+  releaseGrab(world, drag.grab)
   drag = null
 }
 canvas.addEventListener('pointerup', (e) => {
@@ -617,6 +616,16 @@ function simulate(seconds: number): void {
   /** The current scene's own actions and readouts (e.g. `throw()` in the curtain scene). */
   get api() {
     return instance.api ?? {}
+  },
+  /** Whether the mouse holds a particle. */
+  get grabbing() {
+    return drag !== null
+  },
+  /** Largest edge stretch over the scene's cloths now. */
+  maxStretch() {
+    let m = 0
+    for (const cloth of instance.cloths) m = Math.max(m, getClothStretch(world, cloth).max)
+    return m
   },
   /** Tears so far, summed over the scene's cloths. */
   tearCount() {

@@ -28,7 +28,7 @@ const GRAVITY = 9.81
  * A tearable curtain hanging from rings on a rail. Click to throw a ball at it (or press Throw):
  * the ball is a sphere collider on an entity whose Transform the scene moves ballistically; it
  * rips through, and pieces that come free fall to the floor (a plane collider). Drag the cloth to
- * tear it by hand.
+ * pull it.
  */
 export const curtainScene: DemoScene = {
   id: 'curtain',

@@ -49,6 +49,8 @@ interface Demo {
   simulate(seconds: number): void
   setPaused(p: boolean): void
   tearCount(): number
+  maxStretch(): number
+  grabbing: boolean
   cloths: number[]
   readPixels(): { px: Uint8Array }
   differing(a: Uint8Array, b: Uint8Array): number
@@ -196,6 +198,38 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
     const one = await readout(1)
     const many = await readout(16)
     expect(one).toBeGreaterThan(3 * many)
+    expect(errors).toEqual([])
+  })
+
+  it('grabbing a running cape with the mouse never stretches it more than 50 %', async () => {
+    errors.length = 0
+    await open('cape')
+    await page.evaluate(() => {
+      __demo.api.run()
+      __demo.simulate(2) // running at 4 m/s
+    })
+    // press on the cape's lowest particle (its hem), then pull the cursor 250 px away while it runs
+    const [x, y] = await page.evaluate(() => {
+      const p = __demo.positions()
+      let k = 0
+      for (let i = 1; i < p.length / 3; i++) if (p[3 * i + 1] < p[3 * k + 1]) k = i
+      return __demo.screenPoint([p[3 * k], p[3 * k + 1], p[3 * k + 2]])
+    })
+    await page.mouse.move(x, y)
+    await page.mouse.down()
+    expect(await page.evaluate(() => __demo.grabbing), 'the press caught a particle').toBe(true)
+    let worst = 0
+    for (let k = 1; k <= 10; k++) {
+      await page.mouse.move(x - 25 * k, y + 10 * k)
+      worst = Math.max(worst, await page.evaluate(() => {
+        __demo.simulate(0.1)
+        return __demo.maxStretch()
+      }))
+    }
+    await page.mouse.up()
+    expect(await page.evaluate(() => __demo.grabbing)).toBe(false)
+    expect(worst, 'largest edge stretch while grabbed').toBeLessThan(0.5)
+    expect(worst, 'the grip pulled on the cape').toBeGreaterThan(0.005)
     expect(errors).toEqual([])
   })
 
