@@ -1,5 +1,5 @@
 // `npm run screenshots`: photographs every scene of the demo at rest and in motion, in headless
-// Chromium, into demo/screenshots/<scene>-<moment>.png (the README's pictures). Each picture is
+// Chromium, into demo/screenshots/<scene>-<moment>.jpg (the README's pictures). Each picture is
 // taken after simulating a fixed number of 60 Hz frames, so it does not depend on the machine's
 // speed. Options: --out <dir> (default demo/screenshots), --scenes a,b (default all), --all (also
 // the extra moments, e.g. the cape walking, sprinting, turning and jumping),
@@ -45,8 +45,8 @@ export async function photograph({ out, only, all = false, width = 960, height =
           } else d.simulate(seconds)
           document.getElementById('stats').style.display = 'none' // live timings mean nothing after a simulated run
         }, m)
-        const file = join(out, `${scene}-${m.name}.png`)
-        await page.screenshot({ path: file })
+        const file = join(out, `${scene}-${m.name}.jpg`)
+        await page.screenshot({ path: file, type: 'jpeg', quality: 82 })
         files.push(file)
         log(`  ${file}`)
       }
