@@ -206,7 +206,7 @@ export function solveLineBending(
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
   ids('ids', idArr, 3 * pairData(rest, compliance, start, end), n)
-  if (lambda !== null) f64('lambda', lambda, end)
+  if (lambda !== null) f64('lambda', lambda, 3 * end)
   params('params', p)
   solveLineBendingKernel(pos, invMass, idArr, rest, compliance, lambda, p, start, end)
 }

@@ -262,7 +262,7 @@ function spawnCloth(
     params: createKernelParams(),
     distLambda: new Float64Array(topology.distCount),
     compLambda: new Float64Array(topology.compCount),
-    lineLambda: new Float64Array(topology.lineCount),
+    lineLambda: new Float64Array(3 * topology.lineCount),
     hingeLambda: new Float64Array(topology.hingeCount),
     version: 0,
     tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false, loosen: false },

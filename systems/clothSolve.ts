@@ -35,7 +35,7 @@ export function clothSolve<W extends object>(world: W): W {
       // the live constraints only (a tearable cloth reserves room for more)
       c.distLambda.fill(0, 0, t.distCount)
       c.compLambda.fill(0, 0, t.compCount)
-      c.lineLambda.fill(0, 0, t.lineCount)
+      c.lineLambda.fill(0, 0, 3 * t.lineCount)
       c.hingeLambda.fill(0, 0, t.hingeCount)
     }
     const hingeLambda = accumulate ? c.hingeLambda : null

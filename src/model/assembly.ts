@@ -127,8 +127,10 @@ function lineConstraints(rest: Float64Array, lines: number[], levels: Int32Array
     const dx = rest[3 * v] - 0.5 * (rest[3 * a] + rest[3 * b])
     const dy = rest[3 * v + 1] - 0.5 * (rest[3 * a + 1] + rest[3 * b + 1])
     const dz = rest[3 * v + 2] - 0.5 * (rest[3 * a + 2] + rest[3 * b + 2])
-    lineRest[k] = Math.sqrt(dx * dx + dy * dy + dz * dz)
     const L = 0.5 * (dist(rest, a, v) + dist(rest, v, b))
+    // straight within a millionth of its segments counts as straight (the kernel's vector form)
+    const kink = Math.sqrt(dx * dx + dy * dy + dz * dz)
+    lineRest[k] = kink > 1e-6 * L ? kink : 0
     lineCompliance[k] = Math.min(MAX_COMPLIANCE, (material.bendCompliance * L * L) / 4)
   }
   return { lineIds, lineRest, lineCompliance, lineCount: lc }

@@ -248,7 +248,7 @@ export interface ClothState {
   idle: boolean
   /** Kernel parameters for the current substep (see `kernels/params.ts`). */
   params: Float64Array
-  /** XPBD multipliers, one per constraint. */
+  /** XPBD multipliers, one per constraint (three per line-bending triple). */
   distLambda: Float64Array
   compLambda: Float64Array
   lineLambda: Float64Array

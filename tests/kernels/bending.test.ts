@@ -39,4 +39,19 @@ describe('solveLineBending', () => {
     solveLineBending(straight, Float64Array.from([1, 1, 1]), ids, Float64Array.from([0]), Float64Array.from([0]), null, params(3600), 0, 1)
     expect(Array.from(straight)).toEqual([0, 0, 0, 1, 0, 0, 2, 0, 0])
   })
+
+  it('with multipliers converges to the compliant (implicit) answer, for the vector and the scalar form alike', () => {
+    // ends pinned, the middle kinked by 0.1 m; compliance α with α̃ = α/h²: the XPBD fixed point of a
+    // linear spring is the backward-Euler one, kink × α̃ / (w + α̃)
+    const alpha = 2e-4, invH2 = 3600, w1 = 2
+    const expected = (0.1 * alpha * invH2) / (w1 + alpha * invH2)
+    for (const rest of [0, 1e-3]) {
+      const pos = Float64Array.from([0, 0, 0, 1, 0.1, 0, 2, 0, 0])
+      const lambda = new Float64Array(3)
+      for (let i = 0; i < 200; i++) solveLineBending(pos, Float64Array.from([0, w1, 0]), ids, Float64Array.from([rest]), Float64Array.from([alpha]), lambda, params(invH2), 0, 1)
+      // (the scalar form's rest kink shifts its answer by rest × w/(w + α̃))
+      expect(pos[4]).toBeCloseTo(expected + (rest * w1) / (w1 + alpha * invH2), 9)
+    }
+  })
 })
+

@@ -40,7 +40,7 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   c.pinCount = grownArray(c.pinCount, P)
   c.distLambda = new Float64Array(D)
   c.compLambda = new Float64Array(C)
-  c.lineLambda = new Float64Array(Math.max(1, t.lineCount))
+  c.lineLambda = new Float64Array(Math.max(1, 3 * t.lineCount))
   c.hingeLambda = new Float64Array(Math.max(1, t.hingeCount))
   const r = c.render
   r.positions = new Float32Array(3 * P)
