@@ -20,8 +20,13 @@
  * With the smoothed normal the waves are about twice as long and half as fast, like a flag's.
  * The area stays the triangle's own.
  *
- * The force is spread over the corners in proportion to their masses, i.e. all three get the
- * acceleration F/(m_a + m_b + m_c) (`triInvMass`), which keeps the triangle from spinning.
+ * Each corner takes a third of the triangle's force, the force on its third of the area, and turns
+ * it into acceleration with its own mass: a_i += (F/3)·w_i. Masses are lumped the same way (a
+ * third of each triangle's mass to each corner), so uniform air on a uniform sheet accelerates
+ * every particle alike, however many triangles meet at it; a uniform force at the three corners
+ * has no moment about the triangle's centroid. (Giving all three corners the same acceleration
+ * F/(m_a + m_b + m_c) instead pushed a particle touching 4 triangles 0.6× and one touching 8 1.2×
+ * as hard as the air does: a checkerboard of pushes on a flag.)
  */
 
 /**
@@ -90,14 +95,15 @@ export function aeroNormals(
 /**
  * Adds the aerodynamic acceleration of triangles [0, triCount) to `accel` (xyz per particle; the
  * caller zeroes it). `air` holds ux uy uz ρ per particle (stride 4) or once (stride 0); `normals`
- * are the smoothed normals from `aeroNormals`.
+ * are the smoothed normals from `aeroNormals`; `invMass` the particles' inverse masses without
+ * pins (a pinned particle's acceleration is never integrated).
  */
 export function accumulateAerodynamics(
   pos: Float64Array,
   vel: Float64Array,
   tris: Uint32Array,
   triCount: number,
-  triInvMass: Float64Array,
+  invMass: Float64Array,
   air: Float64Array,
   normals: Float64Array,
   accel: Float64Array,
@@ -133,22 +139,23 @@ export function accumulateAerodynamics(
     const w2 = wx * wx + wy * wy + wz * wz
     if (w2 < 1e-18) continue
     const wl = Math.sqrt(w2)
-    const m = triInvMass[t]
-    const k = (rho * wl * wn * m) / (4 * nl)
+    // a third of the force per corner
+    const k = (rho * wl * wn) / (12 * nl)
     // skin friction on both faces: ρ·C_f·A·|w|·w_t with w_t = w − (w·N)N/|N|², A = |N|/2
-    const kf = SKIN_FRICTION * 0.5 * rho * wl * nl * m
+    const kf = (SKIN_FRICTION * rho * wl * nl) / 6
     const fn = k * cdl - (kf * wn) / n2
     const fw = (-k * cl * wn) / w2 + kf
     const gx = fn * nx + fw * wx, gy = fn * ny + fw * wy, gz = fn * nz + fw * wz
-    accel[a] += gx
-    accel[a + 1] += gy
-    accel[a + 2] += gz
-    accel[b] += gx
-    accel[b + 1] += gy
-    accel[b + 2] += gz
-    accel[c] += gx
-    accel[c + 1] += gy
-    accel[c + 2] += gz
+    const ma = invMass[ia], mb = invMass[ib], mc = invMass[ic]
+    accel[a] += gx * ma
+    accel[a + 1] += gy * ma
+    accel[a + 2] += gz * ma
+    accel[b] += gx * mb
+    accel[b + 1] += gy * mb
+    accel[b + 2] += gz * mb
+    accel[c] += gx * mc
+    accel[c + 1] += gy * mc
+    accel[c + 2] += gz * mc
   }
 }
 
@@ -199,13 +206,5 @@ export function limitAerodynamics(
     accel[j] = ax * s
     accel[j + 1] = ay * s
     accel[j + 2] = az * s
-  }
-}
-
-/** 1/(m_a + m_b + m_c) per triangle from inverse masses (all > 0). */
-export function triangleInverseMasses(tris: Uint32Array, triCount: number, invMass: Float64Array, out: Float64Array): void {
-  for (let t = 0; t < triCount; t++) {
-    const m = 1 / invMass[tris[3 * t]] + 1 / invMass[tris[3 * t + 1]] + 1 / invMass[tris[3 * t + 2]]
-    out[t] = 1 / m
   }
 }

@@ -106,15 +106,20 @@ export function checkClothHealth(
   return HEALTH_OK
 }
 
+/** Doubles per piece in `checkPieceHealth`'s scratch. */
+export const PIECE_STRIDE = 11
+
 /**
- * `checkClothHealth` for a cloth in several pieces (torn): the same finite and speed tests over
- * the whole cloth, and the bounds test per piece: a piece holding pinned particles must stay within
+ * `checkClothHealth` for a cloth in several pieces (torn): the same finite test over the whole
+ * cloth; the speed test on each particle's speed relative to its own piece's mean velocity (pieces
+ * blown apart by a storm fly at their own speeds; a runaway shows as motion within a piece); and
+ * the bounds test per piece: a piece holding pinned particles must stay within
  * `G_REACH` of the box around all the cloth's pinned particles (as the whole cloth did before it
  * tore, so a piece that has just torn off one pin while stretched toward another is not flagged),
  * and a piece without pins may span at most `G_REACH` along each axis: a piece torn off and falling
  * away is judged by its own shape, not by its distance from the pins it no longer hangs from.
- * `piece` labels particles [0, count) with pieces [0, pieceCount); `box` is scratch of 7 doubles
- * per piece (min xyz, max xyz, pinned flag).
+ * `piece` labels particles [0, count) with pieces [0, pieceCount); `box` is scratch of
+ * `PIECE_STRIDE` doubles per piece (min xyz, max xyz, pinned flag, velocity sum xyz, particles).
  */
 export function checkPieceHealth(
   pos: Float64Array,
@@ -129,15 +134,15 @@ export function checkPieceHealth(
 ): number {
   const finite = g[G_FINITE], reach = g[G_REACH], speed2 = g[G_SPEED2]
   for (let p = 0; p < pieceCount; p++) {
-    const o = 7 * p
+    const o = PIECE_STRIDE * p
     box[o] = box[o + 1] = box[o + 2] = Infinity
     box[o + 3] = box[o + 4] = box[o + 5] = -Infinity
-    box[o + 6] = 0
+    box[o + 6] = box[o + 7] = box[o + 8] = box[o + 9] = box[o + 10] = 0
   }
   let bad = 0
   let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity
   let pMaxX = -Infinity, pMaxY = -Infinity, pMaxZ = -Infinity
-  let sx = 0, sy = 0, sz = 0, s2 = 0
+  let s2 = 0
   let n = 0
   for (let i = 0; i < count; i++) {
     if (skip !== null && skip[i] === 1) continue
@@ -146,7 +151,7 @@ export function checkPieceHealth(
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     const vx = vel[j], vy = vel[j + 1], vz = vel[j + 2]
     bad += (x + y + z + vx + vy + vz) * 0
-    const o = 7 * piece[i]
+    const o = PIECE_STRIDE * piece[i]
     if (x < box[o]) box[o] = x
     if (x > box[o + 3]) box[o + 3] = x
     if (y < box[o + 1]) box[o + 1] = y
@@ -162,17 +167,22 @@ export function checkPieceHealth(
       if (z < pMinZ) pMinZ = z
       if (z > pMaxZ) pMaxZ = z
     }
-    sx += vx
-    sy += vy
-    sz += vz
+    box[o + 7] += vx
+    box[o + 8] += vy
+    box[o + 9] += vz
+    box[o + 10]++
     s2 += vx * vx + vy * vy + vz * vz
   }
   if (n === 0) return HEALTH_OK
   if (bad !== 0 && finite !== 0) return HEALTH_NONFINITE
   let excess = -Infinity
+  // Σ|v − v̄_piece|² = Σ|v|² − Σ_pieces |Σv|²/n
+  let mean2 = 0
   for (let p = 0; p < pieceCount; p++) {
-    const o = 7 * p
+    const o = PIECE_STRIDE * p
     if (box[o] > box[o + 3]) continue // no particle (a vertex no triangle uses, skipped)
+    const np = box[o + 10]
+    mean2 += (box[o + 7] * box[o + 7] + box[o + 8] * box[o + 8] + box[o + 9] * box[o + 9]) / np
     const pinned = box[o + 6] === 1
     // pinned: how far the piece's box sticks out of the pins' box; unpinned: its extent
     const ax = pinned ? pMinX - box[o] : box[o + 3] - box[o], bx = pinned ? box[o + 3] - pMaxX : 0
@@ -187,9 +197,7 @@ export function checkPieceHealth(
   }
   excess -= reach
   g[G_OUT_EXCESS] = excess
-  const inv = 1 / n
-  const mx = sx * inv, my = sy * inv, mz = sz * inv
-  const rel2 = s2 * inv - (mx * mx + my * my + mz * mz)
+  const rel2 = (s2 - mean2) / n
   g[G_OUT_SPEED2] = rel2
   if (reach > 0 && excess > 0) return HEALTH_BOUNDS
   if (speed2 > 0 && rel2 > speed2) return HEALTH_SPEED

@@ -99,28 +99,27 @@ export function addZoneAir(
     const x = pos[j], y = pos[j + 1], zz = pos[j + 2]
     let w = 1
     if (shape !== 0) {
+      // the same arithmetic inside the zone (distance 0, weight exactly 1) as in its falloff band,
+      // in doubles throughout: max(e, 0) as (e + |e|)/2 (exact), since a literal 0 or Math.max fed
+      // only zeros gets typed as a small integer, and the first particle to drift into the band
+      // would then deoptimize the kernel, which boxes numbers (allocates) in a step
       const dx = x - cx, dy = y - cy, dz = zz - cz
-      let d2 = 0
+      let d2: number
       if (shape === 1) {
         const lx = r00 * dx + r01 * dy + r02 * dz
         const ly = r10 * dx + r11 * dy + r12 * dz
         const lz = r20 * dx + r21 * dy + r22 * dz
         const ex = (lx < 0 ? -lx : lx) - hx, ey = (ly < 0 ? -ly : ly) - hy, ez = (lz < 0 ? -lz : lz) - hz
-        if (ex > 0) d2 += ex * ex
-        if (ey > 0) d2 += ey * ey
-        if (ez > 0) d2 += ez * ez
+        const px = 0.5 * (ex + Math.abs(ex)), py = 0.5 * (ey + Math.abs(ey)), pz = 0.5 * (ez + Math.abs(ez))
+        d2 = px * px + py * py + pz * pz
       } else {
-        const c2 = dx * dx + dy * dy + dz * dz
-        if (c2 > hx * hx) {
-          const e = Math.sqrt(c2) - hx
-          d2 = e * e
-        }
+        const r = Math.sqrt(dx * dx + dy * dy + dz * dz) - hx
+        const e = 0.5 * (r + Math.abs(r))
+        d2 = e * e
       }
-      if (d2 > 0) {
-        if (d2 >= fall2) continue
-        const u = 1 - Math.sqrt(d2) * invFall
-        w = u * u * (3 - 2 * u)
-      }
+      if (d2 > 0 && d2 >= fall2) continue
+      const u = 1 - Math.sqrt(d2) * invFall
+      w = u * u * (3 - 2 * u)
     }
     const k = 4 * i
     let ux = vx, uy = vy, uz = vz

@@ -30,7 +30,7 @@ import {
   type ClothPluginOptions,
   type ClothResetEvent,
 } from '../../src/index'
-import { G_OUT_EXCESS, HEALTH_BOUNDS, HEALTH_NONFINITE, HEALTH_OK, HEALTH_SPEED, checkPieceHealth } from '../../src/kernels/guard'
+import { G_OUT_EXCESS, G_OUT_SPEED2, HEALTH_BOUNDS, HEALTH_NONFINITE, HEALTH_OK, HEALTH_SPEED, PIECE_STRIDE, checkPieceHealth } from '../../src/kernels/guard'
 import { getClothWorld } from '../../src/world/access'
 import { hashBytes } from '../helpers'
 import { geodesicDiameter, hangingSheet, inspect, inspectPieces } from './harness'
@@ -107,7 +107,7 @@ describe('health check of a torn cloth (per piece)', () => {
     const vel = new Float64Array(pos.length)
     const invMass = Float64Array.from([0, 0, 1, 1, 1, 1, 1])
     const piece = Int32Array.from([0, 0, 0, 1, 1, 1, 2])
-    const box = new Float64Array(7 * 3)
+    const box = new Float64Array(PIECE_STRIDE * 3)
     const g = Float64Array.from([1, 2, 100 * 100, 0, 0]) // finite on, 2 m of reach, 100 m/s
     const check = () => checkPieceHealth(pos, vel, invMass, 7, piece, 3, box, g)
     // piece 1 lies 12 m below the pins and particle 6 far off: each is judged by its own shape
@@ -126,6 +126,18 @@ describe('health check of a torn cloth (per piece)', () => {
     vel[3 * 6 + 2] = 0
     for (let i = 0; i < 7; i++) vel[3 * i] = i % 2 ? 150 : -150
     expect(check()).toBe(HEALTH_SPEED)
+    // pieces blown apart, each moving as a whole (one at rest, one at 200 m/s, one at 300 m/s):
+    // speed is judged within each piece, so nothing runs away (as one piece: 144 m/s rms)
+    vel.fill(0)
+    for (const i of [3, 4, 5]) vel[3 * i] = 200
+    vel[3 * 6 + 1] = -300
+    expect(check()).toBe(HEALTH_OK)
+    expect(g[G_OUT_SPEED2]).toBe(0)
+    checkClothHealth(pos, vel, invMass, 7, g)
+    expect(Math.sqrt(g[G_OUT_SPEED2])).toBeCloseTo(144.3, 1)
+    vel[3 * 4 + 2] = 500 // one particle of piece 1 whipping across it: 154 m/s rms within pieces
+    expect(check()).toBe(HEALTH_SPEED)
+    expect(Math.sqrt(g[G_OUT_SPEED2])).toBeCloseTo(154.3, 1)
   })
 })
 

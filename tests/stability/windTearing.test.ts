@@ -50,8 +50,10 @@ describe('wind of 1000 m/s', () => {
   })
 
   it('a gust of 1000 m/s on a light breeze', () => {
+    // a light breeze (2 m/s, Beaufort 2) lifts the cotton sheet to ~55° and holds it still there; at
+    // 5 m/s it blows it out nearly level, where it flutters and never comes to rest to compare with
     expectStable(runTorture({
-      build: (world) => ({ cloths: [hangingSheet(world)], zone: createWindZone(world, { direction: [1, 0, 1], strength: 5 }) }),
+      build: (world) => ({ cloths: [hangingSheet(world)], zone: createWindZone(world, { direction: [1, 0, 1], strength: 2 }) }),
       abuse: (s: Zoned, f) => {
         if (f === 10) gustWind(s.world, s.zone, { strength: 1000, duration: 0.5 })
       },

@@ -8,7 +8,7 @@
  * reaches `getClothMesh`, and a broken cloth recovers in the same frame instead of flying apart.
  */
 import { ClothError, checkInteger, checkPositive } from '../../core/errors'
-import { G_FINITE, G_REACH, G_SPEED2, GUARD_PARAM_COUNT } from '../../kernels/guard'
+import { G_FINITE, G_REACH, G_SPEED2, GUARD_PARAM_COUNT, PIECE_STRIDE } from '../../kernels/guard'
 import type { ClothTopology } from '../../model/topology'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld } from '../../world/access'
@@ -81,7 +81,7 @@ export function reserveGuard(c: ClothState, P: number): void {
   const g = c.guard
   g.rest = grownArray(g.rest, 3 * P)
   g.safe = grownArray(g.safe, 3 * P)
-  if (g.pieceBox.length < 7 * P) g.pieceBox = new Float64Array(7 * P)
+  if (g.pieceBox.length < PIECE_STRIDE * P) g.pieceBox = new Float64Array(PIECE_STRIDE * P)
 }
 
 /**

@@ -12,7 +12,8 @@ export interface ClothGuardOptions {
    */
   bounds?: number | false
   /**
-   * Reset a cloth whose rms particle speed relative to its mean velocity exceeds this, m/s.
+   * Reset a cloth whose rms particle speed relative to its mean velocity exceeds this, m/s (a torn
+   * cloth: each particle relative to its own piece's mean velocity).
    * Default: half the world's `maxSpeed` (125 m/s). false turns the test off.
    */
   speed?: number | false
@@ -57,7 +58,7 @@ export interface ClothGuardState {
   safeCount: number
   /** Positions at creation (the rest shape as placed in the world; torn-off particles added as they appear). */
   rest: Float64Array
-  /** Per-piece boxes for the check of a cloth in several pieces (7 per piece, see `kernels/guard.ts`). */
+  /** Per-piece scratch for the check of a cloth in several pieces (`PIECE_STRIDE` per piece, see `kernels/guard.ts`). */
   pieceBox: Float64Array
   /** Good steps since the last copy into `safe`. */
   sinceSafe: number

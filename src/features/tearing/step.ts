@@ -1,6 +1,5 @@
 import { findOverstrained } from '../../kernels/strain'
 import type { ClothState, ClothWorldState } from '../../world/state'
-import { refreshClothWind } from '../wind/step'
 import { applySplit, chooseCut, cutsSmallPiece, gatherFan, tensionAt } from './crack'
 import { repairConstraints } from './repair'
 import { EV, type ClothTear } from './types'
@@ -92,7 +91,6 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
   repairConstraints(T)
   labelPieces(c, T)
   if (c.tethers.enabled) c.tethers.dirty = true
-  refreshClothWind(c)
   store.tears[eid] += tears
   state.stats.tears += tears
 }

@@ -1,4 +1,4 @@
-import { A_DRAG, A_H, A_LIFT, A_MAX_SPEED, A_STRIDE, AERO_PARAM_COUNT, accumulateAerodynamics, aeroNormals, limitAerodynamics, triangleInverseMasses } from '../../kernels/aero'
+import { A_DRAG, A_H, A_LIFT, A_MAX_SPEED, A_STRIDE, AERO_PARAM_COUNT, accumulateAerodynamics, aeroNormals, limitAerodynamics } from '../../kernels/aero'
 import { particleBounds } from '../../kernels/mesh'
 import { Z_CX, Z_CY, Z_CZ, Z_DENSITY, Z_DRIFT_X, Z_DRIFT_Y, Z_DRIFT_Z, Z_FALLOFF, Z_HX, Z_HY, Z_HZ, Z_INV_SCALE, Z_MAX, Z_MIN, Z_R, Z_SEED, Z_SHAPE, Z_TIME, Z_TURB, Z_VX, Z_VY, Z_VZ, ZONE_STRIDE, addZoneAir } from '../../kernels/wind'
 import { quatToMatrix } from '../../core/math'
@@ -139,7 +139,7 @@ export function applyWind(state: ClothWorldState, c: ClothState): void {
   p[A_LIFT] = c.material.lift
   p[A_MAX_SPEED] = state.maxSpeed
   aeroNormals(c.pos, c.count, t.triangles, t.triangleCount, t.edges, t.edgeCount, cw.normals, cw.scratch)
-  accumulateAerodynamics(c.pos, c.vel, t.triangles, t.triangleCount, cw.triInvMass, cw.air, cw.normals, accel, p)
+  accumulateAerodynamics(c.pos, c.vel, t.triangles, t.triangleCount, c.baseInvMass, cw.air, cw.normals, accel, p)
   if (wind.clamp) limitAerodynamics(c.vel, c.invMass, cw.air, accel, p, c.count)
   c.accel = accel
   state.stats.windTriangles += t.triangleCount
@@ -248,28 +248,15 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
  */
 export function ensureClothWind(c: ClothState): void {
   const particles = (c.pos.length / 3) | 0
-  const t = c.topology
-  const triangles = (t.triangles.length / 3) | 0
-  let cw = c.wind
-  if (cw === null || cw.accel.length < 3 * particles || cw.triInvMass.length < triangles) {
-    cw = c.wind = {
+  if (c.wind === null || c.wind.accel.length < 3 * particles) {
+    c.wind = {
       air: new Float64Array(4 * particles),
       accel: new Float64Array(3 * particles),
       normals: new Float64Array(3 * particles),
       scratch: new Float64Array(3 * particles),
-      triInvMass: new Float64Array(triangles),
       params: new Float64Array(AERO_PARAM_COUNT),
       active: 0,
     }
     c.accel = null
   }
-  triangleInverseMasses(t.triangles, t.triangleCount, c.baseInvMass, cw.triInvMass)
-}
-
-/** Recomputes the per-triangle masses after a cloth's masses changed (a tear). No allocation. */
-export function refreshClothWind(c: ClothState): void {
-  const cw = c.wind
-  if (cw === null) return
-  const t = c.topology
-  triangleInverseMasses(t.triangles, t.triangleCount, c.baseInvMass, cw.triInvMass)
 }

@@ -35,8 +35,6 @@ export interface ClothWind {
   /** Smoothed normals for the aerodynamics and their scratch, xyz per particle. */
   normals: Float64Array
   scratch: Float64Array
-  /** 1/(m_a + m_b + m_c) per triangle. */
-  triInvMass: Float64Array
   /** Kernel parameters (see `kernels/aero.ts`). */
   params: Float64Array
   /** 1 while some zone reaches the cloth this step. */
