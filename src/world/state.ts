@@ -234,7 +234,7 @@ export interface ClothState {
   substeps: number
   /** Solver iterations per substep. */
   iterations: number
-  /** 'xpbd' accumulates multipliers (stiffness independent of iterations); 'pbd' does not. */
+  /** 'xpbd' accumulates multipliers (converged stiffness independent of iterations); 'pbd' does not. */
   solver: 'xpbd' | 'pbd'
   /** Velocity damping, 1/s. */
   damping: number
