@@ -1,4 +1,5 @@
 import { accuracy } from './accuracy'
+import { swingingSheet } from './swinging'
 import { allocation, sheets, throughput } from './core'
 import { windCost } from './wind'
 import { tearCost } from './tearing'
@@ -11,7 +12,9 @@ import { proxyCost } from './render'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
- * one; `npm run bench:accuracy` runs the (slow) accuracy-versus-time sweep.
+ * one; `npm run bench:accuracy` runs the (slow) accuracy-versus-time sweeps: the swinging 64×64
+ * sheet against the textbook loop (also alone: `npm run bench -- swinging`), then the 24×24
+ * settings sweep.
  */
 const suites: Record<string, { run: () => void | Promise<void>; byDefault: boolean }> = {
   core: {
@@ -22,7 +25,14 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
       await allocation()
     },
   },
-  accuracy: { byDefault: false, run: () => accuracy() },
+  accuracy: {
+    byDefault: false,
+    run: () => {
+      swingingSheet()
+      accuracy()
+    },
+  },
+  swinging: { byDefault: false, run: () => swingingSheet() },
   wind: { byDefault: true, run: () => windCost() },
   tearing: { byDefault: true, run: () => tearCost() },
   stability: {

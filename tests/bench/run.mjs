@@ -5,6 +5,7 @@
 import { build } from 'esbuild'
 import { spawnSync } from 'node:child_process'
 import { mkdirSync } from 'node:fs'
+import { cpus } from 'node:os'
 import { dirname, join } from 'node:path'
 import { fileURLToPath } from 'node:url'
 
@@ -22,7 +23,10 @@ await build({
   outfile,
   logLevel: 'warning',
 })
-const git = spawnSync('git', ['log', '-n', '1', '--format=%h %s'], { cwd: root, encoding: 'utf8' })
-console.log(`bitecs-cloth benchmarks · ${git.stdout.trim() || 'no git'} · node ${process.version}`)
+const hash = spawnSync('git', ['rev-parse', '--short=12', 'HEAD'], { cwd: root, encoding: 'utf8' }).stdout.trim()
+const dirty = spawnSync('git', ['status', '--porcelain', '--untracked-files=no'], { cwd: root, encoding: 'utf8' }).stdout.trim() !== ''
+const commit = hash ? `commit ${hash}${dirty ? ' with uncommitted changes' : ''}` : 'not a git checkout'
+console.log(`bitecs-cloth benchmarks · ${commit} · node ${process.version} · ${cpus()[0]?.model ?? 'unknown CPU'} × ${cpus().length}`)
+console.log('Times are CPU time of the benchmark process on one core (a busy machine\'s waiting for a core is not counted).')
 const r = spawnSync(process.execPath, ['--expose-gc', outfile, ...process.argv.slice(2)], { stdio: 'inherit', cwd: root })
 process.exit(r.status ?? 1)

@@ -18,6 +18,8 @@ export interface Panel {
   series: Series[]
   /** Points to join with a line (e.g. the Pareto front), in x order. */
   front?: { x: number; y: number }[]
+  /** Horizontal and vertical reference lines (goals), drawn dotted with a label. */
+  guides?: { axis: 'x' | 'y'; value: number; label: string }[]
 }
 
 const esc = (s: string) => s.replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;')
@@ -55,7 +57,7 @@ function marker(kind: Series['marker'], x: number, y: number, color: string): st
 /** Renders panels side by side into one SVG document. */
 export function scatterPanels(title: string, panels: Panel[], note = ''): string {
   const pw = 360, ph = 300, ml = 62, mr = 14, mt = 48, mb = 52
-  const width = panels.length * (pw + ml + mr) + 20
+  const width = Math.max(panels.length * (pw + ml + mr) + 20, 760) // room for the title and legend
   const legendH = 26
   const height = mt + ph + mb + legendH + (note ? 18 : 0)
   const out: string[] = []
@@ -83,6 +85,17 @@ export function scatterPanels(title: string, panels: Panel[], note = ''): string
     }
     out.push(`<text x="${ox + pw / 2}" y="${oy + ph + 32}" text-anchor="middle">${esc(p.xLabel)}</text>`)
     out.push(`<text transform="translate(${ox - 46},${oy + ph / 2}) rotate(-90)" text-anchor="middle">${esc(p.yLabel)}</text>`)
+    for (const g of p.guides ?? []) {
+      if (g.axis === 'y' && g.value > ymin && g.value < ymax) {
+        const y = sy(g.value)
+        out.push(`<line x1="${ox}" y1="${y}" x2="${ox + pw}" y2="${y}" stroke="#2b8a3e" stroke-dasharray="2,3"/>`)
+        out.push(`<text x="${ox + pw - 4}" y="${y - 4}" text-anchor="end" fill="#2b8a3e">${esc(g.label)}</text>`)
+      } else if (g.axis === 'x' && g.value > xmin && g.value < xmax) {
+        const x = sx(g.value)
+        out.push(`<line x1="${x}" y1="${oy}" x2="${x}" y2="${oy + ph}" stroke="#2b8a3e" stroke-dasharray="2,3"/>`)
+        out.push(`<text x="${x + 4}" y="${oy + 12}" fill="#2b8a3e">${esc(g.label)}</text>`)
+      }
+    }
     if (p.front && p.front.length > 1) {
       const d = p.front.map((q, k) => `${k === 0 ? 'M' : 'L'}${sx(q.x).toFixed(1)},${sy(q.y).toFixed(1)}`).join(' ')
       out.push(`<path d="${d}" fill="none" stroke="#111" stroke-width="1.5" stroke-dasharray="5,3"/>`)

@@ -42,10 +42,10 @@ export function windCost(): void {
       rows.push({
         flag: `${n}×${Math.round((2 * n) / 3)}`,
         wind: s.w,
-        'ms/step': fmt(t, 3),
-        'vs no wind': fmt(t / base, 2),
-        'wind triangles/step': getClothStats(s.world).windTriangles,
-        'ns/triangle·substep': s.w === 'steady' || s.w === 'turbulent' ? fmt(((t - base) * 1e6) / tris, 1) : '-',
+        'ms per step': fmt(t, 3),
+        'ratio to no wind': fmt(t / base, 2),
+        'wind triangles per step': getClothStats(s.world).windTriangles,
+        'ns per triangle and substep': s.w === 'steady' || s.w === 'turbulent' ? fmt(((t - base) * 1e6) / tris, 1) : '-',
       })
     }
   }
