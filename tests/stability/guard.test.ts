@@ -10,6 +10,8 @@ import {
   addSphereCollider,
   checkClothHealth,
   createCloth,
+  clothGuard,
+  createClothFromMesh,
   createWindZone,
   getClothTearCount,
   makeTearable,
@@ -138,6 +140,37 @@ describe('health check of a torn cloth (per piece)', () => {
     vel[3 * 4 + 2] = 500 // one particle of piece 1 whipping across it: 154 m/s rms within pieces
     expect(check()).toBe(HEALTH_SPEED)
     expect(Math.sqrt(g[G_OUT_SPEED2])).toBeCloseTo(154.3, 1)
+  })
+})
+
+describe('a mesh of several pieces', () => {
+  it('is checked piece by piece from its first step: its free second piece is judged by its own shape', () => {
+    // two separate 3 × 3 grids of 0.5 m, the first pinned along its top; the second is free
+    const positions: number[] = [], indices: number[] = []
+    for (const x0 of [0, 2]) {
+      const base = positions.length / 3
+      for (let r = 0; r < 3; r++) for (let col = 0; col < 3; col++) positions.push(x0 + 0.25 * col, 2 - 0.25 * r, 0)
+      for (let r = 0; r < 2; r++) for (let col = 0; col < 2; col++) {
+        const i = base + 3 * r + col
+        indices.push(i, i + 3, i + 1, i + 1, i + 3, i + 4)
+      }
+    }
+    // the guard phase alone on a pose written after a step (the solver would pull it back)
+    const run = (move: (pos: Float64Array) => void) => {
+      const world = installClothPlugin(createWorld(), { gravity: [0, 0, 0] })
+      const cloth = createClothFromMesh(world, { positions, indices, tethers: false })
+      for (const i of [0, 1, 2]) pinParticle(world, cloth, i)
+      const c = getClothState(world, cloth)
+      expect(c.pieceCount).toBe(2)
+      stepCloth(world, 1 / 60)
+      move(c.pos)
+      clothGuard(world)
+      return getClothStats(world).guardResets
+    }
+    // the free piece 30 m away as a whole: its own shape is fine
+    expect(run((pos) => { for (let i = 9; i < 18; i++) pos[3 * i + 2] += 30 })).toBe(0)
+    // the free piece flung apart along z (particles 5 m apart, 40 m across): reset
+    expect(run((pos) => { for (let i = 9; i < 18; i++) pos[3 * i + 2] += 5 * (i - 9) })).toBe(1)
   })
 })
 

@@ -65,7 +65,7 @@ export function createClothGuard(topology: ClothTopology, pos: Float64Array, set
     safe: Float64Array.from(pos),
     safeCount: topology.particleCount,
     rest: Float64Array.from(pos),
-    pieceBox: new Float64Array(topology.pieces === null ? 0 : 7 * topology.pieceCount),
+    pieceBox: new Float64Array(topology.pieces === null ? 0 : PIECE_STRIDE * topology.pieceCount),
     sinceSafe: 0,
     failStreak: 0,
   }
