@@ -205,15 +205,11 @@ function checkTetherOptions(t: boolean | TetherOptions | undefined, arg: string)
   return out
 }
 
-function spawnCloth(
-  world: object,
-  state: ClothWorldState,
-  topology: ClothTopology,
-  pos: Float64Array,
-  o: CommonOptions,
-  masses: ArrayLike<number> | undefined,
-  uvs: Float32Array,
-): number {
+/**
+ * Inverse masses of a new cloth: from `masses`, or the topology's scaled to `o.mass`; 0 for vertices
+ * no triangle uses. Throws ClothError for a particle too light for the solver.
+ */
+function inverseMasses(topology: ClothTopology, o: CommonOptions, masses: ArrayLike<number> | undefined): Float64Array {
   const n = topology.particleCount
   const invMass = new Float64Array(n)
   let scale = 1
@@ -238,6 +234,20 @@ function spawnCloth(
       throw new ClothError(arg, masses ? m : o.mass ?? o.material.density, `gives particle ${i} a mass of ${m} kg; particles need at least ${1 / MAX_INV_MASS} kg`)
     }
   }
+  return invMass
+}
+
+function spawnCloth(
+  world: object,
+  state: ClothWorldState,
+  topology: ClothTopology,
+  pos: Float64Array,
+  o: CommonOptions,
+  masses: ArrayLike<number> | undefined,
+  uvs: Float32Array,
+): number {
+  const n = topology.particleCount
+  const invMass = inverseMasses(topology, o, masses)
 
   const eid = addEntity(world as never)
   const c: ClothState = {

@@ -152,6 +152,24 @@ describe('architecture', () => {
     expect(long).toEqual([])
   })
 
+  it('no function over 80 lines unless its comment says why it stays whole ("One long function on purpose")', () => {
+    const long: string[] = []
+    for (const file of g.keys()) {
+      const text = readFileSync(join(root, file), 'utf8')
+      const src = ts.createSourceFile(file, text, ts.ScriptTarget.ES2022, true)
+      const visit = (n: ts.Node): void => {
+        if (ts.isFunctionLike(n) && 'body' in n && n.body) {
+          const lines = src.getLineAndCharacterOfPosition(n.getEnd()).line - src.getLineAndCharacterOfPosition(n.getStart()).line + 1
+          const doc = text.slice(n.getFullStart(), n.getStart())
+          if (lines > 80 && !/One long function on purpose/.test(doc)) long.push(`${file}:${src.getLineAndCharacterOfPosition(n.getStart()).line + 1} (${lines} lines)`)
+        }
+        ts.forEachChild(n, visit)
+      }
+      visit(src)
+    }
+    expect(long).toEqual([])
+  })
+
   it('the demo uses only the public entries', () => {
     const demoFiles: string[] = []
     const walk = (d: string): void => {

@@ -120,6 +120,10 @@ export const PIECE_STRIDE = 11
  * away is judged by its own shape, not by its distance from the pins it no longer hangs from.
  * `piece` labels particles [0, count) with pieces [0, pieceCount); `box` is scratch of
  * `PIECE_STRIDE` doubles per piece (min xyz, max xyz, pinned flag, velocity sum xyz, particles).
+ *
+ * One long function on purpose: a single pass over the particles gathers every piece's bounds and
+ * momentum, then one pass over the pieces judges them; split into calls, the per-particle loop
+ * would pass doubles across call boundaries.
  */
 export function checkPieceHealth(
   pos: Float64Array,

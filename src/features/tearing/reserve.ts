@@ -1,4 +1,5 @@
 import { grownArray } from '../../core/store'
+import { growClothParticles } from '../../world/capacity'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { allocateSelfCollision } from '../collision/selfCollision'
 import { reserveGuard } from '../guard/api'
@@ -30,25 +31,12 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   const hinges = hingeSet(t, mesh)
   t.hingeCount = hinges.count
 
-  // the cloth's particle arrays, at capacity
-  c.pos = grownArray(c.pos, 3 * P)
-  c.prev = grownArray(c.prev, 3 * P)
-  c.vel = grownArray(c.vel, 3 * P)
-  c.invMass = grownArray(c.invMass, P)
-  c.baseInvMass = grownArray(c.baseInvMass, P)
-  c.invMass3 = grownArray(c.invMass3, 3 * P)
-  c.pinCount = grownArray(c.pinCount, P)
+  growClothParticles(c, P)
   c.distLambda = new Float64Array(D)
   c.compLambda = new Float64Array(C)
   c.lineLambda = new Float64Array(Math.max(1, 3 * t.lineCount))
   c.hingeLambda = new Float64Array(Math.max(1, t.hingeCount))
-  const r = c.render
-  r.positions = new Float32Array(3 * P)
-  r.normals = new Float32Array(3 * P)
-  r.uvs = grownArray(r.uvs, 2 * P)
-  r.indices = t.triangles
-  r.mesh = null
-  r.version = -1
+  c.render.indices = t.triangles
   c.topology = t
   c.piece = new Int32Array(P)
   c.pieceCount = 1
