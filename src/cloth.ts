@@ -296,6 +296,7 @@ function spawnCloth(
     collision: createClothCollision(Math.max(4, state.collision.colliders.length)),
     budget: createClothBudget(o.substeps, o.iterations),
     guard: createClothGuard(topology, pos, o.guard),
+    character: null,
     tear: null,
   }
   state.components.Cloth.state[eid] = c

@@ -66,6 +66,7 @@ export { clothForces } from '../systems/clothForces'
 export { clothPredict } from '../systems/clothPredict'
 export { clothSolve } from '../systems/clothSolve'
 export { clothCollide } from '../systems/clothCollide'
+export { clothMotion } from '../systems/clothMotion'
 export { clothTear } from '../systems/clothTear'
 export { clothWriteback } from '../systems/clothWriteback'
 export { clothPhases, clothFixedStep, clothSubstepCount, setClothSubstep } from '../systems/pipeline'
@@ -88,6 +89,17 @@ export type { ClothGuardOptions, ClothResetEvent, ClothResetReason } from './fea
 export { clothGuard } from '../systems/clothGuard'
 export { checkClothHealth } from './checked'
 export { saveClothState, restoreClothState, type ClothSnapshot } from './snapshot'
+
+// Character cloth: inertia in the character's frame, motion constraints, skinned reference poses, teleports.
+export { setClothInertia, setClothMotionConstraints, setClothSkinning, getClothReference } from './features/character/api'
+export type {
+  ClothInertiaOptions,
+  ClothMotionConstraints,
+  ClothSkinningOptions,
+  ClothTeleportOptions,
+  ClothTeleportMode,
+  PerParticle,
+} from './features/character/types'
 
 // Sleeping: still cloths cost nothing until disturbed.
 export { setClothSleep, wakeCloth, isClothSleeping } from './features/sleep/api'

@@ -17,6 +17,7 @@ import { createCollisionWorld, installCollision } from './features/collision/api
 import { createBudgetWorld, installBudget } from './features/budget/api'
 import { DEFAULT_SLEEP, createSleepWorld, resolveSleepOptions } from './features/sleep/api'
 import { createGuardWorld, defaultGuardSettings, forgetResetEvents, resolveGuardOptions } from './features/guard/api'
+import { installCharacter, releaseCharacter } from './features/character/api'
 import { createTearWorld, installTearing } from './features/tearing/api'
 import { forgetTearEvents } from './features/tearing/events'
 
@@ -85,6 +86,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   installTearing(world, state)
   installCollision(world, state)
   installBudget(world, state)
+  installCharacter(world, state)
   return world
 }
 
@@ -123,6 +125,7 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
     // events not yet delivered would name an id another cloth may get next
     forgetTearEvents(state, eid)
     forgetResetEvents(state.guard, eid)
+    releaseCharacter(state, cloth)
     if (cloth.sleep.asleep) {
       cloth.sleep.asleep = false
       state.sleep.count--

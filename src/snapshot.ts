@@ -12,7 +12,9 @@
  * start from zero every substep. With colliders and wind zones in
  * the world it also holds the motion history of the entities they follow, the wind clock and each
  * zone's gust and turbulence drift (world state, like the frame timing); for a tearable cloth its
- * tear counters and tethers; for a self-colliding one which particles rest on a collider.
+ * tear counters and tethers; for a self-colliding one which particles rest on a collider; for a
+ * character cloth its settings, its frame's motion history, its reference pose, motion
+ * constraints, held particles and skin (and the tracked history of its frame and bones).
  *
  * Not in a snapshot: the Transform of target entities (the host owns them: restore those too, or
  * the next frame sample sees where they are now), colliders and zones themselves and their settings
@@ -33,6 +35,7 @@ import { checkCollision, restoreCollision, saveCollision, type CollisionSnapshot
 import { checkBudget, restoreBudget, saveBudget, type BudgetSnapshot } from './features/budget/snapshot'
 import { checkSleep, restoreSleep, saveSleep, type SleepSnapshot } from './features/sleep/snapshot'
 import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './features/guard/snapshot'
+import { checkCharacter, restoreCharacter, saveCharacter, type CharacterSnapshot } from './features/character/snapshot'
 import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearSnapshot } from './features/tearing/snapshot'
 
 /**
@@ -40,7 +43,7 @@ import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearS
  * Each feature writes its own section (`src/features/<feature>/snapshot.ts`); this file keeps the
  * header, the particles and settings, the world's step timing, the order and the checks.
  */
-export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot, CollisionSnapshot, BudgetSnapshot, SleepSnapshot, GuardSnapshot, TearSnapshot {
+export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot, CollisionSnapshot, BudgetSnapshot, SleepSnapshot, GuardSnapshot, CharacterSnapshot, TearSnapshot {
   readonly format: 'bitecs-cloth-state/1'
   /** Shape of the cloth it came from: particles, distance constraints, hinges, triangles. */
   readonly shape: Int32Array
@@ -92,6 +95,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   saveBudget(state, c, s)
   saveSleep(c, s)
   saveGuard(c, s)
+  saveCharacter(state, c, s)
   saveTearing(state, c, s)
   return s
 }
@@ -122,6 +126,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   checkBudget(s, arg, s.pins.length / 3)
   checkSleep(s, arg)
   checkGuard(s, arg)
+  checkCharacter(world, state, s, arg, n)
   checkTearing(s, arg, n)
   checkTearingFits(state, c, s, arg)
   if (n !== c.count || s.shape[1] !== c.topology.distCount || s.shape[2] !== c.topology.hingeCount || s.shape[3] !== c.topology.triangleCount) {
@@ -137,6 +142,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   restoreBudget(state, c, s)
   restoreSleep(state, c, s)
   restoreGuard(c, s)
+  restoreCharacter(state, c, s)
   restoreTearing(state, c, s)
   c.version++
 }

@@ -2,12 +2,14 @@ import { guardActive } from '../src/features/guard/api'
 import { checkGuardHealth, deliverResets, keepSafePose, restoreSafePose } from '../src/features/guard/step'
 import { HEALTH_OK } from '../src/kernels/guard'
 import { getClothWorld } from '../src/world/access'
+import { placeHeldAfterReset } from '../src/features/character/step'
 
 /**
  * Guard phase, once per fixed step after the last substep: checks each cloth's health (finite,
  * within reach of its pins, no runaway speed; one pass over its particles) and puts a failing
  * cloth back into a safe pose with its velocities cleared, raising a reset event. Good steps copy
- * the pose as the next safe one. Listeners (`onClothReset`) are called at the end, after every
+ * the pose as the next safe one (a character cloth's held particles go back onto their reference
+ * pose after a reset). Listeners (`onClothReset`) are called at the end, after every
  * cloth was checked. A cloth whose guard is off, or that sleeps, costs nothing here.
  */
 export function clothGuard<W extends object>(world: W): W {
@@ -20,7 +22,10 @@ export function clothGuard<W extends object>(world: W): W {
     state.stats.guardChecks++
     const health = checkGuardHealth(c)
     if (health === HEALTH_OK) keepSafePose(c)
-    else restoreSafePose(state, c, health)
+    else {
+      restoreSafePose(state, c, health)
+      if (c.character !== null) placeHeldAfterReset(c)
+    }
   }
   deliverResets(state)
   return world

@@ -2,11 +2,13 @@ import { predictPositions } from '../src/kernels/integrate'
 import { setSubstepParams } from '../src/kernels/params'
 import { placePins } from '../src/features/pins/step'
 import { getClothWorld } from '../src/world/access'
+import { placeHeld, predictCharacter } from '../src/features/character/step'
 
 /**
  * Predict phase, every substep: fills the cloth's kernel parameters for the substep, integrates
- * free particles (gravity, extra acceleration, damping) to predicted positions, then places pinned
- * particles on their targets, interpolated through the step.
+ * free particles (gravity, extra acceleration, damping) to predicted positions (in its frame for a
+ * cloth with inertia settings), then places particles held on a character cloth's reference and
+ * pinned particles on their targets, interpolated through the step.
  */
 export function clothPredict<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -16,7 +18,9 @@ export function clothPredict<W extends object>(world: W): W {
     const k = c.subIndex
     if (k < 0) continue
     setSubstepParams(c.params, c.h, c.damping, state.gravity, state.maxSpeed)
-    predictPositions(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, c.count)
+    const ch = c.character
+    if (ch === null || !predictCharacter(c, k)) predictPositions(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, c.count)
+    if (ch !== null && ch.heldCount > 0) placeHeld(c, k)
     state.stats.particlesIntegrated += c.count
     if (c.pins.list.length > 0) placePins(state, c, k, c.substeps)
   }

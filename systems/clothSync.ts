@@ -7,6 +7,7 @@ import { advanceWind } from '../src/features/wind/step'
 import { sweepColliders } from '../src/features/collision/step'
 import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
 import { wakeSleepers } from '../src/features/sleep/step'
+import { beginCharacterStep, markFrameTeleports, noteIdle, wakeMovedCharacters } from '../src/features/character/step'
 
 /**
  * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
@@ -14,14 +15,16 @@ import { wakeSleepers } from '../src/features/sleep/step'
  * first step, sweeps the colliders' bounds over the step and advances the wind; then wakes the
  * sleeping cloths that any of this disturbs, carries cloths along when their targets jumped,
  * applies quality targets and the world budget, rebuilds tethers of cloths whose pins changed and
- * picks the step's substep count (the most of any running cloth). This is the only phase that
- * reads transforms.
+ * picks the step's substep count (the most of any running cloth). Character cloths get their
+ * frame's jumps (tested before the sample), motion and reference pose for the step. This is the
+ * only phase that reads transforms.
  */
 export function clothSync<W extends object>(world: W): W {
   const state = getClothWorld(world)
   const k = state.kinematics
   const frameStart = !k.framed || k.newFrame
   if (frameStart) {
+    markFrameTeleports(state) // per-cloth teleport thresholds (nothing without character cloths)
     sampleFrame(state)
     k.newFrame = false
   }
@@ -29,6 +32,7 @@ export function clothSync<W extends object>(world: W): W {
   if (state.collision.colliders.length > 0) sweepColliders(state)
   advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   wakeSleepers(state) // nothing while no cloth sleeps
+  wakeMovedCharacters(state) // likewise
   updateBudget(state) // quality targets and the world budget (nothing without them)
   wantStepTiming(state)
   let total = 0
@@ -45,14 +49,16 @@ export function clothSync<W extends object>(world: W): W {
     }
     c.idle = idle
     if (idle) {
+      noteIdle(c)
       c.subIndex = -1 // sits the whole step out (read by the guard, which runs after the substeps)
       if (c.sleep.asleep) state.stats.sleepingSteps++
       else state.stats.lodSkippedSteps++
       continue
     }
     if (c.substeps > total) total = c.substeps
-    if (frameStart) followTargetJumps(state, c)
+    const pinJump = frameStart ? followTargetJumps(state, c) : 0
     if (c.grab.count > 0) advanceGrabs(state, c)
+    if (c.character !== null) beginCharacterStep(state, c, frameStart, pinJump)
     if (c.tethers.dirty) rebuildTethers(state, c)
   }
   state.substepCount = total

@@ -24,7 +24,9 @@ export const P_STRETCH_DAMP = 8
 export const P_STEP_FRACTION = 9
 /** Output of `updateVelocities`: the largest squared particle speed of the substep, m²/s² (sleep test). */
 export const P_MAX_V2 = 10
-export const PARAM_COUNT = 11
+/** Fraction of the fixed step reached at the start of the current substep, k/n (character cloth). */
+export const P_STEP_START = 11
+export const PARAM_COUNT = 12
 
 /** A zeroed parameter block. */
 export function createKernelParams(): Float64Array {

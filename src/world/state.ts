@@ -12,6 +12,7 @@ import type { ClothWind, WindWorld } from '../features/wind/types'
 import type { ClothCollision, CollisionWorld } from '../features/collision/types'
 import type { BudgetWorld, ClothBudget } from '../features/budget/types'
 import type { ClothGuardOptions, ClothGuardState, GuardWorld } from '../features/guard/types'
+import type { ClothCharacter } from '../features/character/types'
 import type { ClothTear, TearWorld } from '../features/tearing/types'
 
 /**
@@ -222,7 +223,7 @@ export interface ClothState {
    * pins, unpins, tears and restores made between steps.
    */
   invMass3: Float64Array
-  /** Number of pins holding each particle. */
+  /** Number of pins holding each particle, plus 1 while character cloth holds it on its reference (max distance 0). */
   pinCount: Uint16Array
   /** Extra per-particle acceleration for this substep (wind), or null when nothing writes it. */
   accel: Float64Array | null
@@ -268,6 +269,8 @@ export interface ClothState {
   budget: ClothBudget
   /** Explosion guard: settings, thresholds, last good pose, rest pose. */
   guard: ClothGuardState
+  /** Character cloth (inertia in a frame, motion constraints, skinned reference), else null. */
+  character: ClothCharacter | null
   /** Tearing state of a tearable cloth (own rest data with reserved capacity), else null. */
   tear: ClothTear | null
 }

@@ -11,23 +11,27 @@ const scale = new Float64Array(3)
  * At a frame sample: if one of the cloth's pin targets jumped (teleported), carry the whole cloth
  * along by the same rigid transform, keeping its shape and (rotated) velocity. The kinematics
  * module has already moved the target's earlier poses, so the pins continue from the new place.
+ * Returns 1 when it carried the cloth, 2 when `teleportCloth` had moved it by hand (nothing to
+ * follow), else 0.
  */
-export function followTargetJumps(state: ClothWorldState, c: ClothState): void {
+export function followTargetJumps(state: ClothWorldState, c: ClothState): number {
   const k = state.kinematics
   const P = state.components.Pin
   const pins = c.pins.list
-  if (!c.pins.skipTeleport) {
-    for (let q = 0; q < pins.length; q++) {
-      const slot = P.slot[pins[q]]
-      if (slot < 0 || k.jumped[slot] === 0) continue
-      const j = 10 * slot
-      const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
-      moveClothRigidly(c, cx, cy, cz, k.jump[j + 3], k.jump[j + 4], k.jump[j + 5], k.jump[j + 6], cx + k.jump[j + 7], cy + k.jump[j + 8], cz + k.jump[j + 9])
-      state.stats.teleports++
-      break
-    }
+  if (c.pins.skipTeleport) {
+    c.pins.skipTeleport = false
+    return 2
   }
-  c.pins.skipTeleport = false
+  for (let q = 0; q < pins.length; q++) {
+    const slot = P.slot[pins[q]]
+    if (slot < 0 || k.jumped[slot] === 0) continue
+    const j = 10 * slot
+    const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
+    moveClothRigidly(c, cx, cy, cz, k.jump[j + 3], k.jump[j + 4], k.jump[j + 5], k.jump[j + 6], cx + k.jump[j + 7], cy + k.jump[j + 8], cz + k.jump[j + 9])
+    state.stats.teleports++
+    return 1
+  }
+  return 0
 }
 
 /**

@@ -1,5 +1,6 @@
 import type { ClothState } from '../../world/state'
 import { copyGuardParticle } from '../guard/api'
+import { copyCharacterParticle } from '../character/api'
 import type { ClothTear } from './types'
 
 /**
@@ -346,6 +347,7 @@ export function applySplit(c: ClothState, T: ClothTear, v: number): number {
   c.invMass[nv] = 1 / mPlus
   if (c.pinCount[v] === 0) c.invMass[v] = 1 / mMinus
   c.pinCount[nv] = 0
+  copyCharacterParticle(c, v, nv) // (after the pin count: a particle held on its reference stays held)
   c.count = nv + 1
   t.particleCount = nv + 1
   return nv

@@ -3,6 +3,7 @@ import { growClothParticles } from '../../world/capacity'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { allocateSelfCollision } from '../collision/selfCollision'
 import { reserveGuard } from '../guard/api'
+import { reserveCharacter } from '../character/api'
 import { ensureClothWind } from '../wind/step'
 import { labelPieces } from './step'
 import { tetherStore } from './tethers'
@@ -85,6 +86,7 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   c.tethers.dirty = true
   // every feature's per-particle arrays follow the new capacity, whatever was enabled before
   reserveGuard(c, P)
+  reserveCharacter(c, P)
   if (c.wind !== null) ensureClothWind(c)
   if (c.collision.self !== null) allocateSelfCollision(state, c)
 }

@@ -1,0 +1,472 @@
+import { hasComponent, observe, onRemove } from 'bitecs'
+import { ClothError, checkObject, checkOneOf, isArrayLike } from '../../core/errors'
+import { grownArray } from '../../core/store'
+import { getCloth, getClothWorld } from '../../world/access'
+import { trackEntity, untrackEntity } from '../../world/kinematics'
+import type { ClothState, ClothWorldState } from '../../world/state'
+import { checkEntity } from '../../world/transform'
+import { wakeClothState } from '../../world/wake'
+import { blankCharacter, blankSkin } from './state'
+import { currentReference, identityPose, reserveBoneScratch, restNormals, trackedPose } from './reference'
+import {
+  LIMITS, M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_ANGULAR, S_CENTRIFUGAL, S_FRAME_EXPLICIT, S_LINEAR, S_MAX_ANGULAR,
+  S_MAX_LINEAR, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE,
+  type ClothCharacter, type ClothInertiaOptions, type ClothMotionConstraints, type ClothSkinningOptions, type PerParticle,
+} from './types'
+
+/**
+ * Character cloth, the public API: inertia in the character's frame (`setClothInertia`), motion
+ * constraints around a reference pose (`setClothMotionConstraints`), a skinned reference pose
+ * (`setClothSkinning`). Per-step work is in step.ts, the frame's motion in frame.ts, the
+ * reference pose in reference.ts.
+ */
+
+/**
+ * Simulates a cloth in the frame of a moving entity (a character), feeling only a share of that
+ * frame's motion: `linear`, `angular`, `centrifugal` in [0, 1] (1, the default, is world space; 0
+ * moves the cloth rigidly with the frame, as if it stood still), with the frame's speed and turn
+ * rate the cloth can feel capped by `maxLinearSpeed` and `maxAngularSpeed`. The cloth's damping
+ * then acts on its velocity relative to the frame's motion (in world space it is a drag toward
+ * still air; here air drag comes from wind zones). `teleport` sets what happens when the frame
+ * jumps. Each call replaces every setting (omitted ones take their defaults); `null` returns the
+ * cloth to world space.
+ *
+ * @example
+ * setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { mode: 'reset', angle: Math.PI / 2 } })
+ */
+export function setClothInertia(world: object, cloth: number, options: ClothInertiaOptions | null): void {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  if (options === null) {
+    if (c.character === null) return
+    c.character.inertia = false
+    dropIfUnused(state, c)
+    wakeClothState(state, c)
+    return
+  }
+  checkObject('options', options)
+  const frame = options.frame === undefined ? undefined : options.frame === null ? 0 : checkFrameEntity(world, state, 'options.frame', options.frame)
+  const linear = share('options.linear', options.linear)
+  const angular = share('options.angular', options.angular)
+  const centrifugal = share('options.centrifugal', options.centrifugal)
+  const maxLinear = speed('options.maxLinearSpeed', options.maxLinearSpeed)
+  const maxAngular = speed('options.maxAngularSpeed', options.maxAngularSpeed)
+  let mode = 0, distance = state.teleportDistance, angle = Infinity
+  if (options.teleport !== undefined) {
+    const t = options.teleport
+    checkObject('options.teleport', t)
+    if (t.mode !== undefined) mode = checkOneOf('options.teleport.mode', t.mode, ['keep', 'reset'] as const) === 'reset' ? 1 : 0
+    if (t.distance !== undefined) {
+      if (typeof t.distance !== 'number' || !(t.distance > 0)) throw new ClothError('options.teleport.distance', t.distance, 'must be a distance in metres > 0 (Infinity: never)')
+      distance = t.distance
+    }
+    if (t.angle !== undefined) {
+      if (typeof t.angle !== 'number' || !(t.angle > 0) || (t.angle > Math.PI && t.angle !== Infinity)) {
+        throw new ClothError('options.teleport.angle', t.angle, 'must be an angle in radians in (0, π] (Infinity: never)')
+      }
+      angle = t.angle
+    }
+  }
+  const ch = ensureCharacter(state, c)
+  if (frame !== undefined) {
+    setFrame(state, c, ch, frame)
+    ch.settings[S_FRAME_EXPLICIT] = 1
+  } else if (ch.settings[S_FRAME_EXPLICIT] === 0) {
+    setFrame(state, c, ch, defaultFrame(state, c))
+  }
+  const s = ch.settings
+  s[S_LINEAR] = linear
+  s[S_ANGULAR] = angular
+  s[S_CENTRIFUGAL] = centrifugal
+  s[S_MAX_LINEAR] = maxLinear
+  s[S_MAX_ANGULAR] = maxAngular
+  s[S_TELEPORT_MODE] = mode
+  s[S_TELEPORT_DISTANCE] = distance
+  s[S_TELEPORT_ANGLE] = angle
+  ch.inertia = true
+  wakeClothState(state, c)
+}
+
+/**
+ * Holds each particle near its reference position: the cloth's rest shape carried by its frame
+ * (see `setClothInertia`; default the target of its first pin), or its skinned position
+ * (`setClothSkinning`). `maxDistance` (m; 0 = kinematic, Infinity = free) caps the distance from
+ * it; `backstop` keeps the particle outside a sphere of `radius` whose surface lies `distance`
+ * behind the reference, along the reversed reference normal (the side opposite the one the
+ * counter-clockwise triangles face), so it cannot pass into the body where no collider is;
+ * `drive` pulls it toward the reference (the fraction of the distance closed every 1/60 s). Each
+ * takes one number or one value per particle (painted: 0 at the collar growing to the hem).
+ * `null` removes them.
+ *
+ * @example
+ * setClothMotionConstraints(world, cape, { maxDistance: rows.map((r) => 0.3 * r), backstop: { distance: 0.02, radius: 0.5 } })
+ */
+export function setClothMotionConstraints(world: object, cloth: number, constraints: ClothMotionConstraints | null): void {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  if (constraints === null) {
+    const ch = c.character
+    if (ch === null || ch.limits === null) return
+    for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
+    ch.limits = null
+    dropIfUnused(state, c)
+    wakeClothState(state, c)
+    return
+  }
+  checkObject('constraints', constraints)
+  const n = c.count
+  const maxDistance = perParticle('constraints.maxDistance', constraints.maxDistance, n, Infinity, 0, Infinity)
+  const drive = perParticle('constraints.drive', constraints.drive, n, 0, 0, 1)
+  const bs = constraints.backstop
+  let bsDistance: Float64Array | null = null, bsRadius: Float64Array | null = null
+  if (bs !== undefined && bs !== null) {
+    checkObject('constraints.backstop', bs)
+    if (bs.radius === undefined) throw new ClothError('constraints.backstop.radius', bs.radius, 'must be given (m > 0)')
+    bsDistance = perParticle('constraints.backstop.distance', bs.distance, n, 0, 0, 1e6)
+    bsRadius = perParticle('constraints.backstop.radius', bs.radius, n, 0, 1e-9, 1e6)
+  }
+  const ch = ensureCharacter(state, c)
+  const limits = ch.limits ?? new Float64Array(ch.held.length * LIMITS)
+  for (let i = 0; i < n; i++) {
+    const l = LIMITS * i
+    limits[l] = maxDistance[i]
+    limits[l + 1] = bsDistance === null ? 0 : bsDistance[i]
+    limits[l + 2] = bsRadius === null ? 0 : bsRadius[i]
+    limits[l + 3] = driveFrequency(drive[i])
+  }
+  ch.limits = limits
+  for (let i = 0; i < n; i++) {
+    const hold = maxDistance[i] === 0
+    if (hold && ch.held[i] === 0) holdParticle(c, ch, i)
+    else if (!hold && ch.held[i] === 1) release(c, ch, i)
+  }
+  wakeClothState(state, c)
+}
+
+/**
+ * Makes the cloth's reference pose skinned: linear blend skinning of its rest shape by `bones`
+ * (entities with a Transform), with 4 bone indices (`joints`) and 4 weights (summing to 1) per
+ * particle. The bind pose is the bones' pose now, and the rest shape the reference as it stands
+ * now (the cloth as created, or as its frame carries it). Max distance, backstop, drive and the
+ * particles held by max distance 0 then follow the skinned pose. `null` returns to the rigid
+ * reference carried by the frame, from where the skinned pose leaves it.
+ */
+export function setClothSkinning(world: object, cloth: number, skinning: ClothSkinningOptions | null): void {
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
+  if (skinning === null) {
+    const ch = c.character
+    if (ch === null || ch.skin === null) return
+    rebindRest(state, c, ch) // the reference stays where the skin put it, now carried by the frame
+    releaseBones(state, ch)
+    ch.skin = null
+    ch.motion[M_REF_VALID] = 0
+    dropIfUnused(state, c)
+    wakeClothState(state, c)
+    return
+  }
+  checkObject('skinning', skinning)
+  const n = c.count
+  const { bones, joints, weights } = skinning
+  if (!isArrayLike(bones) || bones.length === 0 || bones.length > 65535) throw new ClothError('skinning.bones', bones, 'must be an array of 1 to 65535 bone entities')
+  for (let b = 0; b < bones.length; b++) checkFrameEntity(world, state, `skinning.bones[${b}]`, bones[b])
+  if (!isArrayLike(joints) || joints.length !== 4 * n) throw new ClothError('skinning.joints', joints, `must hold 4 bone indices per particle (${4 * n} numbers)`)
+  for (let k = 0; k < 4 * n; k++) {
+    const j = joints[k]
+    if (!Number.isInteger(j) || j < 0 || j >= bones.length) throw new ClothError(`skinning.joints[${k}]`, j, `must be a bone index in [0, ${bones.length - 1}]`)
+  }
+  if (!isArrayLike(weights) || weights.length !== 4 * n) throw new ClothError('skinning.weights', weights, `must hold 4 weights per particle (${4 * n} numbers)`)
+  for (let i = 0; i < n; i++) {
+    let sum = 0
+    for (let k = 4 * i; k < 4 * i + 4; k++) {
+      const w = weights[k]
+      if (typeof w !== 'number' || !(w >= 0) || !(w <= 1)) throw new ClothError(`skinning.weights[${k}]`, w, 'must be a weight in [0, 1]')
+      sum += w
+    }
+    if (!(Math.abs(sum - 1) <= 1e-3)) throw new ClothError('skinning.weights', weights, `of particle ${i} sum to ${sum}; each particle's 4 weights must sum to 1`)
+  }
+  const ch = ensureCharacter(state, c)
+  rebindRest(state, c, ch)
+  releaseBones(state, ch)
+  const B = bones.length
+  const skin = blankSkin(B, ch.held.length)
+  for (let b = 0; b < B; b++) {
+    skin.bones[b] = bones[b]
+    skin.slots[b] = trackEntity(state, skin.bones[b])
+    trackedPose(state, skin.slots[b], skin.bones[b], skin.bind, 10 * b)
+  }
+  skin.pose.set(skin.bind)
+  for (let i = 0; i < n; i++) {
+    let sum = 0
+    for (let k = 4 * i; k < 4 * i + 4; k++) sum += weights[k]
+    for (let k = 4 * i; k < 4 * i + 4; k++) {
+      skin.joints[k] = joints[k]
+      skin.weights[k] = weights[k] / sum // exactly 1 in total
+    }
+  }
+  ch.skin = skin
+  reserveBoneScratch(B)
+  if (ch.settings[S_FRAME_EXPLICIT] === 0 && ch.frame === 0) setFrame(state, c, ch, skin.bones[0])
+  ch.motion[M_REF_VALID] = 0
+  wakeClothState(state, c)
+}
+
+/**
+ * The cloth's reference pose at the end of its last step (positions, xyz per particle, m) as a
+ * copy, or null when it has none (no character-cloth settings, or no motion constraints: the
+ * reference is kept only while constraints use it).
+ */
+export function getClothReference(world: object, cloth: number): Float64Array | null {
+  const c = getCloth(getClothWorld(world), cloth)
+  const ch = c.character
+  if (ch === null || ch.limits === null || ch.motion[M_REF_VALID] !== 1) return null
+  return ch.refTo.slice(0, 3 * c.count)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lifetime: creation, the frame, held particles, removal
+
+/** The cloth's character state, created (configuration time) when it has none. */
+function ensureCharacter(state: ClothWorldState, c: ClothState): ClothCharacter {
+  if (c.character !== null) return c.character
+  const P = c.pos.length / 3 // capacity (a tearable cloth reserves room)
+  const ch = blankCharacter(P)
+  const settings = ch.settings
+  settings[S_LINEAR] = 1
+  settings[S_ANGULAR] = 1
+  settings[S_CENTRIFUGAL] = 1
+  settings[S_MAX_LINEAR] = Infinity
+  settings[S_MAX_ANGULAR] = Infinity
+  settings[S_TELEPORT_DISTANCE] = state.teleportDistance
+  settings[S_TELEPORT_ANGLE] = Infinity
+  // the rest shape as created, bound to the frame's pose now
+  ch.rest.set(c.guard.rest.subarray(0, 3 * c.count))
+  restNormals(c, ch.rest, ch.restNormal)
+  identityPose(ch.motion, M_POSE)
+  identityPose(ch.motion, M_BIND)
+  c.character = ch
+  setFrame(state, c, ch, defaultFrame(state, c))
+  return ch
+}
+
+/** The target of the cloth's first pin that has one, else 0 (the world). */
+function defaultFrame(state: ClothWorldState, c: ClothState): number {
+  const P = state.components.Pin
+  for (const pin of c.pins.list) if (P.target[pin] !== 0) return P.target[pin]
+  return 0
+}
+
+/**
+ * Makes `eid` (0: the world) the cloth's frame. A rigid reference is rebound so that it stays
+ * where it is now, carried by the new frame from here on; the frame's motion history restarts.
+ */
+function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number): void {
+  if (eid === ch.frame && (eid === 0 || ch.frameSlot >= 0)) return
+  if (ch.skin === null) rebindRest(state, c, ch)
+  if (ch.frameSlot >= 0) untrackEntity(state, ch.frame)
+  ch.frame = eid
+  ch.frameSlot = eid !== 0 ? trackEntity(state, eid) : -1
+  const m = ch.motion
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, eid, m, M_POSE)
+  // (the world, or a frame gone: the last pose stays)
+  m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
+  m[M_PRIMED] = 0
+  m[M_REF_VALID] = 0
+}
+
+/** rest ← the reference as it stands now (and its normals), so a rebind does not move it. */
+function rebindRest(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
+  const now = new Float64Array(ch.rest.length)
+  currentReference(state, c, ch, now)
+  ch.rest.set(now)
+  restNormals(c, ch.rest, ch.restNormal)
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, ch.frame, ch.motion, M_POSE)
+  ch.motion.copyWithin(M_BIND, M_POSE, M_POSE + 10)
+}
+
+function releaseBones(state: ClothWorldState, ch: ClothCharacter): void {
+  const skin = ch.skin
+  if (skin === null) return
+  for (let b = 0; b < skin.bones.length; b++) {
+    if (skin.slots[b] >= 0) untrackEntity(state, skin.bones[b])
+    skin.slots[b] = -1
+  }
+}
+
+/** Holds particle i on its reference (max distance 0): it counts as pinned (inverse mass 0, a tether anchor). */
+function holdParticle(c: ClothState, ch: ClothCharacter, i: number): void {
+  ch.held[i] = 1
+  ch.heldList[ch.heldCount++] = i
+  if (c.pinCount[i]++ === 0) {
+    c.invMass[i] = 0
+    c.tethers.dirty = true
+  }
+}
+
+/** Releases a held particle. */
+function release(c: ClothState, ch: ClothCharacter, i: number): void {
+  ch.held[i] = 0
+  const list = ch.heldList
+  for (let q = 0; q < ch.heldCount; q++) {
+    if (list[q] !== i) continue
+    list.copyWithin(q, q + 1, ch.heldCount)
+    ch.heldCount--
+    break
+  }
+  if (--c.pinCount[i] === 0) {
+    c.invMass[i] = c.baseInvMass[i]
+    c.tethers.dirty = true
+  }
+}
+
+/** Drops the character state once nothing uses it (the cloth pays nothing again). */
+function dropIfUnused(state: ClothWorldState, c: ClothState): void {
+  const ch = c.character
+  if (ch === null || ch.inertia || ch.limits !== null || ch.skin !== null) return
+  releaseCharacter(state, c)
+}
+
+/** Forgets a cloth's character state: stops tracking its frame and bones, releases held particles. */
+export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
+  const ch = c.character
+  if (ch === null) return
+  for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
+  releaseBones(state, ch)
+  if (ch.frameSlot >= 0) untrackEntity(state, ch.frame)
+  ch.frameSlot = -1
+  c.character = null
+}
+
+/**
+ * Registers the observer that detaches frames and bones whose Transform goes away (removed
+ * entity, or component): the cloth keeps their last pose, so a recycled id is never followed.
+ * Called by `installClothPlugin`.
+ */
+export function installCharacter(world: object, state: ClothWorldState): void {
+  observe(world as never, onRemove(state.transforms.component), (eid: number) => {
+    for (const c of state.cloths) {
+      const ch = c.character
+      if (ch === null) continue
+      if (ch.frame === eid && ch.frameSlot >= 0) {
+        untrackEntity(state, eid)
+        ch.frameSlot = -1
+        ch.frame = 0
+      }
+      const skin = ch.skin
+      if (skin === null) continue
+      for (let b = 0; b < skin.bones.length; b++) {
+        if (skin.bones[b] !== eid || skin.slots[b] < 0) continue
+        untrackEntity(state, eid)
+        skin.slots[b] = -1
+        skin.bones[b] = 0
+      }
+    }
+  })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tearing: room for split particles, and their copies
+
+/** Grows the per-particle arrays to a capacity of `P` particles (creation time). */
+export function reserveCharacter(c: ClothState, P: number): void {
+  const ch = c.character
+  if (ch === null) return
+  ch.rest = grownArray(ch.rest, 3 * P)
+  ch.restNormal = grownArray(ch.restNormal, 3 * P)
+  ch.refFrom = grownArray(ch.refFrom, 3 * P)
+  ch.refTo = grownArray(ch.refTo, 3 * P)
+  ch.refNormal = grownArray(ch.refNormal, 3 * P)
+  if (ch.limits !== null) ch.limits = grownArray(ch.limits, LIMITS * P)
+  ch.held = grownArray(ch.held, P)
+  ch.heldList = grownArray(ch.heldList, P)
+  if (ch.skin !== null) {
+    ch.skin.joints = grownArray(ch.skin.joints, 4 * P)
+    ch.skin.weights = grownArray(ch.skin.weights, 4 * P)
+  }
+}
+
+/** A particle split off `from` (a tear) gets `from`'s reference, limits and skin weights; it stays held if `from` is. */
+export function copyCharacterParticle(c: ClothState, from: number, to: number): void {
+  const ch = c.character
+  if (ch === null) return
+  copy3(ch.rest, from, to)
+  copy3(ch.restNormal, from, to)
+  copy3(ch.refFrom, from, to)
+  copy3(ch.refTo, from, to)
+  copy3(ch.refNormal, from, to)
+  const l = ch.limits
+  if (l !== null) for (let k = 0; k < LIMITS; k++) l[LIMITS * to + k] = l[LIMITS * from + k]
+  const skin = ch.skin
+  if (skin !== null) {
+    for (let k = 0; k < 4; k++) {
+      skin.joints[4 * to + k] = skin.joints[4 * from + k]
+      skin.weights[4 * to + k] = skin.weights[4 * from + k]
+    }
+  }
+  if (ch.held[from] === 1) holdParticle(c, ch, to)
+}
+
+function copy3(a: Float64Array, from: number, to: number): void {
+  a[3 * to] = a[3 * from]
+  a[3 * to + 1] = a[3 * from + 1]
+  a[3 * to + 2] = a[3 * from + 2]
+}
+
+/**
+ * The frequency ω (rad/s) of the critically damped spring that closes the fraction `f` of an
+ * offset in 1/60 s from rest: f = 1 − (1 + ωT)·e^(−ωT), T = 1/60 s, solved by bisection (the
+ * right side grows with ω). 0 gives 0, 1 gives Infinity.
+ */
+function driveFrequency(f: number): number {
+  if (f <= 0) return 0
+  if (f >= 1) return Infinity
+  let lo = 0, hi = 1
+  while (1 - (1 + hi) * Math.exp(-hi) < f) hi *= 2
+  for (let k = 0; k < 100; k++) {
+    const u = 0.5 * (lo + hi)
+    if (1 - (1 + u) * Math.exp(-u) < f) lo = u
+    else hi = u
+  }
+  return 30 * (lo + hi) // (u / T, u the midpoint)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input checks
+
+function checkFrameEntity(world: object, state: ClothWorldState, arg: string, eid: unknown): number {
+  checkEntity(world, arg, eid)
+  if (eid === 0 || !hasComponent(world as never, eid as number, state.transforms.component)) {
+    throw new ClothError(arg, eid, 'must be an entity with a Transform (call setTransform first)')
+  }
+  return eid as number
+}
+
+function share(arg: string, v: unknown): number {
+  if (v === undefined) return 1
+  if (typeof v !== 'number' || !(v >= 0 && v <= 1)) throw new ClothError(arg, v, 'must be a share in [0, 1]')
+  return v
+}
+
+function speed(arg: string, v: unknown): number {
+  if (v === undefined) return Infinity
+  if (typeof v !== 'number' || !(v > 0)) throw new ClothError(arg, v, 'must be a speed > 0 (Infinity: no limit)')
+  return v
+}
+
+/** One value per particle from a number or an array of `n`, each in [min, max] (NaN never). */
+function perParticle(arg: string, v: PerParticle | undefined, n: number, fallback: number, min: number, max: number): Float64Array {
+  const out = new Float64Array(n)
+  if (v === undefined) return out.fill(fallback)
+  const range = `in [${min}, ${max === Infinity ? 'Infinity' : max}]`
+  if (typeof v === 'number') {
+    if (!(v >= min && v <= max)) throw new ClothError(arg, v, `must be ${range}`)
+    return out.fill(v)
+  }
+  if (!isArrayLike(v) || v.length !== n) throw new ClothError(arg, v, `must be a number or ${n} numbers (one per particle)`)
+  for (let i = 0; i < n; i++) {
+    const x = v[i]
+    if (typeof x !== 'number' || !(x >= min && x <= max)) throw new ClothError(`${arg}[${i}]`, x, `must be ${range}`)
+    out[i] = x
+  }
+  return out
+}

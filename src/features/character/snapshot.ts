@@ -1,0 +1,221 @@
+import { entityExists, hasComponent } from 'bitecs'
+import { fit32, fit64, fit8 } from '../../core/arrays'
+import { ClothError } from '../../core/errors'
+import { SLOT_DATA, restoreSlot, saveSlot, trackEntity, untrackEntity } from '../../world/kinematics'
+import type { ClothState, ClothWorldState } from '../../world/state'
+import { reserveBoneScratch } from './reference'
+import { blankCharacter, blankSkin } from './state'
+import { LIMITS, MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
+
+/**
+ * Character cloth's section of a snapshot: its settings, the frame's motion history (and the
+ * tracked history of the frame entity), the reference pose, the motion constraints, the held
+ * particles and the skin (bones, bind poses, their tracked history, joints, weights). Empty arrays
+ * when the cloth has no character state.
+ */
+export interface CharacterSnapshot {
+  /** Header (inertia, frame, frame tracked, limits, skin), settings, motion, then the frame's slot history when tracked. */
+  character: Float64Array
+  /** Per particle: rest, rest normal, reference from, to, normal (15 values), then the 4 limits when present. */
+  characterParticles: Float64Array
+  characterHeld: Uint8Array
+  /** Bone entities (0: removed), and per bone: bind pose, last pose (10 each), slot history (SLOT_DATA, when tracked). */
+  characterBones: Int32Array
+  characterBoneData: Float64Array
+  characterJoints: Int32Array
+  characterWeights: Float64Array
+}
+
+const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_LIMITS = 3, H_SKIN = 4, HEADER = 5
+const PER = 15
+const BONE = 20 + SLOT_DATA
+
+export function saveCharacter(state: ClothWorldState, c: ClothState, s: CharacterSnapshot): void {
+  const ch = c.character
+  const n = c.count
+  if (ch === null) {
+    s.character = fit64(s.character, 0)
+    s.characterParticles = fit64(s.characterParticles, 0)
+    s.characterHeld = fit8(s.characterHeld, 0)
+    s.characterBones = fit32(s.characterBones, 0)
+    s.characterBoneData = fit64(s.characterBoneData, 0)
+    s.characterJoints = fit32(s.characterJoints, 0)
+    s.characterWeights = fit64(s.characterWeights, 0)
+    return
+  }
+  const k = state.kinematics
+  const tracked = ch.frameSlot >= 0
+  const h = (s.character = fit64(s.character, HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0)))
+  h[H_INERTIA] = ch.inertia ? 1 : 0
+  h[H_FRAME] = ch.frame
+  h[H_TRACKED] = tracked ? 1 : 0
+  h[H_LIMITS] = ch.limits !== null ? 1 : 0
+  h[H_SKIN] = ch.skin !== null ? 1 : 0
+  h.set(ch.settings, HEADER)
+  h.set(ch.motion, HEADER + SETTINGS)
+  if (tracked) saveSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
+  const lim = ch.limits
+  const stride = PER + (lim !== null ? LIMITS : 0)
+  const p = (s.characterParticles = fit64(s.characterParticles, stride * n))
+  for (let i = 0; i < n; i++) {
+    const o = stride * i, j = 3 * i
+    for (let d = 0; d < 3; d++) {
+      p[o + d] = ch.rest[j + d]
+      p[o + 3 + d] = ch.restNormal[j + d]
+      p[o + 6 + d] = ch.refFrom[j + d]
+      p[o + 9 + d] = ch.refTo[j + d]
+      p[o + 12 + d] = ch.refNormal[j + d]
+    }
+    if (lim !== null) for (let d = 0; d < LIMITS; d++) p[o + PER + d] = lim[LIMITS * i + d]
+  }
+  s.characterHeld = fit8(s.characterHeld, n)
+  for (let i = 0; i < n; i++) s.characterHeld[i] = ch.held[i]
+  const skin = ch.skin
+  const nb = skin === null ? 0 : skin.bones.length
+  s.characterBones = fit32(s.characterBones, nb)
+  s.characterBoneData = fit64(s.characterBoneData, BONE * nb)
+  s.characterJoints = fit32(s.characterJoints, skin === null ? 0 : 4 * n)
+  s.characterWeights = fit64(s.characterWeights, skin === null ? 0 : 4 * n)
+  if (skin === null) return
+  for (let b = 0; b < nb; b++) {
+    s.characterBones[b] = skin.bones[b]
+    const o = BONE * b
+    for (let d = 0; d < 10; d++) {
+      s.characterBoneData[o + d] = skin.bind[10 * b + d]
+      s.characterBoneData[o + 10 + d] = skin.pose[10 * b + d]
+    }
+    if (skin.slots[b] >= 0) saveSlot(k, skin.slots[b], s.characterBoneData, o + 20)
+  }
+  for (let q = 0; q < 4 * n; q++) {
+    s.characterJoints[q] = skin.joints[q]
+    s.characterWeights[q] = skin.weights[q]
+  }
+}
+
+/** Throws ClothError unless the section is complete, without NaN, for `n` particles, and its entities still have a Transform in `world`. */
+export function checkCharacter(world: object, state: ClothWorldState, s: CharacterSnapshot, arg: string, n: number): void {
+  const h = s.character
+  if (
+    !(h instanceof Float64Array) || !(s.characterParticles instanceof Float64Array) || !(s.characterHeld instanceof Uint8Array) ||
+    !(s.characterBones instanceof Int32Array) || !(s.characterBoneData instanceof Float64Array) || !(s.characterJoints instanceof Int32Array) ||
+    !(s.characterWeights instanceof Float64Array)
+  ) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (character cloth section missing)')
+  }
+  if (h.length === 0) return
+  const tracked = h[H_TRACKED] === 1
+  const nb = s.characterBones.length
+  const stride = PER + (h[H_LIMITS] === 1 ? LIMITS : 0)
+  if (
+    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) || s.characterParticles.length !== stride * n || s.characterHeld.length !== n ||
+    (h[H_SKIN] === 1) !== nb > 0 || s.characterBoneData.length !== BONE * nb || s.characterJoints.length !== (nb > 0 ? 4 * n : 0) ||
+    s.characterWeights.length !== s.characterJoints.length
+  ) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (character cloth array sizes do not match)')
+  }
+  // settings and limits may hold Infinity (no limit); nothing may be NaN
+  for (const a of [h, s.characterParticles, s.characterBoneData, s.characterWeights]) {
+    for (let q = 0; q < a.length; q++) if (Number.isNaN(a[q])) throw new ClothError(arg, s, 'holds NaN in its character cloth section')
+  }
+  for (let q = 0; q < s.characterJoints.length; q++) {
+    if (!(s.characterJoints[q] >= 0 && s.characterJoints[q] < nb)) throw new ClothError(arg, s, 'holds a skin joint out of range')
+  }
+  const live = (e: number) => e !== 0 && entityExists(world as never, e) && hasComponent(world as never, e, state.transforms.component)
+  if (tracked && !live(h[H_FRAME])) throw new ClothError(arg, s, `has entity ${h[H_FRAME]} as the cloth's frame, which no longer exists or has no Transform`)
+  for (let b = 0; b < nb; b++) {
+    const e = s.characterBones[b]
+    if (e !== 0 && !live(e)) throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
+  }
+}
+
+/**
+ * Puts the section back. Pin counts and inverse masses (which include the held particles) come
+ * back with the pins and the core section, before this runs.
+ */
+export function restoreCharacter(state: ClothWorldState, c: ClothState, s: CharacterSnapshot): void {
+  const h = s.character
+  const n = c.count
+  if (h.length === 0) {
+    if (c.character !== null) {
+      untrackAll(state, c.character)
+      c.character = null
+    }
+    return
+  }
+  const ch = c.character ?? (c.character = blankCharacter(c.pos.length / 3))
+  const k = state.kinematics
+  const tracked = h[H_TRACKED] === 1
+  const frame = h[H_FRAME]
+  if (ch.frame !== frame || (ch.frameSlot >= 0) !== tracked) {
+    if (ch.frameSlot >= 0) untrackEntity(state, ch.frame)
+    ch.frame = frame
+    ch.frameSlot = tracked ? trackEntity(state, frame) : -1
+  }
+  ch.inertia = h[H_INERTIA] === 1
+  ch.settings.set(h.subarray(HEADER, HEADER + SETTINGS))
+  ch.motion.set(h.subarray(HEADER + SETTINGS, HEADER + SETTINGS + MOTION))
+  if (tracked) restoreSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
+  const hasLimits = h[H_LIMITS] === 1
+  if (!hasLimits) ch.limits = null
+  else if (ch.limits === null) ch.limits = new Float64Array(LIMITS * ch.held.length)
+  const lim = ch.limits
+  const stride = PER + (hasLimits ? LIMITS : 0)
+  const p = s.characterParticles
+  ch.heldCount = 0
+  for (let i = 0; i < n; i++) {
+    const o = stride * i, j = 3 * i
+    for (let d = 0; d < 3; d++) {
+      ch.rest[j + d] = p[o + d]
+      ch.restNormal[j + d] = p[o + 3 + d]
+      ch.refFrom[j + d] = p[o + 6 + d]
+      ch.refTo[j + d] = p[o + 9 + d]
+      ch.refNormal[j + d] = p[o + 12 + d]
+    }
+    if (lim !== null) for (let d = 0; d < LIMITS; d++) lim[LIMITS * i + d] = p[o + PER + d]
+    ch.held[i] = s.characterHeld[i]
+    if (ch.held[i] === 1) ch.heldList[ch.heldCount++] = i
+  }
+  restoreSkin(state, ch, s, n)
+}
+
+function restoreSkin(state: ClothWorldState, ch: ClothCharacter, s: CharacterSnapshot, n: number): void {
+  const nb = s.characterBones.length
+  let skin = ch.skin
+  let same = skin !== null && skin.bones.length === nb
+  for (let b = 0; same && b < nb; b++) same = skin!.bones[b] === s.characterBones[b] && (skin!.slots[b] >= 0) === (s.characterBones[b] !== 0)
+  if (!same) {
+    if (skin !== null) untrackBones(state, skin)
+    skin = ch.skin = nb === 0 ? null : blankSkin(nb, ch.held.length)
+    if (skin !== null) {
+      for (let b = 0; b < nb; b++) {
+        const e = s.characterBones[b]
+        skin.bones[b] = e
+        skin.slots[b] = e !== 0 ? trackEntity(state, e) : -1
+      }
+      reserveBoneScratch(nb)
+    }
+  }
+  if (skin === null) return
+  const k = state.kinematics
+  for (let b = 0; b < nb; b++) {
+    const o = BONE * b
+    for (let d = 0; d < 10; d++) {
+      skin.bind[10 * b + d] = s.characterBoneData[o + d]
+      skin.pose[10 * b + d] = s.characterBoneData[o + 10 + d]
+    }
+    if (skin.slots[b] >= 0) restoreSlot(k, skin.slots[b], s.characterBoneData, o + 20)
+  }
+  for (let q = 0; q < 4 * n; q++) {
+    skin.joints[q] = s.characterJoints[q]
+    skin.weights[q] = s.characterWeights[q]
+  }
+}
+
+function untrackBones(state: ClothWorldState, skin: ClothSkin): void {
+  for (let b = 0; b < skin.bones.length; b++) if (skin.slots[b] >= 0) untrackEntity(state, skin.bones[b])
+}
+
+function untrackAll(state: ClothWorldState, ch: ClothCharacter): void {
+  if (ch.frameSlot >= 0) untrackEntity(state, ch.frame)
+  if (ch.skin !== null) untrackBones(state, ch.skin)
+}

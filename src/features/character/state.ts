@@ -1,0 +1,38 @@
+import { FRAME_PARAMS } from '../../kernels/motion'
+import { MOTION, SETTINGS, WORK, type ClothCharacter, type ClothSkin } from './types'
+
+/** Character state with zeroed settings and arrays for a capacity of P particles (the caller fills them). */
+export function blankCharacter(P: number): ClothCharacter {
+  return {
+    frame: 0,
+    frameSlot: -1,
+    inertia: false,
+    settings: new Float64Array(SETTINGS),
+    motion: new Float64Array(MOTION),
+    work: new Float64Array(WORK),
+    frameParams: new Float64Array(FRAME_PARAMS),
+    rest: new Float64Array(3 * P),
+    restNormal: new Float64Array(3 * P),
+    refFrom: new Float64Array(3 * P),
+    refTo: new Float64Array(3 * P),
+    refNormal: new Float64Array(3 * P),
+    limits: null,
+    held: new Uint8Array(P),
+    heldList: new Int32Array(P),
+    heldCount: 0,
+    skin: null,
+  }
+}
+
+/** A skin of `nb` bones (untracked) with joints and weights for a capacity of P particles. */
+export function blankSkin(nb: number, P: number): ClothSkin {
+  return {
+    bones: new Int32Array(nb),
+    slots: new Int32Array(nb).fill(-1),
+    bind: new Float64Array(10 * nb),
+    pose: new Float64Array(10 * nb),
+    matrices: new Float64Array(12 * nb),
+    joints: new Int32Array(4 * P),
+    weights: new Float64Array(4 * P),
+  }
+}

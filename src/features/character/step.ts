@@ -1,0 +1,204 @@
+import { rotateVecAt } from '../../core/math'
+import { constrainToReference, placeOnReference, predictInFrame } from '../../kernels/motion'
+import { P_STEP_FRACTION, P_STEP_START } from '../../kernels/params'
+import { K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
+import { moveClothRigidly } from '../../world/rigid'
+import type { ClothState, ClothWorldState } from '../../world/state'
+import { wakeClothState } from '../../world/wake'
+import { beginFrameStep, frameSubstep } from './frame'
+import { trackedStartPose, updateReference } from './reference'
+import {
+  M_GAP, M_POSE, M_PRIMED, M_REF_VALID, M_V, M_VC, M_W, M_WC, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE, W_FROM, W_V, W_W, type ClothCharacter,
+} from './types'
+
+/** Pose scratch of the teleport test. */
+const pose = new Float64Array(7)
+
+/**
+ * Sync phase, before the frame sample: a frame about to arrive farther than its cloth's teleport
+ * distance from where its velocity would have taken it, or turned by more than its teleport angle,
+ * is marked to jump (`forceJump`), as are the bones of a skinned cloth with it, so that the sample
+ * records a jump instead of interpolating across the gap. A pending `teleportCloth` marks the
+ * frame too (the cloth was moved by hand; its frame must not sweep across the gap either).
+ */
+export function markFrameTeleports(state: ClothWorldState): void {
+  const k = state.kinematics
+  const cloths = state.cloths
+  const ratio = (k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep) / state.fixedTimeStep
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    const ch = c.character
+    if (ch === null || ch.frameSlot < 0) continue
+    const slot = ch.frameSlot, o = 7 * slot
+    readPoseInto(state, ch.frame, pose)
+    const ex = pose[0] - k.sampleTo[o] - (k.stepTo[o] - k.stepFrom[o]) * ratio
+    const ey = pose[1] - k.sampleTo[o + 1] - (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
+    const ez = pose[2] - k.sampleTo[o + 2] - (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
+    const limit = ch.settings[S_TELEPORT_DISTANCE]
+    let dot = pose[3] * k.sampleTo[o + 3] + pose[4] * k.sampleTo[o + 4] + pose[5] * k.sampleTo[o + 5] + pose[6] * k.sampleTo[o + 6]
+    if (dot < 0) dot = -dot
+    const turned = 2 * Math.acos(dot > 1 ? 1 : dot)
+    if (!c.pins.skipTeleport && !(ex * ex + ey * ey + ez * ez > limit * limit) && !(turned > ch.settings[S_TELEPORT_ANGLE])) continue
+    k.forceJump[slot] = 1
+    const skin = ch.skin
+    if (skin !== null) for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) k.forceJump[skin.slots[b]] = 1
+  }
+}
+
+/**
+ * Sync phase, when some cloth sleeps: wakes sleeping cloths whose frame or bones move this step
+ * (the sleep feature knows only pins, colliders and wind).
+ */
+export function wakeMovedCharacters(state: ClothWorldState): void {
+  if (state.sleep.count === 0) return
+  const moved = state.kinematics.moved
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    const ch = c.character
+    if (ch === null || !c.sleep.asleep) continue
+    let wake = ch.frameSlot >= 0 && moved[ch.frameSlot] === 1
+    const skin = ch.skin
+    if (skin !== null) for (let b = 0; b < skin.slots.length && !wake; b++) wake = skin.slots[b] >= 0 && moved[skin.slots[b]] === 1
+    if (wake) wakeClothState(state, c)
+  }
+}
+
+/**
+ * Sync phase, for a cloth that sits this step out: asleep or frozen, it misses its frame's motion
+ * meanwhile, so its next step starts from the frame's pose then (a cloth stepping every n-th step
+ * does not: its step spans the steps it skips).
+ */
+export function noteIdle(c: ClothState): void {
+  if (c.character !== null && (c.sleep.asleep || c.budget.frozen)) c.character.motion[M_GAP] = 1
+}
+
+/** How the pins' teleport handling left the cloth this step (`followTargetJumps`). */
+export const JUMP_NONE = 0
+export const JUMP_CARRIED = 1
+export const JUMP_EXPLICIT = 2
+
+/**
+ * Sync phase, per running cloth with character state: handles a jump of its frame (carry the
+ * cloth along, 'keep', unless a pin target's jump already did; or put it on its reference pose,
+ * 'reset'), then this step's frame motion and reference pose.
+ */
+export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameStart: boolean, pinJump: number): void {
+  const ch = c.character!
+  const k = state.kinematics
+  const m = ch.motion
+  const slot = ch.frameSlot
+  const jumped = frameStart && slot >= 0 && k.jumped[slot] === 1
+  if (frameStart) resyncJumpedBones(state, ch)
+  if (jumped || m[M_GAP] === 1) {
+    // start from the frame's pose now (a jump moved the tracked poses; a gap left them behind).
+    // The frame's last velocities stay: they are what the cloth's own velocities were carried with
+    // (a sleeping cloth's are zero, like its frame's; a frozen cloth kept both)
+    if (slot >= 0) trackedStartPose(state, slot, ch.frame, m, M_POSE)
+    m[M_REF_VALID] = 0
+    m[M_GAP] = 0
+  }
+  // a jump turned the cloth's velocities (carried along) or replaced them (reset): the frame's too
+  if (jumped) turnVelocities(m, k.jump, 10 * slot + 3)
+  const reset = jumped && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT
+  if (reset) m[M_PRIMED] = 0
+  if (jumped && !reset && pinJump === JUMP_NONE) {
+    const j = 10 * slot, J = k.jump
+    const cx = J[j], cy = J[j + 1], cz = J[j + 2]
+    moveClothRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9])
+    state.stats.teleports++
+  }
+  beginFrameStep(state, c, ch)
+  if (ch.limits !== null || reset) updateReference(state, c, ch)
+  if (reset) {
+    resetToReference(c, ch)
+    state.stats.teleports++
+    if (ch.limits === null) m[M_REF_VALID] = 0 // kept only while constraints use it
+  }
+}
+
+/** The frame's velocity history turned by the unit quaternion at q[qo..qo+3]. */
+function turnVelocities(m: Float64Array, q: Float64Array, qo: number): void {
+  rotateVecAt(q, qo, m, M_V, m, M_V)
+  rotateVecAt(q, qo, m, M_W, m, M_W)
+  rotateVecAt(q, qo, m, M_VC, m, M_VC)
+  rotateVecAt(q, qo, m, M_WC, m, M_WC)
+}
+
+/** Bones that jumped at this frame sample continue from their new place. */
+function resyncJumpedBones(state: ClothWorldState, ch: ClothCharacter): void {
+  const skin = ch.skin
+  if (skin === null) return
+  const jumped = state.kinematics.jumped
+  for (let b = 0; b < skin.slots.length; b++) {
+    const slot = skin.slots[b]
+    if (slot < 0 || jumped[slot] === 0) continue
+    trackedStartPose(state, slot, skin.bones[b], skin.pose, 10 * b)
+    ch.motion[M_REF_VALID] = 0
+  }
+}
+
+/** Teleport 'reset': every particle on its reference at the step's start, at rest in the frame. */
+function resetToReference(c: ClothState, ch: ClothCharacter): void {
+  const w = ch.work
+  const ref = ch.refFrom
+  const { pos, prev, vel } = c
+  const vx = w[W_V], vy = w[W_V + 1], vz = w[W_V + 2], ox = w[W_FROM], oy = w[W_FROM + 1], oz = w[W_FROM + 2]
+  const ax = w[W_W], ay = w[W_W + 1], az = w[W_W + 2]
+  for (let j = 0; j < 3 * c.count; j += 3) {
+    const x = ref[j], y = ref[j + 1], z = ref[j + 2]
+    pos[j] = prev[j] = x
+    pos[j + 1] = prev[j + 1] = y
+    pos[j + 2] = prev[j + 2] = z
+    // the frame's velocity at the particle: V + ω × r
+    const rx = x - ox, ry = y - oy, rz = z - oz
+    vel[j] = vx + ay * rz - az * ry
+    vel[j + 1] = vy + az * rx - ax * rz
+    vel[j + 2] = vz + ax * ry - ay * rx
+  }
+  c.version++
+}
+
+/**
+ * Predict phase, for a cloth with character state: integrates in the frame (inertia shares,
+ * frame-relative damping) when inertia is on, then places held particles on their reference.
+ * Returns false when the world-space predict must run instead.
+ */
+export function predictCharacter(c: ClothState, k: number): boolean {
+  const ch = c.character!
+  const inFrame = ch.inertia
+  if (inFrame) {
+    frameSubstep(c, ch, k, c.substeps)
+    predictInFrame(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, ch.frameParams, c.count)
+  }
+  return inFrame
+}
+
+/** Predict phase, after the predict: held particles onto their reference at the substep's end. */
+export function placeHeld(c: ClothState, k: number): void {
+  const ch = c.character!
+  c.params[P_STEP_FRACTION] = (k + 1) / c.substeps
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.refFrom, ch.refTo, c.params)
+}
+
+/** Motion phase: max distance, backstop and drive at the end of substep k. */
+export function constrainCharacter(c: ClothState, k: number): void {
+  const ch = c.character!
+  c.params[P_STEP_START] = k / c.substeps
+  c.params[P_STEP_FRACTION] = (k + 1) / c.substeps
+  constrainToReference(c.pos, c.prev, c.invMass, ch.refFrom, ch.refTo, ch.refNormal, ch.limits!, c.params, c.count)
+}
+
+/**
+ * Guard phase, after a reset: held particles back on their reference at the step's end (the
+ * guard restores the pinned particles through the pins, and knows nothing of these).
+ */
+export function placeHeldAfterReset(c: ClothState): void {
+  const ch = c.character!
+  const { pos, prev } = c
+  const ref = ch.refTo
+  for (let q = 0; q < ch.heldCount; q++) {
+    const j = 3 * ch.heldList[q]
+    for (let d = 0; d < 3; d++) pos[j + d] = prev[j + d] = ref[j + d]
+  }
+}

@@ -1,0 +1,185 @@
+/**
+ * Character cloth: state shapes. A cloth worn by a character can be simulated in the character's
+ * frame (inertia shares), held near a reference pose (max distance, backstop, drive), have that
+ * reference skinned by bones, and reset to it on teleports. `ClothState.character` is null until
+ * one of `setClothInertia`, `setClothMotionConstraints` or `setClothSkinning` is called, so a
+ * cloth without any of them pays one null check per phase.
+ */
+
+/** What a cloth does when its frame teleports (see `ClothTeleportOptions`). */
+export type ClothTeleportMode = 'keep' | 'reset'
+
+/** Options of the `teleport` field of `setClothInertia`. */
+export interface ClothTeleportOptions {
+  /**
+   * 'keep' (default): carry the cloth rigidly along with the frame's jump, keeping its shape and
+   * (rotated) velocities. 'reset': put it on its reference pose, at rest in the frame.
+   */
+  mode?: ClothTeleportMode
+  /**
+   * A frame sample farther than this from where the frame's velocity would have taken it counts
+   * as a teleport, m. Default: the world's `teleportDistance` (2 m).
+   */
+  distance?: number
+  /**
+   * A frame sample turned by more than this from the previous one counts as a teleport, rad, in
+   * (0, π]. Default: off (Infinity); π/2 catches a character snapped around in one frame while a
+   * 3 rad/s turn at 60 Hz (0.05 rad per frame) stays a turn.
+   */
+  angle?: number
+}
+
+/** Options of `setClothInertia`. */
+export interface ClothInertiaOptions {
+  /**
+   * The entity whose motion is the cloth's frame (it must have a Transform), or null for the
+   * world. Default: the target of the cloth's first pin that has one; for a skinned cloth without
+   * such a pin, its first bone; else the world.
+   */
+  frame?: number | null
+  /** Share of the frame's linear acceleration the cloth feels, 0..1. Default 1 (world space). */
+  linear?: number
+  /** Share of the frame's angular acceleration (Euler force) the cloth feels, 0..1. Default 1. */
+  angular?: number
+  /** Share of the centrifugal and Coriolis effects of the frame's rotation, 0..1. Default 1. */
+  centrifugal?: number
+  /** The frame's speed the cloth can feel, m/s; faster motion is carried rigidly. Default Infinity. */
+  maxLinearSpeed?: number
+  /** The frame's turn rate the cloth can feel, rad/s; faster turning is carried rigidly. Default Infinity. */
+  maxAngularSpeed?: number
+  /** Teleport detection and response for this cloth's frame. */
+  teleport?: ClothTeleportOptions
+}
+
+/** A number for every particle, or one per particle (`count` values). */
+export type PerParticle = number | ArrayLike<number>
+
+/** Options of `setClothMotionConstraints`. */
+export interface ClothMotionConstraints {
+  /**
+   * How far each particle may move from its reference position, m (0 = kinematic: it follows
+   * the reference exactly; Infinity = free). Default Infinity.
+   */
+  maxDistance?: PerParticle
+  /**
+   * A sphere of `radius` m whose surface lies `distance` m behind each particle's reference
+   * position, along the reference normal reversed: the particle stays outside it. Default: none.
+   */
+  backstop?: { distance?: PerParticle; radius: PerParticle } | null
+  /**
+   * Pull toward the reference position by a critically damped spring (mass-independent; its
+   * damping acts on the motion relative to the reference), as the fraction of an offset it closes
+   * in 1/60 s from rest, 0..1: 0 = none (default), 1 = the particle follows the reference.
+   * Independent of the substep length.
+   */
+  drive?: PerParticle
+}
+
+/** Options of `setClothSkinning`: linear blend skinning with up to 4 bones per particle. */
+export interface ClothSkinningOptions {
+  /** Bone entities (each with a Transform). Their poses when this is called are the bind pose. */
+  bones: ArrayLike<number>
+  /** 4 bone indices (into `bones`) per particle. */
+  joints: ArrayLike<number>
+  /** 4 weights per particle, each ≥ 0, summing to 1 (within 1e-3). */
+  weights: ArrayLike<number>
+}
+
+/** Skinned reference pose of a cloth (`ClothCharacter.skin`). */
+export interface ClothSkin {
+  /** Bone entities (0 once removed) and their kinematic slots (−1 once removed). */
+  bones: Int32Array
+  slots: Int32Array
+  /** Per bone: bind pose px py pz qx qy qz qw sx sy sz (stride 10). */
+  bind: Float64Array
+  /** Per bone: pose at the cloth's last step end (stride 10); a removed bone keeps its last one. */
+  pose: Float64Array
+  /** Per bone: skinning matrix (pose · bind⁻¹) as a row-major 3×4 (stride 12); scratch of a step. */
+  matrices: Float64Array
+  /** 4 bone indices and 4 weights per particle (room for the cloth's capacity). */
+  joints: Int32Array
+  weights: Float64Array
+}
+
+/** Character-cloth state of one cloth (`ClothState.character`). */
+export interface ClothCharacter {
+  /** The frame entity (0: the world) and its kinematic slot (−1: none or removed). */
+  frame: number
+  frameSlot: number
+  /** Simulated in the frame (`setClothInertia`): inertia shares and frame-relative damping. */
+  inertia: boolean
+  /** Settings, slots S_*. */
+  settings: Float64Array
+  /** Motion history saved in snapshots, slots M_*. */
+  motion: Float64Array
+  /** Scratch of a step: the frame's pose at its start and end, and its velocities (slots W_*). */
+  work: Float64Array
+  /** Per-substep parameters of the frame kernel (see `kernels/motion.ts`). */
+  frameParams: Float64Array
+  /** Rest positions, world, m: where the particles are when the frame (or every bone) stands at its bind pose. */
+  rest: Float64Array
+  /** Rest vertex normals, at the same pose. */
+  restNormal: Float64Array
+  /** Reference positions at the start and end of the cloth's current step, m; normals at its end. */
+  refFrom: Float64Array
+  refTo: Float64Array
+  refNormal: Float64Array
+  /** Per particle (stride 4): max distance (m, Infinity = free), backstop distance, radius (0 = none), drive frequency ω (rad/s, Infinity = follows). Null: no motion constraints. */
+  limits: Float64Array | null
+  /** 1 for particles held on the reference (max distance 0; counted in `pinCount`), and their list. */
+  held: Uint8Array
+  heldList: Int32Array
+  heldCount: number
+  skin: ClothSkin | null
+}
+
+/** Slots of `ClothCharacter.settings`. */
+export const S_LINEAR = 0
+export const S_ANGULAR = 1
+export const S_CENTRIFUGAL = 2
+export const S_MAX_LINEAR = 3
+export const S_MAX_ANGULAR = 4
+/** 0 keep, 1 reset. */
+export const S_TELEPORT_MODE = 5
+export const S_TELEPORT_DISTANCE = 6
+export const S_TELEPORT_ANGLE = 7
+/** 1 when the frame was chosen explicitly (`frame` given), 0 when it was defaulted. */
+export const S_FRAME_EXPLICIT = 8
+export const SETTINGS = 9
+
+/** Slots of `ClothCharacter.motion`. */
+/** The frame's pose (px py pz qx qy qz qw sx sy sz) at the end of the cloth's last step (kept when the frame goes away). */
+export const M_POSE = 0
+/** The frame's pose when the reference was bound (its rest positions are world positions at this pose). */
+export const M_BIND = 10
+/** The frame's linear and angular velocity over the last substep (m/s, rad/s), and their felt (clamped) parts. */
+export const M_V = 20
+export const M_W = 23
+export const M_VC = 26
+export const M_WC = 29
+/** 1 once the velocities above are known (0: the next step feels no acceleration at its start). */
+export const M_PRIMED = 32
+/** 1 while `refFrom` holds the reference at the end of the cloth's last step. */
+export const M_REF_VALID = 33
+/** 1 when the cloth sat steps out (asleep, frozen): its next step starts from the frame's pose then. */
+export const M_GAP = 34
+export const MOTION = 35
+
+/** Slots of `ClothCharacter.work` (a step's scratch). */
+export const W_FROM = 0
+export const W_TO = 10
+/** This step's velocities (actual and felt), and the previous substep's. */
+export const W_V = 20
+export const W_W = 23
+export const W_VC = 26
+export const W_WC = 29
+export const W_PV = 32
+export const W_PW = 35
+export const W_PVC = 38
+export const W_PWC = 41
+/** Scratch for matrices: 4 rotations (9 each) and a quaternion. */
+export const W_R = 44
+export const WORK = 44 + 36 + 4
+
+/** Per-particle stride of `ClothCharacter.limits`. */
+export const LIMITS = 4

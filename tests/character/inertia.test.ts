@@ -1,0 +1,144 @@
+// Inertia in the character's frame: the share of the frame's motion a cape feels, damping relative
+// to the frame, speed limits. The character's motion is given as poses; the cape's shape is read
+// in the character's frame (see scenes.ts).
+import { addEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import { ClothError, createCloth, getClothState, setClothInertia, setTransform, stepCloth } from '../../src/index'
+import { allFinite, makeWorld, momentum } from '../helpers'
+import { DT, capeOnCharacter, drive, localShape, rms, sprintTurnStop } from './scenes'
+
+/** RMS over the run of the cape's RMS displacement from its standing shape, in the character's frame. */
+function runDisplacement(inertia: Parameters<typeof capeOnCharacter>[0]): number {
+  const { world, hero, cape } = capeOnCharacter(inertia, makeWorld({ sleep: false }))
+  for (let f = 0; f < 240; f++) stepCloth(world, DT)
+  const stand = localShape(world, cape, [0, 1.6, 0], 0)
+  let sum = 0, n = 0
+  drive(world, hero, sprintTurnStop, 4, (_, t) => {
+    const m = sprintTurnStop(t)
+    sum += rms(localShape(world, cape, m.p, m.yaw), stand) ** 2
+    n++
+  })
+  expect(allFinite(world, cape)).toBe(true)
+  return Math.sqrt(sum / n)
+}
+
+describe('inertia in the character frame', () => {
+  it('with every share 0 a cape keeps its standing shape through a sprint (10 m/s² to 5 m/s), a 3 rad/s turn and a dead stop; at 0.5 it lies between', () => {
+    const world = runDisplacement({ linear: 1, angular: 1, centrifugal: 1 })
+    const half = runDisplacement({ linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+    const none = runDisplacement({ linear: 0, angular: 0, centrifugal: 0 })
+    console.log(`cape displacement in the character's frame (RMS over the run): shares 1 ${(100 * world).toFixed(1)} cm, 0.5 ${(100 * half).toFixed(1)} cm, 0 ${(100 * none).toFixed(4)} cm; ratio 0/1 ${(none / world).toExponential(2)}, 0.5/1 ${(half / world).toFixed(2)}`)
+    expect(world).toBeGreaterThan(0.1) // the run really flings a world-space cape
+    expect(none).toBeLessThan(0.1 * world)
+    expect(half).toBeGreaterThan(2 * none)
+    expect(half).toBeLessThan(0.8 * world)
+  })
+
+  it('each share removes its own part: linear 0 alone carries the sprint entirely, not the turn', () => {
+    const { world, hero, cape } = capeOnCharacter({ linear: 0, angular: 1, centrifugal: 1 }, makeWorld({ sleep: false }))
+    for (let f = 0; f < 240; f++) stepCloth(world, DT)
+    const stand = localShape(world, cape, [0, 1.6, 0], 0)
+    let straight = 0, turning = 0
+    drive(world, hero, sprintTurnStop, 2.5, (_, t) => {
+      const m = sprintTurnStop(t)
+      const d = rms(localShape(world, cape, m.p, m.yaw), stand)
+      if (t <= 1.5) straight = Math.max(straight, d)
+      else turning = Math.max(turning, d)
+    })
+    expect(straight).toBeLessThan(1e-6) // straight-line acceleration is carried entirely (rounding only)
+    expect(turning).toBeGreaterThan(0.02) // the turn is felt
+  })
+
+  it('speed limits clamp the motion passed on: limits near zero feel nothing, as with shares 0', () => {
+    const free = runDisplacement({})
+    const limited = runDisplacement({ maxLinearSpeed: 1e-6, maxAngularSpeed: 1e-6 })
+    const someLinear = runDisplacement({ maxLinearSpeed: 1 })
+    expect(limited).toBeLessThan(1e-3 * free)
+    expect(someLinear).toBeLessThan(free)
+    expect(someLinear).toBeGreaterThan(limited)
+  })
+
+  it('with every share 1 and no damping it is world space (the same motion as without a frame)', () => {
+    const a = capeOnCharacter(undefined, makeWorld({ sleep: false }))
+    const b = capeOnCharacter({ linear: 1, angular: 1, centrifugal: 1 }, makeWorld({ sleep: false }))
+    for (const s of [a, b]) {
+      getClothState(s.world, s.cape).damping = 0
+      getClothState(s.world, s.cape).stretchDamping = 0
+    }
+    let worst = 0
+    for (let f = 1; f <= 90; f++) {
+      const m = sprintTurnStop(0.5 + f * DT)
+      for (const s of [a, b]) {
+        setTransform(s.world, s.hero, m.p, [0, Math.sin(m.yaw / 2), 0, Math.cos(m.yaw / 2)])
+        stepCloth(s.world, DT)
+      }
+      const pa = getClothState(a.world, a.cape).pos, pb = getClothState(b.world, b.cape).pos
+      for (let j = 0; j < pa.length; j++) worst = Math.max(worst, Math.abs(pa[j] - pb[j]))
+    }
+    expect(worst).toBeLessThan(1e-9)
+  })
+})
+
+describe('damping in the frame', () => {
+  it('a free cloth moving with its frame keeps its momentum (world-space damping takes 99.3 % in 5 s)', () => {
+    const kept = (withFrame: boolean) => {
+      const world = makeWorld({ gravity: [0, 0, 0], sleep: false })
+      const mover = addEntity(world)
+      setTransform(world, mover, [0, 0, 0])
+      const cloth = createCloth(world, { width: 1, height: 1, resolution: 8 }) // cotton: damping 1/s
+      const c = getClothState(world, cloth)
+      for (let i = 0; i < c.count; i++) c.vel[3 * i] = 3
+      if (withFrame) setClothInertia(world, cloth, { frame: mover })
+      const p0 = momentum(world, cloth)[0]
+      drive(world, mover, (t) => ({ p: [3 * t, 0, 0], yaw: 0 }), 5)
+      return momentum(world, cloth)[0] / p0
+    }
+    expect(kept(false)).toBeCloseTo(Math.exp(-5), 4) // the damping rate, 1/s, acting on world velocity
+    expect(kept(true)).toBeGreaterThan(0.999999)
+  })
+
+  it('a cape on a character running at a steady 4 m/s hangs as it does standing once its start-up swing dies out; world-space damping makes it trail', () => {
+    const trail = (inertia: {} | undefined) => {
+      const { world, hero, cape } = capeOnCharacter(inertia, makeWorld({ sleep: false }))
+      for (let f = 0; f < 240; f++) stepCloth(world, DT)
+      const stand = localShape(world, cape, [0, 1.6, 0], 0)
+      drive(world, hero, (t) => ({ p: [4 * t, 1.6, 0], yaw: 0 }), 8)
+      return rms(localShape(world, cape, [32, 1.6, 0], 0), stand)
+    }
+    const inFrame = trail({}), inWorld = trail(undefined)
+    expect(inWorld).toBeGreaterThan(0.1)
+    expect(inFrame).toBeLessThan(0.01)
+  })
+})
+
+describe('setClothInertia input', () => {
+  it('rejects bad shares, speeds, frames and teleport options with a ClothError naming the argument', () => {
+    const { world, cape } = capeOnCharacter()
+    const bad: [object, string][] = [
+      [{ linear: -0.1 }, 'options.linear'],
+      [{ angular: 1.5 }, 'options.angular'],
+      [{ centrifugal: NaN }, 'options.centrifugal'],
+      [{ linear: '0.5' }, 'options.linear'],
+      [{ maxLinearSpeed: 0 }, 'options.maxLinearSpeed'],
+      [{ maxAngularSpeed: -1 }, 'options.maxAngularSpeed'],
+      [{ frame: 99999 }, 'options.frame'],
+      [{ frame: 1.5 }, 'options.frame'],
+      [{ teleport: { mode: 'snap' } }, 'options.teleport.mode'],
+      [{ teleport: { distance: -1 } }, 'options.teleport.distance'],
+      [{ teleport: { angle: 4 } }, 'options.teleport.angle'],
+      [{ teleport: 3 }, 'options.teleport'],
+    ]
+    for (const [options, arg] of bad) {
+      expect(() => setClothInertia(world, cape, options as never), arg).toThrow(ClothError)
+      try {
+        setClothInertia(world, cape, options as never)
+      } catch (e) {
+        expect((e as ClothError).argument).toBe(arg)
+      }
+    }
+    const noTransform = addEntity(world)
+    expect(() => setClothInertia(world, cape, { frame: noTransform })).toThrow(/options\.frame.*Transform/)
+    expect(() => setClothInertia(world, 12345, {})).toThrow(ClothError)
+    expect(getClothState(world, cape).character).toBeNull() // nothing half-configured
+  })
+})

@@ -1,0 +1,195 @@
+// Motion constraints around a reference pose: max distance, backstop, drive, and particles held
+// kinematic by max distance 0. The reference is recomputed here from the character's poses (the
+// rest shape carried rigidly by the character), not read from the library.
+import { addEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import { ClothError, type ClothMotionConstraints, createCloth, getClothReference, getClothState, setClothInertia, setClothMotionConstraints, setTransform, stepCloth } from '../../src/index'
+import { allFinite, makeWorld } from '../helpers'
+import { DT, capeOnCharacter, carriedRest, drive, positionsNow, sprintTurnStopJump, yawQuat } from './scenes'
+
+const ROWS = 12, COLS = 8
+
+/** Max distance painted by row: 0 at the collar, growing linearly to `hem` m at the hem. */
+function painted(hem: number): number[] {
+  return Array.from({ length: ROWS * COLS }, (_, i) => (hem * Math.floor(i / COLS)) / (ROWS - 1))
+}
+
+/**
+ * The violent run (world-space cape: sprint, turn, dead stop, jump) with motion constraints;
+ * `check(x, ref, i)` sees every particle after every frame. Returns the cape's world.
+ */
+function run(constraints: ClothMotionConstraints | undefined, check: (pos: Float64Array, ref: Float64Array, i: number, yaw: number) => void) {
+  const { world, hero, cape } = capeOnCharacter(undefined, makeWorld({ sleep: false }))
+  const rest = positionsNow(world, cape)
+  if (constraints) setClothMotionConstraints(world, cape, constraints)
+  drive(world, hero, sprintTurnStopJump, 4, (_, t) => {
+    const m = sprintTurnStopJump(t)
+    const ref = carriedRest(rest, [0, 1.6, 0], 0, m.p, m.yaw)
+    const c = getClothState(world, cape)
+    for (let i = 0; i < c.count; i++) check(c.pos, ref, i, m.yaw)
+  })
+  expect(allFinite(world, cape)).toBe(true)
+  return { world, cape }
+}
+
+const dist = (a: ArrayLike<number>, b: ArrayLike<number>, i: number) => Math.hypot(a[3 * i] - b[3 * i], a[3 * i + 1] - b[3 * i + 1], a[3 * i + 2] - b[3 * i + 2])
+
+describe('max distance', () => {
+  it('no particle ever ends a step farther from its reference than its painted max distance (+2 mm) through a sprint, a turn, a dead stop and a jump', () => {
+    const md = painted(0.15)
+    let worst = -Infinity
+    run({ maxDistance: md }, (pos, ref, i) => {
+      worst = Math.max(worst, dist(pos, ref, i) - md[i])
+    })
+    console.log(`max distance: worst excess ${(1000 * worst).toFixed(4)} mm`)
+    expect(worst).toBeLessThan(0.002)
+    // the same run unconstrained goes far beyond those distances
+    let free = -Infinity
+    run(undefined, (pos, ref, i) => {
+      free = Math.max(free, dist(pos, ref, i) - md[i])
+    })
+    expect(free).toBeGreaterThan(0.1)
+  })
+
+  it('max distance 0 holds particles on the reference exactly, kinematic (inverse mass 0) and anchoring tethers, with no pins at all', () => {
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [COLS, ROWS], position: [-0.15, 1.55, 0], rotation: yawQuat(-Math.PI / 2) })
+    const rest = positionsNow(world, cape)
+    setClothInertia(world, cape, { frame: hero, linear: 0.3, angular: 0.3, centrifugal: 0.3 })
+    const md = painted(Infinity).map((v, i) => (i < COLS ? 0 : Infinity))
+    setClothMotionConstraints(world, cape, { maxDistance: md })
+    const c = getClothState(world, cape)
+    for (let i = 0; i < COLS; i++) expect(c.invMass[i]).toBe(0)
+    let worst = 0
+    drive(world, hero, sprintTurnStopJump, 4, (_, t) => {
+      const m = sprintTurnStopJump(t)
+      const ref = carriedRest(rest, [0, 1.6, 0], 0, m.p, m.yaw)
+      for (let i = 0; i < COLS; i++) worst = Math.max(worst, dist(c.pos, ref, i))
+    })
+    expect(worst).toBeLessThan(1e-9)
+    expect(c.tethers.set.count).toBeGreaterThan(0)
+    expect(Math.min(...Array.from(c.pos).filter((_, j) => j % 3 === 1))).toBeGreaterThan(0.5) // it hangs, not falls
+    // releasing them gives the particles their mass back
+    setClothMotionConstraints(world, cape, null)
+    for (let i = 0; i < COLS; i++) expect(c.invMass[i]).toBe(c.baseInvMass[i])
+    expect(c.character!.inertia).toBe(true) // inertia stays
+  })
+})
+
+describe('backstop', () => {
+  it('keeps every particle out of its backstop sphere when a dead stop flings the cape into the body; without it the cape goes deep', () => {
+    const md = painted(0.3)
+    const distance = 0.02, radius = 0.5
+    // the rest normal is −x (away from the body) in the character's frame: turned by its yaw
+    const depthOf = (pos: Float64Array, ref: Float64Array, i: number, yaw: number) => {
+      const nx = -Math.cos(yaw), nz = Math.sin(yaw)
+      const dx = pos[3 * i] - ref[3 * i], dy = pos[3 * i + 1] - ref[3 * i + 1], dz = pos[3 * i + 2] - ref[3 * i + 2]
+      const depth = -(dx * nx + dz * nz) // how far behind the reference, toward the body
+      const lateral = Math.sqrt(Math.max(0, dx * dx + dy * dy + dz * dz - depth * depth))
+      return { depth, lateral }
+    }
+    let inside = -Infinity, worstDepth = -Infinity
+    run({ maxDistance: md, backstop: { distance, radius } }, (pos, ref, i, yaw) => {
+      const { depth, lateral } = depthOf(pos, ref, i, yaw)
+      // distance from the sphere's centre, which lies distance + radius behind the reference
+      const fromCentre = Math.hypot(lateral, distance + radius - depth)
+      inside = Math.max(inside, radius - fromCentre)
+      // within the sphere's footprint its surface lies at depth distance + radius − √(radius² − lateral²)
+      if (lateral < radius) worstDepth = Math.max(worstDepth, depth - (distance + radius - Math.sqrt(radius * radius - lateral * lateral)))
+    })
+    console.log(`backstop: deepest inside the sphere ${(1000 * inside).toFixed(4)} mm, beyond the surface's depth ${(1000 * worstDepth).toFixed(4)} mm`)
+    expect(inside).toBeLessThan(0.002)
+    expect(worstDepth).toBeLessThan(0.002)
+    let deepest = -Infinity
+    run({ maxDistance: md }, (pos, ref, i, yaw) => {
+      deepest = Math.max(deepest, depthOf(pos, ref, i, yaw).depth)
+    })
+    expect(deepest).toBeGreaterThan(distance + 0.05)
+  })
+})
+
+describe('drive', () => {
+  it('pulls toward the reference: drive 1 follows it exactly, more drive stays closer, none swings free', () => {
+    const meanGap = (drive?: number) => {
+      let sum = 0, n = 0
+      run(drive === undefined ? undefined : { drive }, (pos, ref, i) => {
+        sum += dist(pos, ref, i)
+        n++
+      })
+      return sum / n
+    }
+    const free = meanGap(), weak = meanGap(0.05), strong = meanGap(0.5), full = meanGap(1)
+    expect(full).toBeLessThan(1e-9)
+    expect(strong).toBeLessThan(weak)
+    expect(weak).toBeLessThan(free)
+  })
+
+  it('is a critically damped spring: an offset of 10 cm closes as e(t) = e₀·(1 + ωt)·e^(−ωt), nearly the same at 4 and 16 substeps', () => {
+    const f = 0.2 // closes 20 % of an offset in 1/60 s from rest
+    // ω from f = 1 − (1 + ωT)·e^(−ωT), T = 1/60 s (bisection)
+    let lo = 0, hi = 100
+    for (let k = 0; k < 60; k++) {
+      const u = (lo + hi) / 2
+      if (1 - (1 + u) * Math.exp(-u) < f) lo = u
+      else hi = u
+    }
+    const omega = lo * 60
+    const gaps = (substeps: number) => {
+      const world = makeWorld({ gravity: [0, 0, 0], sleep: false })
+      const cloth = createCloth(world, { width: 0.2, height: 0.2, resolution: 2, substeps, damping: 0 })
+      setClothMotionConstraints(world, cloth, { drive: f })
+      const c = getClothState(world, cloth)
+      for (let i = 0; i < c.count; i++) c.pos[3 * i] += 0.1 // displaced 10 cm from the reference, at rest
+      c.prev.set(c.pos)
+      const out: number[] = []
+      for (let frame = 1; frame <= 12; frame++) {
+        stepCloth(world, DT)
+        out.push(c.pos[0] - getClothReference(world, cloth)![0])
+      }
+      return out
+    }
+    const coarse = gaps(4), fine = gaps(16)
+    for (let frame = 1; frame <= 12; frame++) {
+      const t = frame * DT
+      const exact = 0.1 * (1 + omega * t) * Math.exp(-omega * t)
+      expect(Math.abs(fine[frame - 1] - exact), `frame ${frame}`).toBeLessThan(0.0015)
+      expect(Math.abs(coarse[frame - 1] - exact), `frame ${frame}`).toBeLessThan(0.004)
+      expect(fine[frame - 1]).toBeGreaterThan(0) // critically damped: no overshoot
+    }
+    expect(fine[0] / 0.1).toBeCloseTo(1 - f, 1)
+  })
+})
+
+describe('setClothMotionConstraints input', () => {
+  it('rejects negative or non-finite distances, arrays of the wrong length, bad drives with a ClothError naming the argument', () => {
+    const { world, cape } = capeOnCharacter()
+    const n = getClothState(world, cape).count
+    const bad: [object, string][] = [
+      [{ maxDistance: -0.1 }, 'constraints.maxDistance'],
+      [{ maxDistance: NaN }, 'constraints.maxDistance'],
+      [{ maxDistance: new Array(n - 1).fill(0.1) }, 'constraints.maxDistance'],
+      [{ maxDistance: Array.from({ length: n }, (_, i) => (i === 3 ? -1 : 0.1)) }, 'constraints.maxDistance[3]'],
+      [{ backstop: { distance: 0.1 } }, 'constraints.backstop.radius'],
+      [{ backstop: { distance: -0.1, radius: 1 } }, 'constraints.backstop.distance'],
+      [{ backstop: { distance: 0.1, radius: 0 } }, 'constraints.backstop.radius'],
+      [{ backstop: { distance: 0.1, radius: new Float64Array(3) } }, 'constraints.backstop.radius'],
+      [{ backstop: 'behind' }, 'constraints.backstop'],
+      [{ drive: 1.5 }, 'constraints.drive'],
+      [{ drive: -0.5 }, 'constraints.drive'],
+    ]
+    for (const [constraints, arg] of bad) {
+      let error: unknown
+      try {
+        setClothMotionConstraints(world, cape, constraints as never)
+      } catch (e) {
+        error = e
+      }
+      expect(error, arg).toBeInstanceOf(ClothError)
+      expect((error as ClothError).argument).toBe(arg)
+    }
+    expect(() => setClothMotionConstraints(world, cape, 5 as never)).toThrow(ClothError)
+    expect(getClothState(world, cape).character).toBeNull()
+  })
+})
