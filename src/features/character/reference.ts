@@ -111,7 +111,7 @@ export function updateReference(state: ClothWorldState, c: ClothState, ch: Cloth
   }
   bonePosesAtEnd(state, skin, boneScratch)
   referenceAt(c, ch, ch.work, W_TO, boneScratch, ch.refTo)
-  skin.pose.set(boneScratch.subarray(0, skin.pose.length))
+  for (let j = 0; j < skin.pose.length; j++) skin.pose[j] = boneScratch[j]
 }
 
 /** Each bone's pose at the end of the step (a removed bone: its last pose) into out (stride 10). */

@@ -114,18 +114,27 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
     throw new ClothError(arg, s, 'is not a complete snapshot (character cloth array sizes do not match)')
   }
   // settings and limits may hold Infinity (no limit); nothing may be NaN
-  for (const a of [h, s.characterParticles, s.characterBoneData, s.characterWeights]) {
-    for (let q = 0; q < a.length; q++) if (Number.isNaN(a[q])) throw new ClothError(arg, s, 'holds NaN in its character cloth section')
+  if (hasNaN(h) || hasNaN(s.characterParticles) || hasNaN(s.characterBoneData) || hasNaN(s.characterWeights)) {
+    throw new ClothError(arg, s, 'holds NaN in its character cloth section')
   }
   for (let q = 0; q < s.characterJoints.length; q++) {
     if (!(s.characterJoints[q] >= 0 && s.characterJoints[q] < nb)) throw new ClothError(arg, s, 'holds a skin joint out of range')
   }
-  const live = (e: number) => e !== 0 && entityExists(world as never, e) && hasComponent(world as never, e, state.transforms.component)
-  if (tracked && !live(h[H_FRAME])) throw new ClothError(arg, s, `has entity ${h[H_FRAME]} as the cloth's frame, which no longer exists or has no Transform`)
+  if (tracked && !live(world, state, h[H_FRAME])) throw new ClothError(arg, s, `has entity ${h[H_FRAME]} as the cloth's frame, which no longer exists or has no Transform`)
   for (let b = 0; b < nb; b++) {
     const e = s.characterBones[b]
-    if (e !== 0 && !live(e)) throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
+    if (e !== 0 && !live(world, state, e)) throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
   }
+}
+
+function hasNaN(a: Float64Array): boolean {
+  for (let q = 0; q < a.length; q++) if (Number.isNaN(a[q])) return true
+  return false
+}
+
+/** Whether entity e exists and has a Transform. */
+function live(world: object, state: ClothWorldState, e: number): boolean {
+  return e !== 0 && entityExists(world as never, e) && hasComponent(world as never, e, state.transforms.component)
 }
 
 /**
@@ -152,8 +161,8 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
     ch.frameSlot = tracked ? trackEntity(state, frame) : -1
   }
   ch.inertia = h[H_INERTIA] === 1
-  ch.settings.set(h.subarray(HEADER, HEADER + SETTINGS))
-  ch.motion.set(h.subarray(HEADER + SETTINGS, HEADER + SETTINGS + MOTION))
+  for (let q = 0; q < SETTINGS; q++) ch.settings[q] = h[HEADER + q]
+  for (let q = 0; q < MOTION; q++) ch.motion[q] = h[HEADER + SETTINGS + q]
   if (tracked) restoreSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
   const hasLimits = h[H_LIMITS] === 1
   if (!hasLimits) ch.limits = null

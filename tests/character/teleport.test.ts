@@ -1,0 +1,163 @@
+// Teleports of a character cloth's frame: carried along ('keep') or put on the reference pose
+// ('reset'), detected by distance and by angle; entity lifetimes of the frame.
+import { addComponent, addEntity, removeEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  createCloth, getClothComponents, getClothState, getClothStats, removeCloth, setClothInertia, setClothMotionConstraints, setTransform, stepCloth,
+  teleportCloth, type ClothInertiaOptions,
+} from '../../src/index'
+import { allFinite, makeWorld } from '../helpers'
+import { DT, capeOnCharacter, carriedRest, drive, localShape, positionsNow, rms, yawQuat } from './scenes'
+
+/** A swinging cape: the character runs at 4 m/s along +x turning at 1 rad/s for 1 s (shares 0.5). */
+function swinging(inertia: ClothInertiaOptions) {
+  const scene = capeOnCharacter({ linear: 0.5, angular: 0.5, centrifugal: 0.5, ...inertia }, makeWorld({ sleep: false }))
+  const rest = positionsNow(scene.world, scene.cape)
+  setClothMotionConstraints(scene.world, scene.cape, { maxDistance: 1 }) // (keeps the reference pose updated)
+  const motion = (t: number) => ({ p: [4 * t, 1.6, 0], yaw: t })
+  drive(scene.world, scene.hero, motion, 1)
+  return { ...scene, rest, at: motion(1) }
+}
+
+describe('teleport', () => {
+  it("'keep' carries a swinging cape 10 m away with its shape in the character's frame unchanged", () => {
+    const s = swinging({ teleport: { mode: 'keep' } })
+    const before = localShape(s.world, s.cape, s.at.p, s.at.yaw)
+    const to = [s.at.p[0] + 10, 1.6, 5]
+    const teleports = getClothStats(s.world).teleports
+    setTransform(s.world, s.hero, to, yawQuat(s.at.yaw))
+    stepCloth(s.world, DT)
+    expect(getClothStats(s.world).teleports).toBe(teleports + 1)
+    // one step of its own swing later, in the frame: what it was, give or take one step's motion
+    expect(rms(localShape(s.world, s.cape, to, s.at.yaw), before)).toBeLessThan(0.03)
+    expect(allFinite(s.world, s.cape)).toBe(true)
+  })
+
+  it("'reset' lands the cape on its reference pose, at rest in the frame", () => {
+    const s = swinging({ teleport: { mode: 'reset' } })
+    const to = [s.at.p[0] + 10, 1.6, 5]
+    setTransform(s.world, s.hero, to, yawQuat(s.at.yaw))
+    const ref = carriedRest(s.rest, [0, 1.6, 0], 0, to, s.at.yaw)
+    const c = getClothState(s.world, s.cape)
+    const offBefore = rms(carriedRest(s.rest, [0, 1.6, 0], 0, s.at.p, s.at.yaw), c.pos.slice(0, 3 * c.count))
+    stepCloth(s.world, DT)
+    const offAfter = rms(ref, c.pos.slice(0, 3 * c.count))
+    console.log(`teleport reset: RMS distance from the reference pose ${(1000 * offBefore).toFixed(1)} mm before, ${(1000 * offAfter).toFixed(2)} mm one step after`)
+    expect(offBefore).toBeGreaterThan(0.05) // it was swinging well away from it
+    expect(offAfter).toBeLessThan(0.003) // one step of gravity from the reference: ½·g·(1/60 s)² = 1.4 mm
+  })
+
+  it('a 180° snap in one frame is a teleport with an angle threshold (kept: no whip); without one the cape whips round', () => {
+    const whip = (angle: number | undefined) => {
+      const s = capeOnCharacter({ teleport: angle === undefined ? {} : { angle } }, makeWorld({ sleep: false }))
+      for (let f = 0; f < 120; f++) stepCloth(s.world, DT)
+      const stand = localShape(s.world, s.cape, [0, 1.6, 0], 0)
+      setTransform(s.world, s.hero, [0, 1.6, 0], yawQuat(Math.PI))
+      let worst = 0
+      for (let f = 0; f < 30; f++) {
+        stepCloth(s.world, DT)
+        worst = Math.max(worst, rms(localShape(s.world, s.cape, [0, 1.6, 0], Math.PI), stand))
+      }
+      return worst
+    }
+    const kept = whip(Math.PI / 2), whipped = whip(undefined)
+    expect(kept).toBeLessThan(1e-6)
+    expect(whipped).toBeGreaterThan(0.1)
+  })
+
+  it('a per-cloth distance threshold below the world one catches a 1 m jump the world lets the pins drag across', () => {
+    const jump = (distance?: number) => {
+      const s = capeOnCharacter({ teleport: distance === undefined ? {} : { distance } }, makeWorld({ sleep: false }))
+      for (let f = 0; f < 60; f++) stepCloth(s.world, DT)
+      const stand = localShape(s.world, s.cape, [0, 1.6, 0], 0)
+      setTransform(s.world, s.hero, [0, 1.6, 1])
+      stepCloth(s.world, DT)
+      return { teleports: getClothStats(s.world).teleports, off: rms(localShape(s.world, s.cape, [0, 1.6, 1], 0), stand) }
+    }
+    const caught = jump(0.5), dragged = jump()
+    expect(caught.teleports).toBe(1)
+    expect(caught.off).toBeLessThan(1e-6)
+    expect(dragged.teleports).toBe(0)
+    expect(dragged.off).toBeGreaterThan(0.05)
+  })
+
+  it("teleportCloth by hand is neither reset nor carried a second time in 'reset' mode: the same bytes as 'keep'", () => {
+    const run = (mode: 'keep' | 'reset') => {
+      const s = swinging({ teleport: { mode, distance: 0.5 } })
+      const c = getClothState(s.world, s.cape)
+      const x0 = centroidX(c.pos, c.count)
+      setTransform(s.world, s.hero, [s.at.p[0] + 3, 1.6, 0], yawQuat(s.at.yaw))
+      teleportCloth(s.world, s.cape, [3, 0, 0])
+      stepCloth(s.world, DT)
+      expect(centroidX(c.pos, c.count) - x0).toBeGreaterThan(2.9)
+      expect(centroidX(c.pos, c.count) - x0).toBeLessThan(3.2)
+      expect(getClothStats(s.world).teleports).toBe(1)
+      return c.pos.slice(0, 3 * c.count)
+    }
+    expect(run('reset')).toEqual(run('keep'))
+  })
+
+  it('a frame that carries a cloth without pins (held by max distance 0) carries it over a jump too', () => {
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [8, 12], position: [-0.15, 1.55, 0], rotation: yawQuat(-Math.PI / 2) })
+    setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+    setClothMotionConstraints(world, cape, { maxDistance: Array.from({ length: 96 }, (_, i) => (i < 8 ? 0 : Infinity)) })
+    drive(world, hero, (t) => ({ p: [3 * t, 1.6, 0], yaw: 0 }), 1)
+    const before = localShape(world, cape, [3, 1.6, 0], 0)
+    setTransform(world, hero, [20, 1.6, 0])
+    stepCloth(world, DT)
+    expect(rms(localShape(world, cape, [20, 1.6, 0], 0), before)).toBeLessThan(0.03)
+    expect(getClothStats(world).teleports).toBe(1)
+  })
+})
+
+describe('entity lifetimes', () => {
+  it('the frame entity removed and its id recycled: the cloth keeps simulating, its reference stays where the frame left it, the new entity is not followed', () => {
+    const s = swinging({})
+    const c = getClothState(s.world, s.cape)
+    setClothMotionConstraints(s.world, s.cape, { maxDistance: Array.from({ length: c.count }, (_, i) => (i < 8 ? 0 : 0.2)) })
+    stepCloth(s.world, DT)
+    const collar = c.pos.slice(0, 24)
+    removeEntity(s.world, s.hero) // takes the pins with it; the held collar stays on the frozen reference
+    const recycled = addEntity(s.world)
+    expect(recycled).toBe(s.hero)
+    addComponent(s.world, recycled, getClothComponents(s.world).Transform)
+    drive(s.world, recycled, (t) => ({ p: [5 + 3 * t, 4, 2], yaw: 2 * t }), 1)
+    for (let j = 0; j < 24; j++) expect(Math.abs(c.pos[j] - collar[j])).toBeLessThan(1e-9)
+    expect(c.character!.frame).toBe(0)
+    expect(allFinite(s.world, s.cape)).toBe(true)
+    // and a new frame can be given
+    setClothInertia(s.world, s.cape, { frame: recycled, linear: 0 })
+    stepCloth(s.world, DT)
+    expect(allFinite(s.world, s.cape)).toBe(true)
+  })
+
+  it('removing a cloth, or every setting, stops tracking its frame', () => {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: 4 })
+    const k = () => getClothStateWorld(world).kinematics
+    setClothInertia(world, cape, { frame: hero })
+    expect(k().slotOf[hero]).toBeGreaterThanOrEqual(0)
+    setClothInertia(world, cape, null)
+    expect(getClothState(world, cape).character).toBeNull()
+    expect(k().slotOf[hero]).toBe(-1)
+    setClothMotionConstraints(world, cape, { maxDistance: 0.1 })
+    setClothInertia(world, cape, { frame: hero })
+    removeCloth(world, cape)
+    expect(k().slotOf[hero]).toBe(-1)
+  })
+})
+
+function centroidX(pos: Float64Array, n: number): number {
+  let x = 0
+  for (let i = 0; i < n; i++) x += pos[3 * i]
+  return x / n
+}
+
+function getClothStateWorld(world: object) {
+  return (world as Record<symbol, { kinematics: { slotOf: Int32Array } }>)[Symbol.for('bitecs-cloth')]
+}
