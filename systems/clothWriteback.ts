@@ -3,10 +3,12 @@ import { dampPairs } from '../src/kernels/damping'
 import { P_STRETCH_DAMP } from '../src/kernels/params'
 import { getClothWorld } from '../src/world/access'
 import { updateSleep } from '../src/features/sleep/step'
+import { writebackCharacter } from '../src/features/character/step'
 
 /**
  * Writeback phase, every substep: reads velocities back from the substep's motion (v = Δx/h,
- * clamped to the world's speed limit). After a cloth's last substep of the step it damps stretch
+ * clamped to the world's speed limit), after holding a character cloth with motion constraints to
+ * them (one pass for both). After a cloth's last substep of the step it damps stretch
  * vibration along structural edges (the material's `stretchDamping`), advances the sleep timer
  * (a cloth still long enough falls asleep) and marks the render mesh stale.
  */
@@ -17,7 +19,9 @@ export function clothWriteback<W extends object>(world: W): W {
     const c = cloths[ci]
     const k = c.subIndex
     if (k < 0) continue
-    updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
+    const ch = c.character
+    if (ch !== null && ch.constrained) writebackCharacter(c, k)
+    else updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
     if (k !== c.substeps - 1) continue
     // once per step: at 60/s this rests every stiff sheet we tested, at a fraction of the cost of
     // a pass per substep (which needed only 30/s)

@@ -1,7 +1,6 @@
 import { checkInteger } from '../src/core/errors'
 import { getClothWorld } from '../src/world/access'
 import { clothCollide } from './clothCollide'
-import { clothMotion } from './clothMotion'
 import { clothForces } from './clothForces'
 import { clothGuard } from './clothGuard'
 import { clothPredict } from './clothPredict'
@@ -22,11 +21,12 @@ import { Q_MEASURED, Q_T0 } from '../src/features/budget/types'
  *     predict                 x* = x + v·h + a·h², pinned particles placed on their (interpolated) targets
  *     solve                   constraints project x*; pins are fixed points (inverse mass 0)
  *     collide                 after the solve, so no constraint pushes a particle back into a collider
- *     motion                  character cloth: max distance, backstop and drive around the reference
- *                             pose, last of the position changes, so the limits hold at every step's end
  *     tear                    after collide, on the last substep, so strain is measured on the final pose
- *     writeback               last: velocities from the motion, including collision and tear changes;
- *                             after a cloth's last substep, the sleep test (on the final velocities)
+ *     writeback               last: a character cloth's motion constraints (max distance, backstop,
+ *                             drive around its reference pose: the last position change, so the
+ *                             limits hold at every substep's end), then velocities from the motion,
+ *                             including collision, tear and constraint changes; after a cloth's last
+ *                             substep, the sleep test (on the final velocities)
  *   guard                     once, after the last substep: a cloth that went non-finite, out of
  *                             reach of its pins or into runaway speed goes back to a safe pose
  *                             before the renderer, the listeners or the next step read it
@@ -37,7 +37,7 @@ import { Q_MEASURED, Q_T0 } from '../src/features/budget/types'
  * with `setClothSubstep(world, s)` before each round, then `clothGuard` and `clothEvents`, or simply calls
  * `clothFixedStep`.
  */
-export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide, clothMotion, clothTear, clothWriteback] as const
+export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide, clothTear, clothWriteback] as const
 
 /** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
 export function clothFixedStep<W extends object>(world: W): W {
@@ -53,7 +53,6 @@ export function clothFixedStep<W extends object>(world: W): W {
     clothPredict(world)
     clothSolve(world)
     clothCollide(world)
-    clothMotion(world)
     clothTear(world)
     clothWriteback(world)
   }

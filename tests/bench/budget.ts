@@ -73,7 +73,7 @@ function bareSolver(c: ClothState): () => void {
 }
 
 /** ms per call of each function, interleaved over rounds; the median of the rounds per function. */
-function interleaved(fns: (() => void)[], rounds = 15, calls = 100): number[] {
+export function interleaved(fns: (() => void)[], rounds = 15, calls = 100): number[] {
   for (const f of fns) for (let i = 0; i < 50; i++) f()
   const samples: number[][] = fns.map(() => [])
   for (let r = 0; r < rounds; r++) {
@@ -189,50 +189,58 @@ export function sleepingCost(): void {
 }
 
 /**
- * 64 capes of 24×24 particles on characters running in circles, each with a torso and two leg
- * capsules, tethers on; a camera at one corner of the crowd. ms per 60 Hz frame (one fixed step)
- * with no budget, and with the budget system (distance LOD and an 8 ms time budget).
+ * The crowd of the cape benchmarks: 64 capes of 24×24 particles on characters running in circles
+ * of 1 m at 3 m/s, each with a torso and two leg capsules, tethers on; a camera at one corner.
+ * `configure` runs for each cape after it is pinned (character-cloth settings, say).
+ */
+export function capeCrowd(configure?: (world: object, hero: number, cape: number) => void) {
+  const world = installClothPlugin(createWorld(), { sleep: false })
+  const camera = addEntity(world)
+  setTransform(world, camera, [-3, 1.7, -3])
+  const heroes: { eid: number; x: number; z: number; phase: number }[] = []
+  const capes: number[] = []
+  for (let i = 0; i < 64; i++) {
+    const x = (i % 8) * 3, z = Math.floor(i / 8) * 3
+    // each character starts where its run puts it at frame 0, facing its way, with the cape
+    // hanging 20 cm behind it (a first frame that jumps 1 m and turns up to 180° threads capes
+    // between the legs; see Known limits)
+    const phase = i * 0.7
+    const turn: [number, number, number, number] = [0, Math.sin(-phase / 2), 0, Math.cos(-phase / 2)]
+    const hx = x + Math.cos(phase), hz = z + Math.sin(phase)
+    const hero = addEntity(world)
+    setTransform(world, hero, [hx, 1.6, hz], turn)
+    const legs = [addEntity(world), addEntity(world)]
+    addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0, -0.25, 0], radius: 0.17, halfHeight: 0.25 })
+    addCapsuleCollider(world, legs[0], { body: hero, offset: [-0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
+    addCapsuleCollider(world, legs[1], { body: hero, offset: [0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
+    const back = [0.2 * Math.sin(phase), 1.62, -0.2 * Math.cos(phase)] // (0, 0.02, −0.2) turned with the character
+    const cape = createCloth(world, { width: 0.6, height: 1, resolution: 24, position: [hx + back[0], back[1], hz + back[2]], rotation: turn, material: 'cotton' })
+    pinRow(world, cape, 0, hero)
+    configure?.(world, hero, cape)
+    heroes.push({ eid: hero, x, z, phase })
+    capes.push(cape)
+  }
+  let frame = 0
+  const step = () => {
+    frame++
+    for (const h of heroes) {
+      // running in a circle of 1 m at 3 m/s, facing the way it runs (the cape trails behind)
+      const a = frame * DT * 3 + h.phase
+      const yaw = -a // tangent direction
+      setTransform(world, h.eid, [h.x + Math.cos(a), 1.6, h.z + Math.sin(a)], [0, Math.sin(yaw / 2), 0, Math.cos(yaw / 2)])
+    }
+    stepCloth(world, DT)
+  }
+  return { world, camera, capes, step }
+}
+
+/**
+ * 64 capes of 24×24 particles on characters running in circles (`capeCrowd`). ms per 60 Hz frame
+ * (one fixed step) with no budget, and with the budget system (distance LOD and an 8 ms time
+ * budget).
  */
 export function capes(): void {
-  const build = () => {
-    const world = installClothPlugin(createWorld(), { sleep: false })
-    const camera = addEntity(world)
-    setTransform(world, camera, [-3, 1.7, -3])
-    const heroes: { eid: number; x: number; z: number; phase: number }[] = []
-    const capes: number[] = []
-    for (let i = 0; i < 64; i++) {
-      const x = (i % 8) * 3, z = Math.floor(i / 8) * 3
-      // each character starts where its run puts it at frame 0, facing its way, with the cape
-      // hanging 20 cm behind it (a first frame that jumps 1 m and turns up to 180° threads capes
-      // between the legs; see Known limits)
-      const phase = i * 0.7
-      const turn: [number, number, number, number] = [0, Math.sin(-phase / 2), 0, Math.cos(-phase / 2)]
-      const hx = x + Math.cos(phase), hz = z + Math.sin(phase)
-      const hero = addEntity(world)
-      setTransform(world, hero, [hx, 1.6, hz], turn)
-      const legs = [addEntity(world), addEntity(world)]
-      addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0, -0.25, 0], radius: 0.17, halfHeight: 0.25 })
-      addCapsuleCollider(world, legs[0], { body: hero, offset: [-0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
-      addCapsuleCollider(world, legs[1], { body: hero, offset: [0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
-      const back = [0.2 * Math.sin(phase), 1.62, -0.2 * Math.cos(phase)] // (0, 0.02, −0.2) turned with the character
-      const cape = createCloth(world, { width: 0.6, height: 1, resolution: 24, position: [hx + back[0], back[1], hz + back[2]], rotation: turn, material: 'cotton' })
-      pinRow(world, cape, 0, hero)
-      heroes.push({ eid: hero, x, z, phase })
-      capes.push(cape)
-    }
-    let frame = 0
-    const step = () => {
-      frame++
-      for (const h of heroes) {
-        // running in a circle of 1 m at 3 m/s, facing the way it runs (the cape trails behind)
-        const a = frame * DT * 3 + h.phase
-        const yaw = -a // tangent direction
-        setTransform(world, h.eid, [h.x + Math.cos(a), 1.6, h.z + Math.sin(a)], [0, Math.sin(yaw / 2), 0, Math.cos(yaw / 2)])
-      }
-      stepCloth(world, DT)
-    }
-    return { world, camera, capes, step }
-  }
+  const build = () => capeCrowd()
   const off = build()
   for (let f = 0; f < 120; f++) off.step()
   // calibrate once the kernels are warm (the first call in a cold process measures cold code)

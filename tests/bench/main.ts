@@ -9,6 +9,7 @@ import { capes, payForUse, sleepingCost } from './budget'
 import { demoScenes } from './demo'
 import { threeCost } from './three'
 import { proxyCost } from './render'
+import { characterCost } from './character'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -59,6 +60,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
     },
   },
   render: { byDefault: true, run: () => proxyCost() },
+  character: { byDefault: true, run: () => characterCost() },
   demo: { byDefault: false, run: () => demoScenes() },
   three: { byDefault: true, run: () => threeCost() },
 }

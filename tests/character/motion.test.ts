@@ -51,7 +51,7 @@ describe('max distance', () => {
     expect(free).toBeGreaterThan(0.1)
   })
 
-  it('max distance 0 holds particles on the reference exactly, kinematic (inverse mass 0) and anchoring tethers, with no pins at all', () => {
+  it('max distance 0 holds particles on the reference (within 1 µm), kinematic (inverse mass 0) and anchoring tethers, with no pins at all', () => {
     const world = makeWorld({ sleep: false })
     const hero = addEntity(world)
     setTransform(world, hero, [0, 1.6, 0])
@@ -68,7 +68,7 @@ describe('max distance', () => {
       const ref = carriedRest(rest, [0, 1.6, 0], 0, m.p, m.yaw)
       for (let i = 0; i < COLS; i++) worst = Math.max(worst, dist(c.pos, ref, i))
     })
-    expect(worst).toBeLessThan(1e-9)
+    expect(worst).toBeLessThan(1e-6) // (the reference is kept as float32 offsets from the frame: ~0.1 µm)
     expect(c.tethers.set.count).toBeGreaterThan(0)
     expect(Math.min(...Array.from(c.pos).filter((_, j) => j % 3 === 1))).toBeGreaterThan(0.5) // it hangs, not falls
     // releasing them gives the particles their mass back
@@ -111,7 +111,7 @@ describe('backstop', () => {
 })
 
 describe('drive', () => {
-  it('pulls toward the reference: drive 1 follows it exactly, more drive stays closer, none swings free', () => {
+  it('pulls toward the reference: drive 1 follows it (within 1 µm), more drive stays closer, none swings free', () => {
     const meanGap = (drive?: number) => {
       let sum = 0, n = 0
       run(drive === undefined ? undefined : { drive }, (pos, ref, i) => {
@@ -121,7 +121,7 @@ describe('drive', () => {
       return sum / n
     }
     const free = meanGap(), weak = meanGap(0.05), strong = meanGap(0.5), full = meanGap(1)
-    expect(full).toBeLessThan(1e-9)
+    expect(full).toBeLessThan(1e-6)
     expect(strong).toBeLessThan(weak)
     expect(weak).toBeLessThan(free)
   })

@@ -6,10 +6,11 @@ import { trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
-import { blankCharacter, blankSkin } from './state'
+import { REF, R_BACK, R_MAX, R_RADIUS, R_TO } from '../../kernels/motion'
+import { blankCharacter, blankSkin, unconstrained } from './state'
 import { currentReference, identityPose, reserveBoneScratch, restNormals, trackedPose } from './reference'
 import {
-  LIMITS, M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_ANGULAR, S_CENTRIFUGAL, S_FRAME_EXPLICIT, S_LINEAR, S_MAX_ANGULAR,
+  M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_ANGULAR, S_CENTRIFUGAL, S_FRAME_EXPLICIT, S_LINEAR, S_MAX_ANGULAR,
   S_MAX_LINEAR, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE,
   type ClothCharacter, type ClothInertiaOptions, type ClothMotionConstraints, type ClothSkinningOptions, type PerParticle,
 } from './types'
@@ -106,9 +107,12 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
   const c = getCloth(state, cloth)
   if (constraints === null) {
     const ch = c.character
-    if (ch === null || ch.limits === null) return
+    if (ch === null || !ch.constrained) return
     for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
-    ch.limits = null
+    ch.constrained = false
+    ch.drive = null
+    for (let o = 0; o < ch.ref.length; o += REF) ch.ref[o + R_RADIUS] = 0
+    unconstrained(ch.ref)
     dropIfUnused(state, c)
     wakeClothState(state, c)
     return
@@ -126,15 +130,20 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
     bsRadius = perParticle('constraints.backstop.radius', bs.radius, n, 0, 1e-9, 1e6)
   }
   const ch = ensureCharacter(state, c)
-  const limits = ch.limits ?? new Float64Array(ch.held.length * LIMITS)
+  const ref = ch.ref
+  let anyDrive = false
   for (let i = 0; i < n; i++) {
-    const l = LIMITS * i
-    limits[l] = maxDistance[i]
-    limits[l + 1] = bsDistance === null ? 0 : bsDistance[i]
-    limits[l + 2] = bsRadius === null ? 0 : bsRadius[i]
-    limits[l + 3] = driveFrequency(drive[i])
+    const o = REF * i
+    ref[o + R_MAX] = maxDistance[i]
+    ref[o + R_BACK] = bsDistance === null ? 0 : bsDistance[i]
+    ref[o + R_RADIUS] = bsRadius === null ? 0 : bsRadius[i]
+    if (drive[i] > 0) anyDrive = true
   }
-  ch.limits = limits
+  if (anyDrive) {
+    ch.drive = ch.drive ?? new Float64Array(ch.held.length)
+    for (let i = 0; i < n; i++) ch.drive[i] = driveFrequency(drive[i])
+  } else ch.drive = null
+  ch.constrained = true
   for (let i = 0; i < n; i++) {
     const hold = maxDistance[i] === 0
     if (hold && ch.held[i] === 0) holdParticle(c, ch, i)
@@ -219,8 +228,11 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
 export function getClothReference(world: object, cloth: number): Float64Array | null {
   const c = getCloth(getClothWorld(world), cloth)
   const ch = c.character
-  if (ch === null || ch.limits === null || ch.motion[M_REF_VALID] !== 1) return null
-  return ch.refTo.slice(0, 3 * c.count)
+  if (ch === null || !ch.constrained || ch.motion[M_REF_VALID] !== 1) return null
+  const out = new Float64Array(3 * c.count)
+  // offsets from the frame's origin at the end of the last step
+  for (let i = 0; i < c.count; i++) for (let d = 0; d < 3; d++) out[3 * i + d] = ch.motion[M_POSE + d] + ch.ref[REF * i + R_TO + d]
+  return out
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -322,7 +334,7 @@ function release(c: ClothState, ch: ClothCharacter, i: number): void {
 /** Drops the character state once nothing uses it (the cloth pays nothing again). */
 function dropIfUnused(state: ClothWorldState, c: ClothState): void {
   const ch = c.character
-  if (ch === null || ch.inertia || ch.limits !== null || ch.skin !== null) return
+  if (ch === null || ch.inertia || ch.constrained || ch.skin !== null) return
   releaseCharacter(state, c)
 }
 
@@ -373,10 +385,12 @@ export function reserveCharacter(c: ClothState, P: number): void {
   if (ch === null) return
   ch.rest = grownArray(ch.rest, 3 * P)
   ch.restNormal = grownArray(ch.restNormal, 3 * P)
-  ch.refFrom = grownArray(ch.refFrom, 3 * P)
-  ch.refTo = grownArray(ch.refTo, 3 * P)
-  ch.refNormal = grownArray(ch.refNormal, 3 * P)
-  if (ch.limits !== null) ch.limits = grownArray(ch.limits, LIMITS * P)
+  if (ch.ref.length < REF * P) {
+    const ref = unconstrained(new Float32Array(REF * P))
+    ref.set(ch.ref)
+    ch.ref = ref
+  }
+  if (ch.drive !== null) ch.drive = grownArray(ch.drive, P)
   ch.held = grownArray(ch.held, P)
   ch.heldList = grownArray(ch.heldList, P)
   if (ch.skin !== null) {
@@ -391,11 +405,8 @@ export function copyCharacterParticle(c: ClothState, from: number, to: number): 
   if (ch === null) return
   copy3(ch.rest, from, to)
   copy3(ch.restNormal, from, to)
-  copy3(ch.refFrom, from, to)
-  copy3(ch.refTo, from, to)
-  copy3(ch.refNormal, from, to)
-  const l = ch.limits
-  if (l !== null) for (let k = 0; k < LIMITS; k++) l[LIMITS * to + k] = l[LIMITS * from + k]
+  for (let k = 0; k < REF; k++) ch.ref[REF * to + k] = ch.ref[REF * from + k]
+  if (ch.drive !== null) ch.drive[to] = ch.drive[from]
   const skin = ch.skin
   if (skin !== null) {
     for (let k = 0; k < 4; k++) {

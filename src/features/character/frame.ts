@@ -1,11 +1,11 @@
 import { quatToMatrix, relativeRotationAt } from '../../core/math'
-import { F_DV, F_M, F_ND, F_ORIGIN, F_P, F_U0 } from '../../kernels/motion'
-import { P_DAMP, P_H } from '../../kernels/params'
+import { F_A, F_C, F_ORIGIN, F_Q } from '../../kernels/motion'
+import { P_DAMP, P_GX, P_H } from '../../kernels/params'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { trackedPose } from './reference'
 import {
   M_PRIMED, M_POSE, M_V, M_VC, M_W, M_WC, S_ANGULAR, S_CENTRIFUGAL, S_LINEAR, S_MAX_ANGULAR, S_MAX_LINEAR,
-  W_FROM, W_PV, W_PVC, W_PW, W_PWC, W_R, W_TO, W_V, W_VC, W_W, W_WC, type ClothCharacter,
+  W_FROM, W_M, W_N, W_P, W_PV, W_PVC, W_PW, W_PWC, W_R, W_TO, W_V, W_VC, W_W, W_WC, type ClothCharacter,
 } from './types'
 
 /**
@@ -102,43 +102,59 @@ function turn(w: Float64Array, wo: number, params: Float64Array, r: number): voi
 }
 
 /**
- * Predict phase: the frame kernel's parameters for local substep k of n (see the F_* slots in
- * kernels/motion.ts). With R₁ the frame's rotation this substep and R₀ the previous substep's
- * (both over this h), the carried velocity change at r is (R₁ + R₀ᵀ − 2I)·r/h in total, of which
- * the angular-acceleration part skew(ω₁ − ω₀) is felt in share `angular` and the rest
- * (centrifugal) in share `centrifugal`; the turn of the relative velocity, (R₁ − I)·w, likewise in
- * share `centrifugal` (the Coriolis effect). Felt parts use the clamped velocities.
+ * Predict phase: the frame kernel's parameters for local substep k of n (see `predictInFrame`).
+ * With R₁ the frame's rotation this substep and R₀ the previous substep's (both over this h), the
+ * carried velocity change at r is (R₁ + R₀ᵀ − 2I)·r/h in total, of which the angular-acceleration
+ * part skew(ω₁ − ω₀) is felt in share `angular` and the rest (centrifugal) in share `centrifugal`;
+ * the turn of the relative velocity, (R₁ − I)·w, likewise in share `centrifugal` (the Coriolis
+ * effect). Felt parts use the clamped velocities. With u₀(x) = U₀ + P·r (P = (I − R₀ᵀ)/h) the
+ * frame's velocity field in the previous substep, w = v − U₀ − P·r, and
+ *
+ *   v' = v + ΔV + M·r + N·w + g·h = (I + N)·v + (M − N·P)·r + (ΔV − N·U₀ + g·h)
+ *
+ * with N = d·((R₁ − I) − centrifugal·(R₁' − I)) − (1 − d)·I (d the damping factor, R₁' felt).
  */
 export function frameSubstep(c: ClothState, ch: ClothCharacter, k: number, n: number): void {
   const w = ch.work, s = ch.settings, F = ch.frameParams
-  const h = c.params[P_H], d = c.params[P_DAMP]
+  const p = c.params
+  const h = p[P_H], d = p[P_DAMP]
   const sl = s[S_LINEAR], sa = s[S_ANGULAR], sc = s[S_CENTRIFUGAL]
   const f0 = k / n
   for (let j = 0; j < 3; j++) F[F_ORIGIN + j] = w[W_FROM + j] + (w[W_TO + j] - w[W_FROM + j]) * f0
+  if (k >= 2) return // the rest is the same as at substep 1 (velocities change only between steps)
   // the previous substep's velocities: last step's at a step's first substep, else this step's
   const pv = k === 0 ? W_PV : W_V, pw = k === 0 ? W_PW : W_W, pvc = k === 0 ? W_PVC : W_VC, pwc = k === 0 ? W_PWC : W_WC
-  turn(w, W_W, c.params, 0) // R₁
-  turn(w, pw, c.params, 1) // R₀
-  turn(w, W_WC, c.params, 2) // felt R₁
-  turn(w, pwc, c.params, 3) // felt R₀
+  turn(w, W_W, p, 0) // R₁
+  turn(w, pw, p, 1) // R₀
+  turn(w, W_WC, p, 2) // felt R₁
+  turn(w, pwc, p, 3) // felt R₀
   const R1 = W_R, R0 = W_R + 9, C1 = W_R + 18, C0 = W_R + 27
-  for (let j = 0; j < 3; j++) {
-    F[F_U0 + j] = w[pv + j]
-    F[F_DV + j] = w[W_V + j] - w[pv + j] - sl * (w[W_VC + j] - w[pvc + j])
-  }
   // skew(ω₁ − ω₀) of the felt velocities: the angular-acceleration part
   const ax = w[W_WC] - w[pwc], ay = w[W_WC + 1] - w[pwc + 1], az = w[W_WC + 2] - w[pwc + 2]
   for (let i = 0; i < 3; i++) {
     for (let j = 0; j < 3; j++) {
       const e = i === j ? 1 : 0
       const ij = 3 * i + j, ji = 3 * j + i
-      F[F_P + ij] = (e - w[R0 + ji]) / h
       const total = (w[R1 + ij] + w[R0 + ji] - 2 * e) / h
       const feltTotal = (w[C1 + ij] + w[C0 + ji] - 2 * e) / h
       // skew(a)·r = a × r: row i, column j
       const ang = i === j ? 0 : ij === 1 ? -az : ij === 2 ? ay : ij === 3 ? az : ij === 5 ? -ax : ij === 6 ? -ay : ax
-      F[F_M + ij] = total - (sa * ang + sc * (feltTotal - ang))
-      F[F_ND + ij] = d * (w[R1 + ij] - e - sc * (w[C1 + ij] - e)) - (1 - d) * e
+      w[W_M + ij] = total - (sa * ang + sc * (feltTotal - ang)) // M
+      w[W_N + ij] = d * (w[R1 + ij] - e - sc * (w[C1 + ij] - e)) - (1 - d) * e // N
+      w[W_P + ij] = (e - w[R0 + ji]) / h // P
     }
+  }
+  for (let i = 0; i < 3; i++) {
+    let nu = 0
+    for (let j = 0; j < 3; j++) {
+      const ij = 3 * i + j
+      F[F_A + ij] = (i === j ? 1 : 0) + w[W_N + ij]
+      let np = 0
+      for (let m = 0; m < 3; m++) np += w[W_N + 3 * i + m] * w[W_P + 3 * m + j]
+      F[F_Q + ij] = w[W_M + ij] - np
+      nu += w[W_N + ij] * w[pv + j]
+    }
+    const dv = w[W_V + i] - w[pv + i] - sl * (w[W_VC + i] - w[pvc + i])
+    F[F_C + i] = dv - nu + p[P_GX + i] * h
   }
 }

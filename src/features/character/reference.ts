@@ -1,6 +1,7 @@
 import { quatToMatrix } from '../../core/math'
 import { rigidReference, skinReference } from '../../kernels/skin'
 import type { ClothState, ClothWorldState } from '../../world/state'
+import { REF, R_FROM, R_NORMAL, R_TO } from '../../kernels/motion'
 import { M_BIND, M_POSE, M_REF_VALID, W_FROM, W_TO, type ClothCharacter, type ClothSkin } from './types'
 
 /**
@@ -66,18 +67,23 @@ const rigid = new Float64Array(12)
 
 /**
  * The reference of every particle at the frame pose work[wo..] (rigid) or at the bones' poses
- * (skinned: `bonePoses` with stride 10), into `out`, normals into `ch.refNormal`.
+ * (skinned: `bonePoses` with stride 10): positions into out[o + stride·i ..], normals into
+ * out[no + stride·i ..].
  */
-function referenceAt(c: ClothState, ch: ClothCharacter, work: Float64Array, wo: number, bonePoses: Float64Array, out: Float64Array): void {
+function referenceAt(
+  c: ClothState, ch: ClothCharacter, work: Float64Array, wo: number, bonePoses: Float64Array,
+  out: Float32Array, o: number, no: number, stride: number,
+): void {
   const skin = ch.skin
+  // positions as offsets from the frame's origin at this pose (work[wo..wo+2])
   if (skin === null) {
     poseMatrix(work, wo, ch.motion, M_BIND, rigid, 0)
-    rigidReference(rigid, 0, ch.rest, ch.restNormal, out, ch.refNormal, c.count)
+    rigidReference(rigid, 0, ch.rest, ch.restNormal, work, wo, out, o, no, stride, c.count)
     return
   }
   const nb = skin.bones.length
   for (let b = 0; b < nb; b++) poseMatrix(bonePoses, 10 * b, skin.bind, 10 * b, skin.matrices, 12 * b)
-  skinReference(skin.matrices, skin.joints, skin.weights, ch.rest, ch.restNormal, out, ch.refNormal, c.count)
+  skinReference(skin.matrices, skin.joints, skin.weights, ch.rest, ch.restNormal, work, wo, out, o, no, stride, c.count)
 }
 
 /** Scratch of bone poses at the end of a step (grown to the largest skeleton at configuration time). */
@@ -89,28 +95,32 @@ export function reserveBoneScratch(bones: number): void {
 }
 
 /**
- * Sync phase: the reference at the start and end of the cloth's step. `refFrom` is last step's
- * `refTo` while the reference is continuous (swapped, not copied); otherwise it is computed from
- * the poses at the step's start (the frame's `work[W_FROM]`, the bones' last poses). Bones then
- * remember their poses at the step's end.
+ * Sync phase: the reference at the start and end of the cloth's step (`ref`, see R_* in
+ * kernels/motion.ts), as offsets from the frame's origin at the step's start and end. The start is
+ * last step's end while the reference is continuous (the same origin); otherwise it is computed
+ * from the poses at the step's start (the frame's `work[W_FROM]`, the bones' last poses). Bones
+ * then remember their poses at the step's end.
  */
 export function updateReference(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
   const m = ch.motion
   const skin = ch.skin
+  const ref = ch.ref
   if (m[M_REF_VALID] === 1) {
-    const t = ch.refFrom
-    ch.refFrom = ch.refTo
-    ch.refTo = t
+    for (let o = 0; o < REF * c.count; o += REF) {
+      ref[o] = ref[o + R_TO]
+      ref[o + 1] = ref[o + R_TO + 1]
+      ref[o + 2] = ref[o + R_TO + 2]
+    }
   } else {
-    referenceAt(c, ch, ch.work, W_FROM, skin === null ? boneScratch : skin.pose, ch.refFrom)
+    referenceAt(c, ch, ch.work, W_FROM, skin === null ? boneScratch : skin.pose, ref, R_FROM, R_NORMAL, REF)
     m[M_REF_VALID] = 1
   }
   if (skin === null) {
-    referenceAt(c, ch, ch.work, W_TO, boneScratch, ch.refTo)
+    referenceAt(c, ch, ch.work, W_TO, boneScratch, ref, R_TO, R_NORMAL, REF)
     return
   }
   bonePosesAtEnd(state, skin, boneScratch)
-  referenceAt(c, ch, ch.work, W_TO, boneScratch, ch.refTo)
+  referenceAt(c, ch, ch.work, W_TO, boneScratch, ref, R_TO, R_NORMAL, REF)
   for (let j = 0; j < skin.pose.length; j++) skin.pose[j] = boneScratch[j]
 }
 
@@ -124,9 +134,9 @@ function bonePosesAtEnd(state: ClothWorldState, skin: ClothSkin, out: Float64Arr
 }
 
 /**
- * The reference as it stands now (end of the last step: the frame's and bones' current tracked
- * poses) into `out` (configuration time: rebinding to another frame or skeleton keeps the
- * reference where it is).
+ * The reference positions as they stand now (end of the last step: the frame's and bones' current
+ * tracked poses) into `out` (xyz per particle; configuration time: rebinding to another frame or
+ * skeleton keeps the reference where it is).
  */
 export function currentReference(state: ClothWorldState, c: ClothState, ch: ClothCharacter, out: Float64Array): void {
   const pose = new Float64Array(10)
@@ -135,7 +145,9 @@ export function currentReference(state: ClothWorldState, c: ClothState, ch: Clot
   const skin = ch.skin
   const bones = new Float64Array(skin === null ? 0 : 10 * skin.bones.length)
   if (skin !== null) bonePosesAtEnd(state, skin, bones)
-  referenceAt(c, ch, pose, 0, bones, out)
+  const both = new Float32Array(6 * c.count) // positions (offsets from the frame's origin) and normals
+  referenceAt(c, ch, pose, 0, bones, both, 0, 3, 6)
+  for (let i = 0; i < c.count; i++) for (let d = 0; d < 3; d++) out[3 * i + d] = pose[d] + both[6 * i + d]
 }
 
 /**

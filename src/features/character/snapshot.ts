@@ -1,11 +1,12 @@
 import { entityExists, hasComponent } from 'bitecs'
 import { fit32, fit64, fit8 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
+import { REF } from '../../kernels/motion'
 import { SLOT_DATA, restoreSlot, saveSlot, trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { reserveBoneScratch } from './reference'
 import { blankCharacter, blankSkin } from './state'
-import { LIMITS, MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
+import { MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
 
 /**
  * Character cloth's section of a snapshot: its settings, the frame's motion history (and the
@@ -14,10 +15,12 @@ import { LIMITS, MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from '.
  * when the cloth has no character state.
  */
 export interface CharacterSnapshot {
-  /** Header (inertia, frame, frame tracked, limits, skin), settings, motion, then the frame's slot history when tracked. */
+  /** Header (inertia, frame, frame tracked, constrained, skin), settings, motion, then the frame's slot history when tracked. */
   character: Float64Array
-  /** Per particle: rest, rest normal, reference from, to, normal (15 values), then the 4 limits when present. */
+  /** Per particle: rest, rest normal, then the reference data (REF values: reference, normal, limits). */
   characterParticles: Float64Array
+  /** Drive frequency per particle, or empty when no particle has a drive. */
+  characterDrive: Float64Array
   characterHeld: Uint8Array
   /** Bone entities (0: removed), and per bone: bind pose, last pose (10 each), slot history (SLOT_DATA, when tracked). */
   characterBones: Int32Array
@@ -26,8 +29,8 @@ export interface CharacterSnapshot {
   characterWeights: Float64Array
 }
 
-const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_LIMITS = 3, H_SKIN = 4, HEADER = 5
-const PER = 15
+const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_CONSTRAINED = 3, H_SKIN = 4, HEADER = 5
+const PER = 6 + REF
 const BONE = 20 + SLOT_DATA
 
 export function saveCharacter(state: ClothWorldState, c: ClothState, s: CharacterSnapshot): void {
@@ -36,6 +39,7 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   if (ch === null) {
     s.character = fit64(s.character, 0)
     s.characterParticles = fit64(s.characterParticles, 0)
+    s.characterDrive = fit64(s.characterDrive, 0)
     s.characterHeld = fit8(s.characterHeld, 0)
     s.characterBones = fit32(s.characterBones, 0)
     s.characterBoneData = fit64(s.characterBoneData, 0)
@@ -49,25 +53,22 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   h[H_INERTIA] = ch.inertia ? 1 : 0
   h[H_FRAME] = ch.frame
   h[H_TRACKED] = tracked ? 1 : 0
-  h[H_LIMITS] = ch.limits !== null ? 1 : 0
+  h[H_CONSTRAINED] = ch.constrained ? 1 : 0
   h[H_SKIN] = ch.skin !== null ? 1 : 0
   h.set(ch.settings, HEADER)
   h.set(ch.motion, HEADER + SETTINGS)
   if (tracked) saveSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
-  const lim = ch.limits
-  const stride = PER + (lim !== null ? LIMITS : 0)
-  const p = (s.characterParticles = fit64(s.characterParticles, stride * n))
+  const p = (s.characterParticles = fit64(s.characterParticles, PER * n))
   for (let i = 0; i < n; i++) {
-    const o = stride * i, j = 3 * i
+    const o = PER * i
     for (let d = 0; d < 3; d++) {
-      p[o + d] = ch.rest[j + d]
-      p[o + 3 + d] = ch.restNormal[j + d]
-      p[o + 6 + d] = ch.refFrom[j + d]
-      p[o + 9 + d] = ch.refTo[j + d]
-      p[o + 12 + d] = ch.refNormal[j + d]
+      p[o + d] = ch.rest[3 * i + d]
+      p[o + 3 + d] = ch.restNormal[3 * i + d]
     }
-    if (lim !== null) for (let d = 0; d < LIMITS; d++) p[o + PER + d] = lim[LIMITS * i + d]
+    for (let k = 0; k < REF; k++) p[o + 6 + k] = ch.ref[REF * i + k]
   }
+  s.characterDrive = fit64(s.characterDrive, ch.drive === null ? 0 : n)
+  if (ch.drive !== null) for (let i = 0; i < n; i++) s.characterDrive[i] = ch.drive[i]
   s.characterHeld = fit8(s.characterHeld, n)
   for (let i = 0; i < n; i++) s.characterHeld[i] = ch.held[i]
   const skin = ch.skin
@@ -98,23 +99,23 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   if (
     !(h instanceof Float64Array) || !(s.characterParticles instanceof Float64Array) || !(s.characterHeld instanceof Uint8Array) ||
     !(s.characterBones instanceof Int32Array) || !(s.characterBoneData instanceof Float64Array) || !(s.characterJoints instanceof Int32Array) ||
-    !(s.characterWeights instanceof Float64Array)
+    !(s.characterWeights instanceof Float64Array) || !(s.characterDrive instanceof Float64Array)
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (character cloth section missing)')
   }
   if (h.length === 0) return
   const tracked = h[H_TRACKED] === 1
   const nb = s.characterBones.length
-  const stride = PER + (h[H_LIMITS] === 1 ? LIMITS : 0)
   if (
-    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) || s.characterParticles.length !== stride * n || s.characterHeld.length !== n ||
+    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) || s.characterParticles.length !== PER * n || s.characterHeld.length !== n ||
+    (s.characterDrive.length !== 0 && s.characterDrive.length !== n) ||
     (h[H_SKIN] === 1) !== nb > 0 || s.characterBoneData.length !== BONE * nb || s.characterJoints.length !== (nb > 0 ? 4 * n : 0) ||
     s.characterWeights.length !== s.characterJoints.length
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (character cloth array sizes do not match)')
   }
   // settings and limits may hold Infinity (no limit); nothing may be NaN
-  if (hasNaN(h) || hasNaN(s.characterParticles) || hasNaN(s.characterBoneData) || hasNaN(s.characterWeights)) {
+  if (hasNaN(h) || hasNaN(s.characterParticles) || hasNaN(s.characterDrive) || hasNaN(s.characterBoneData) || hasNaN(s.characterWeights)) {
     throw new ClothError(arg, s, 'holds NaN in its character cloth section')
   }
   for (let q = 0; q < s.characterJoints.length; q++) {
@@ -164,25 +165,23 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
   for (let q = 0; q < SETTINGS; q++) ch.settings[q] = h[HEADER + q]
   for (let q = 0; q < MOTION; q++) ch.motion[q] = h[HEADER + SETTINGS + q]
   if (tracked) restoreSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
-  const hasLimits = h[H_LIMITS] === 1
-  if (!hasLimits) ch.limits = null
-  else if (ch.limits === null) ch.limits = new Float64Array(LIMITS * ch.held.length)
-  const lim = ch.limits
-  const stride = PER + (hasLimits ? LIMITS : 0)
+  ch.constrained = h[H_CONSTRAINED] === 1
   const p = s.characterParticles
   ch.heldCount = 0
   for (let i = 0; i < n; i++) {
-    const o = stride * i, j = 3 * i
+    const o = PER * i
     for (let d = 0; d < 3; d++) {
-      ch.rest[j + d] = p[o + d]
-      ch.restNormal[j + d] = p[o + 3 + d]
-      ch.refFrom[j + d] = p[o + 6 + d]
-      ch.refTo[j + d] = p[o + 9 + d]
-      ch.refNormal[j + d] = p[o + 12 + d]
+      ch.rest[3 * i + d] = p[o + d]
+      ch.restNormal[3 * i + d] = p[o + 3 + d]
     }
-    if (lim !== null) for (let d = 0; d < LIMITS; d++) lim[LIMITS * i + d] = p[o + PER + d]
+    for (let k = 0; k < REF; k++) ch.ref[REF * i + k] = p[o + 6 + k]
     ch.held[i] = s.characterHeld[i]
     if (ch.held[i] === 1) ch.heldList[ch.heldCount++] = i
+  }
+  if (s.characterDrive.length === 0) ch.drive = null
+  else {
+    if (ch.drive === null) ch.drive = new Float64Array(ch.held.length)
+    for (let i = 0; i < n; i++) ch.drive[i] = s.characterDrive[i]
   }
   restoreSkin(state, ch, s, n)
 }

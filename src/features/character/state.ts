@@ -1,4 +1,4 @@
-import { FRAME_PARAMS } from '../../kernels/motion'
+import { FRAME_PARAMS, REF, R_MAX } from '../../kernels/motion'
 import { MOTION, SETTINGS, WORK, type ClothCharacter, type ClothSkin } from './types'
 
 /** Character state with zeroed settings and arrays for a capacity of P particles (the caller fills them). */
@@ -13,10 +13,9 @@ export function blankCharacter(P: number): ClothCharacter {
     frameParams: new Float64Array(FRAME_PARAMS),
     rest: new Float64Array(3 * P),
     restNormal: new Float64Array(3 * P),
-    refFrom: new Float64Array(3 * P),
-    refTo: new Float64Array(3 * P),
-    refNormal: new Float64Array(3 * P),
-    limits: null,
+    ref: unconstrained(new Float32Array(REF * P)),
+    constrained: false,
+    drive: null,
     held: new Uint8Array(P),
     heldList: new Int32Array(P),
     heldCount: 0,
@@ -35,4 +34,10 @@ export function blankSkin(nb: number, P: number): ClothSkin {
     joints: new Int32Array(4 * P),
     weights: new Float64Array(4 * P),
   }
+}
+
+/** Max distance Infinity (and no backstop: radius 0) for every particle of a reference array. */
+export function unconstrained(ref: Float32Array): Float32Array {
+  for (let o = 0; o < ref.length; o += REF) ref[o + R_MAX] = Infinity
+  return ref
 }

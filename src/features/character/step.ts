@@ -1,5 +1,5 @@
 import { rotateVecAt } from '../../core/math'
-import { constrainToReference, placeOnReference, predictInFrame } from '../../kernels/motion'
+import { REF, R_FROM, R_TO, constrainAndUpdateVelocities, placeOnReference, predictInFrame } from '../../kernels/motion'
 import { P_STEP_FRACTION, P_STEP_START } from '../../kernels/params'
 import { K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
 import { moveClothRigidly } from '../../world/rigid'
@@ -8,7 +8,8 @@ import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
 import { trackedStartPose, updateReference } from './reference'
 import {
-  M_GAP, M_POSE, M_PRIMED, M_REF_VALID, M_V, M_VC, M_W, M_WC, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE, W_FROM, W_V, W_W, type ClothCharacter,
+  M_GAP, M_POSE, M_PRIMED, M_REF_VALID, M_V, M_VC, M_W, M_WC, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE, W_FROM, W_TO, W_V, W_W,
+  type ClothCharacter,
 } from './types'
 
 /** Pose scratch of the teleport test. */
@@ -109,11 +110,11 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
     state.stats.teleports++
   }
   beginFrameStep(state, c, ch)
-  if (ch.limits !== null || reset) updateReference(state, c, ch)
+  if (ch.constrained || reset) updateReference(state, c, ch)
   if (reset) {
     resetToReference(c, ch)
     state.stats.teleports++
-    if (ch.limits === null) m[M_REF_VALID] = 0 // kept only while constraints use it
+    if (!ch.constrained) m[M_REF_VALID] = 0 // kept only while constraints use it
   }
 }
 
@@ -141,12 +142,13 @@ function resyncJumpedBones(state: ClothWorldState, ch: ClothCharacter): void {
 /** Teleport 'reset': every particle on its reference at the step's start, at rest in the frame. */
 function resetToReference(c: ClothState, ch: ClothCharacter): void {
   const w = ch.work
-  const ref = ch.refFrom
+  const ref = ch.ref
   const { pos, prev, vel } = c
   const vx = w[W_V], vy = w[W_V + 1], vz = w[W_V + 2], ox = w[W_FROM], oy = w[W_FROM + 1], oz = w[W_FROM + 2]
   const ax = w[W_W], ay = w[W_W + 1], az = w[W_W + 2]
-  for (let j = 0; j < 3 * c.count; j += 3) {
-    const x = ref[j], y = ref[j + 1], z = ref[j + 2]
+  for (let i = 0; i < c.count; i++) {
+    const j = 3 * i, o = REF * i + R_FROM
+    const x = ox + ref[o], y = oy + ref[o + 1], z = oz + ref[o + 2]
     pos[j] = prev[j] = x
     pos[j + 1] = prev[j + 1] = y
     pos[j + 2] = prev[j + 2] = z
@@ -178,15 +180,15 @@ export function predictCharacter(c: ClothState, k: number): boolean {
 export function placeHeld(c: ClothState, k: number): void {
   const ch = c.character!
   c.params[P_STEP_FRACTION] = (k + 1) / c.substeps
-  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.refFrom, ch.refTo, c.params)
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.work, W_FROM, W_TO, c.params)
 }
 
-/** Motion phase: max distance, backstop and drive at the end of substep k. */
-export function constrainCharacter(c: ClothState, k: number): void {
+/** Writeback phase: max distance, backstop and drive at the end of substep k, then the velocities. */
+export function writebackCharacter(c: ClothState, k: number): void {
   const ch = c.character!
   c.params[P_STEP_START] = k / c.substeps
   c.params[P_STEP_FRACTION] = (k + 1) / c.substeps
-  constrainToReference(c.pos, c.prev, c.invMass, ch.refFrom, ch.refTo, ch.refNormal, ch.limits!, c.params, c.count)
+  constrainAndUpdateVelocities(c.pos, c.prev, c.vel, c.invMass, ch.ref, ch.work, W_FROM, W_TO, ch.drive, c.params, c.count)
 }
 
 /**
@@ -196,9 +198,9 @@ export function constrainCharacter(c: ClothState, k: number): void {
 export function placeHeldAfterReset(c: ClothState): void {
   const ch = c.character!
   const { pos, prev } = c
-  const ref = ch.refTo
+  const ref = ch.ref, w = ch.work
   for (let q = 0; q < ch.heldCount; q++) {
-    const j = 3 * ch.heldList[q]
-    for (let d = 0; d < 3; d++) pos[j + d] = prev[j + d] = ref[j + d]
+    const i = ch.heldList[q]
+    for (let d = 0; d < 3; d++) pos[3 * i + d] = prev[3 * i + d] = w[W_TO + d] + ref[REF * i + R_TO + d]
   }
 }

@@ -120,12 +120,17 @@ export interface ClothCharacter {
   rest: Float64Array
   /** Rest vertex normals, at the same pose. */
   restNormal: Float64Array
-  /** Reference positions at the start and end of the cloth's current step, m; normals at its end. */
-  refFrom: Float64Array
-  refTo: Float64Array
-  refNormal: Float64Array
-  /** Per particle (stride 4): max distance (m, Infinity = free), backstop distance, radius (0 = none), drive frequency ω (rad/s, Infinity = follows). Null: no motion constraints. */
-  limits: Float64Array | null
+  /**
+   * Per particle (REF float32 values, see `kernels/motion.ts`): the reference position at the
+   * start and the end of the cloth's current step as offsets from the frame's origin then
+   * (`work[W_FROM..]`, `work[W_TO..]`; between steps `motion[M_POSE..]`), the reference normal at
+   * its end, max distance (m, Infinity = free), backstop distance and radius (0 = none).
+   */
+  ref: Float32Array
+  /** Motion constraints are set (`setClothMotionConstraints`): the reference is kept every step. */
+  constrained: boolean
+  /** Drive frequency ω per particle (rad/s, Infinity = follows the reference), or null when no particle has a drive. */
+  drive: Float64Array | null
   /** 1 for particles held on the reference (max distance 0; counted in `pinCount`), and their list. */
   held: Uint8Array
   heldList: Int32Array
@@ -177,9 +182,9 @@ export const W_PV = 32
 export const W_PW = 35
 export const W_PVC = 38
 export const W_PWC = 41
-/** Scratch for matrices: 4 rotations (9 each) and a quaternion. */
+/** Scratch for matrices: 4 rotations (9 each) and a quaternion; then M, N and P of `frameSubstep`. */
 export const W_R = 44
-export const WORK = 44 + 36 + 4
-
-/** Per-particle stride of `ClothCharacter.limits`. */
-export const LIMITS = 4
+export const W_M = W_R + 40
+export const W_N = W_M + 9
+export const W_P = W_N + 9
+export const WORK = W_P + 9
