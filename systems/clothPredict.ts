@@ -20,7 +20,7 @@ export function clothPredict<W extends object>(world: W): W {
     setSubstepParams(c.params, c.h, c.damping, state.gravity, state.maxSpeed)
     const ch = c.character
     if (ch === null || !predictCharacter(c, k)) predictPositions(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, c.count)
-    if (ch !== null && ch.heldCount > 0) placeHeld(c, k)
+    if (ch !== null && ch.heldCount > 0) placeHeld(c)
     state.stats.particlesIntegrated += c.count
     if (c.pins.list.length > 0) placePins(state, c, k, c.substeps)
   }

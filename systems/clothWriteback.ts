@@ -20,7 +20,7 @@ export function clothWriteback<W extends object>(world: W): W {
     const k = c.subIndex
     if (k < 0) continue
     const ch = c.character
-    if (ch !== null && ch.constrained) writebackCharacter(c, k)
+    if (ch !== null && ch.constrained) writebackCharacter(c)
     else updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
     if (k !== c.substeps - 1) continue
     // once per step: at 60/s this rests every stiff sheet we tested, at a fraction of the cost of

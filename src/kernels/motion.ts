@@ -71,38 +71,62 @@ export function predictInFrame(
 }
 
 /**
- * Per-particle reference data of the motion kernels, interleaved (REF float32 values per
- * particle) so the pass over a cloth reads one short stream: the reference position at the start
- * of the step and at its end, each as an offset from an anchor (the frame's origin then: float32
- * keeps ~0.1 µm at a metre from it), the reference normal at the end, the max distance (m,
- * Infinity = free), the backstop's distance and radius (radius 0 = none). The anchors are
- * anchor[from..from+2] and anchor[to..to+2].
+ * Where the motion kernels find each particle's reference position and normal (float32, per
+ * particle), in one of two layouts:
+ * - rigid (RIGID values per particle): the position and normal in the frame's bind coordinates;
+ *   the reference is A·l + t, the normal N·n, with A, t, N from the frame's pose (see below);
+ * - blended (BLEND values per particle, skinned cloths): the position at the start and at the end
+ *   of the step, each as an offset from an anchor (the frame's origin then: float32 keeps ~0.1 µm
+ *   at a metre from it), and the normal at the end.
+ * Limits are a second float32 stream, LIMITS per particle: max distance (m, Infinity = free),
+ * backstop distance and radius (radius 0 = none).
  */
-export const R_FROM = 0
-export const R_TO = 3
-export const R_NORMAL = 6
-export const R_MAX = 9
-export const R_BACK = 10
-export const R_RADIUS = 11
-export const REF = 12
+export const RIGID = 6
+export const BLEND = 9
+export const LIMITS = 3
+export const L_MAX = 0
+export const L_BACK = 1
+export const L_RADIUS = 2
 
 /**
- * Places the listed particles on their reference positions, interpolated to the end of the
- * substep (params[P_STEP_FRACTION] of the way through the step; particles held with max distance 0).
+ * The frame's part of the reference for the current substep (REF_PARAMS doubles, filled per
+ * substep by `referenceSubstep` in features/character): the layout (0 rigid, 1 blended); for rigid
+ * references A (row-major 3×3) and t at the end of the substep and at its start (A0, t0), and N,
+ * the rotation of the normals; for blended ones the anchors at the end (t) and at the start (t0)
+ * of the substep, with params[P_STEP_FRACTION] and params[P_STEP_START] the fractions of the step.
  */
-export function placeOnReference(
-  pos: Float64Array, list: Int32Array, listCount: number, ref: Float32Array, anchor: Float64Array, from: number, to: number, params: Float64Array,
-): void {
+export const W_MODE = 0
+export const W_A = 1
+export const W_T = 10
+export const W_A0 = 13
+export const W_T0 = 22
+export const W_N = 25
+export const REF_PARAMS = 34
+
+/**
+ * Places the listed particles (`list` null: particles 0 to listCount − 1) on their reference
+ * positions at the end of the substep (particles held with max distance 0; a teleport's reset).
+ */
+export function placeOnReference(pos: Float64Array, list: Int32Array | null, listCount: number, ref: Float32Array, w: Float64Array, params: Float64Array): void {
   const f = params[P_STEP_FRACTION]
-  const ax = anchor[from] + (anchor[to] - anchor[from]) * f
-  const ay = anchor[from + 1] + (anchor[to + 1] - anchor[from + 1]) * f
-  const az = anchor[from + 2] + (anchor[to + 2] - anchor[from + 2]) * f
+  const rigid = w[W_MODE] === 0
+  const a00 = w[W_A], a01 = w[W_A + 1], a02 = w[W_A + 2], a10 = w[W_A + 3], a11 = w[W_A + 4], a12 = w[W_A + 5], a20 = w[W_A + 6], a21 = w[W_A + 7], a22 = w[W_A + 8]
+  const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
   for (let q = 0; q < listCount; q++) {
-    const i = list[q]
-    const j = 3 * i, o = REF * i
-    pos[j] = ax + ref[o] + (ref[o + 3] - ref[o]) * f
-    pos[j + 1] = ay + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
-    pos[j + 2] = az + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
+    const i = list === null ? q : list[q]
+    const j = 3 * i
+    if (rigid) {
+      const o = RIGID * i
+      const lx = ref[o], ly = ref[o + 1], lz = ref[o + 2]
+      pos[j] = a00 * lx + a01 * ly + a02 * lz + tx
+      pos[j + 1] = a10 * lx + a11 * ly + a12 * lz + ty
+      pos[j + 2] = a20 * lx + a21 * ly + a22 * lz + tz
+    } else {
+      const o = BLEND * i
+      pos[j] = tx + ref[o] + (ref[o + 3] - ref[o]) * f
+      pos[j + 1] = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
+      pos[j + 2] = tz + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
+    }
   }
 }
 
@@ -111,14 +135,13 @@ export function placeOnReference(
  * pose, then the velocities from the substep's motion, in one pass (the positions are read once
  * for both).
  *
- * Constraints, for each free particle (inverse mass > 0), with r its reference position
- * interpolated to the end of the substep (params[P_STEP_FRACTION] of the way through the step) and
- * n its reference normal (`ref`, see R_*):
+ * Constraints, for each free particle (inverse mass > 0), with r its reference position at the
+ * end of the substep and n its reference normal (`ref` and `w`, see above), and its limits:
  * 1. drive (when `drive` is given: a frequency ω per particle, rad/s): a critically damped spring
  *    (stiffness m·ω², damping 2m·ω) pulls the offset e = x − r toward 0, its damping acting on the
  *    offset's change over the substep (e_prev from `prev` and the reference at the substep's
- *    start, params[P_STEP_START]); integrated implicitly, Δx = −(a²·e + 2a·(e − e_prev))/(1 + a)²,
- *    a = ω·h: independent of the mass, stable for any ω; ω = Infinity puts x on r;
+ *    start); integrated implicitly, Δx = −(a²·e + 2a·(e − e_prev))/(1 + a)², a = ω·h: independent
+ *    of the mass, stable for any ω; ω = Infinity puts x on r;
  * 2. max distance: x is brought back onto the sphere of that radius around r when outside it;
  * 3. backstop: x is pushed out of the sphere of radius ρ centred at r − n·(distance + ρ), then
  *    step 2 once more (the two regions are not convex together; r itself satisfies both).
@@ -128,6 +151,8 @@ export function placeOnReference(
  * outward speed; a speed above params[P_MAX_SPEED] is scaled down to it, the largest squared
  * speed before that goes to params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop
  * this repeats rather than calls: a second pass over the positions is what this kernel saves).
+ * One function, whose length is the constraints written out in full: they run per particle and
+ * substep, where a call per particle would box its doubles.
  */
 export function constrainAndUpdateVelocities(
   pos: Float64Array,
@@ -135,9 +160,8 @@ export function constrainAndUpdateVelocities(
   vel: Float64Array,
   invMass: Float64Array,
   ref: Float32Array,
-  anchor: Float64Array,
-  from: number,
-  to: number,
+  lim: Float32Array,
+  w: Float64Array,
   drive: Float64Array | null,
   params: Float64Array,
   count: number,
@@ -146,18 +170,26 @@ export function constrainAndUpdateVelocities(
   const maxSpeed = params[P_MAX_SPEED]
   const max2 = maxSpeed * maxSpeed
   let top = 0
-  const ax = anchor[from] + (anchor[to] - anchor[from]) * f
-  const ay = anchor[from + 1] + (anchor[to + 1] - anchor[from + 1]) * f
-  const az = anchor[from + 2] + (anchor[to + 2] - anchor[from + 2]) * f
+  const rigid = w[W_MODE] === 0
+  const a00 = w[W_A], a01 = w[W_A + 1], a02 = w[W_A + 2], a10 = w[W_A + 3], a11 = w[W_A + 4], a12 = w[W_A + 5], a20 = w[W_A + 6], a21 = w[W_A + 7], a22 = w[W_A + 8]
+  const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
+  const n00 = w[W_N], n01 = w[W_N + 1], n02 = w[W_N + 2], n10 = w[W_N + 3], n11 = w[W_N + 4], n12 = w[W_N + 5], n20 = w[W_N + 6], n21 = w[W_N + 7], n22 = w[W_N + 8]
   for (let i = 0; i < count; i++) {
     const j = 3 * i
     let x = pos[j], y = pos[j + 1], z = pos[j + 2]
     if (invMass[i] !== 0) {
-      const o = REF * i
-      const fx = ref[o], fy = ref[o + 1], fz = ref[o + 2]
-      const rx = ax + fx + (ref[o + 3] - fx) * f
-      const ry = ay + fy + (ref[o + 4] - fy) * f
-      const rz = az + fz + (ref[o + 5] - fz) * f
+      let rx = 0, ry = 0, rz = 0
+      const o = rigid ? RIGID * i : BLEND * i
+      if (rigid) {
+        const lx = ref[o], ly = ref[o + 1], lz = ref[o + 2]
+        rx = a00 * lx + a01 * ly + a02 * lz + tx
+        ry = a10 * lx + a11 * ly + a12 * lz + ty
+        rz = a20 * lx + a21 * ly + a22 * lz + tz
+      } else {
+        rx = tx + ref[o] + (ref[o + 3] - ref[o]) * f
+        ry = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
+        rz = tz + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
+      }
       let moved = false
       const om = drive === null ? 0 : drive[i]
       if (om > 0) {
@@ -171,15 +203,24 @@ export function constrainAndUpdateVelocities(
           const inv = 1 / ((1 + a) * (1 + a))
           const ex = x - rx, ey = y - ry, ez = z - rz
           // the offset at the substep's start
-          const qx = prev[j] - anchor[from] - (anchor[to] - anchor[from]) * f0 - fx - (ref[o + 3] - fx) * f0
-          const qy = prev[j + 1] - anchor[from + 1] - (anchor[to + 1] - anchor[from + 1]) * f0 - fy - (ref[o + 4] - fy) * f0
-          const qz = prev[j + 2] - anchor[from + 2] - (anchor[to + 2] - anchor[from + 2]) * f0 - fz - (ref[o + 5] - fz) * f0
+          let qx = 0, qy = 0, qz = 0
+          if (rigid) {
+            const lx = ref[o], ly = ref[o + 1], lz = ref[o + 2]
+            qx = prev[j] - (w[W_A0] * lx + w[W_A0 + 1] * ly + w[W_A0 + 2] * lz + w[W_T0])
+            qy = prev[j + 1] - (w[W_A0 + 3] * lx + w[W_A0 + 4] * ly + w[W_A0 + 5] * lz + w[W_T0 + 1])
+            qz = prev[j + 2] - (w[W_A0 + 6] * lx + w[W_A0 + 7] * ly + w[W_A0 + 8] * lz + w[W_T0 + 2])
+          } else {
+            qx = prev[j] - w[W_T0] - ref[o] - (ref[o + 3] - ref[o]) * f0
+            qy = prev[j + 1] - w[W_T0 + 1] - ref[o + 1] - (ref[o + 4] - ref[o + 1]) * f0
+            qz = prev[j + 2] - w[W_T0 + 2] - ref[o + 2] - (ref[o + 5] - ref[o + 2]) * f0
+          }
           x -= (a * a * ex + 2 * a * (ex - qx)) * inv
           y -= (a * a * ey + 2 * a * (ey - qy)) * inv
           z -= (a * a * ez + 2 * a * (ez - qz)) * inv
         }
       }
-      const r = ref[o + R_MAX]
+      const l = LIMITS * i
+      const r = lim[l]
       const r2 = r * r // Infinity when free
       let ex = x - rx, ey = y - ry, ez = z - rz
       let d2 = ex * ex + ey * ey + ez * ez
@@ -193,36 +234,49 @@ export function constrainAndUpdateVelocities(
         z = rz + ez
         moved = true
       }
-      const rho = ref[o + R_RADIUS]
-      // the sphere lies wholly `distance` or more behind the reference: a particle less deep is clear
-      if (rho > 0 && ex * ref[o + 6] + ey * ref[o + 7] + ez * ref[o + 8] < -ref[o + R_BACK]) {
-        const nx = ref[o + 6], ny = ref[o + 7], nz = ref[o + 8]
-        const back = ref[o + R_BACK] + rho
-        const cx = rx - nx * back, cy = ry - ny * back, cz = rz - nz * back
-        const bx = x - cx, by = y - cy, bz = z - cz
-        const b2 = bx * bx + by * by + bz * bz
-        if (b2 < rho * rho) {
-          if (b2 > 1e-24) {
-            const s = rho / Math.sqrt(b2)
-            x = cx + bx * s
-            y = cy + by * s
-            z = cz + bz * s
-          } else {
-            x = cx + nx * rho
-            y = cy + ny * rho
-            z = cz + nz * rho
+      const rho = lim[l + L_RADIUS]
+      if (rho > 0) {
+        let nx = 0, ny = 0, nz = 0
+        if (rigid) {
+          const u = ref[o + 3], v = ref[o + 4], t = ref[o + 5]
+          nx = n00 * u + n01 * v + n02 * t
+          ny = n10 * u + n11 * v + n12 * t
+          nz = n20 * u + n21 * v + n22 * t
+        } else {
+          nx = ref[o + 6]
+          ny = ref[o + 7]
+          nz = ref[o + 8]
+        }
+        const dist = lim[l + L_BACK]
+        // the sphere lies wholly `distance` or more behind the reference: a particle less deep is clear
+        if (ex * nx + ey * ny + ez * nz < -dist) {
+          const back = dist + rho
+          const cx = rx - nx * back, cy = ry - ny * back, cz = rz - nz * back
+          const bx = x - cx, by = y - cy, bz = z - cz
+          const b2 = bx * bx + by * by + bz * bz
+          if (b2 < rho * rho) {
+            if (b2 > 1e-24) {
+              const s = rho / Math.sqrt(b2)
+              x = cx + bx * s
+              y = cy + by * s
+              z = cz + bz * s
+            } else {
+              x = cx + nx * rho
+              y = cy + ny * rho
+              z = cz + nz * rho
+            }
+            ex = x - rx
+            ey = y - ry
+            ez = z - rz
+            d2 = ex * ex + ey * ey + ez * ez
+            if (d2 > r2) {
+              const s = r / Math.sqrt(d2)
+              x = rx + ex * s
+              y = ry + ey * s
+              z = rz + ez * s
+            }
+            moved = true
           }
-          ex = x - rx
-          ey = y - ry
-          ez = z - rz
-          d2 = ex * ex + ey * ey + ez * ez
-          if (d2 > r2) {
-            const s = r / Math.sqrt(d2)
-            x = rx + ex * s
-            y = ry + ey * s
-            z = rz + ez * s
-          }
-          moved = true
         }
       }
       if (moved) {

@@ -1,51 +1,16 @@
 /**
- * Reference poses of character cloth: rest positions and normals carried by one rigid transform,
- * or blended from several bones (linear blend skinning). Matrices are row-major 3×4 (a 3×3 block
- * then the translation column: m0 m1 m2 t0 / m3 m4 m5 t1 / m6 m7 m8 t2, stored as
- * [m0 m1 m2 m3 m4 m5 m6 m7 m8 t0 t1 t2]), 12 values each. Normals are transformed by the 3×3
- * block and renormalised (exact for rotations and uniform scale); a degenerate normal becomes +z.
+ * Skinned reference poses of character cloth: rest positions and normals blended from several
+ * bones (linear blend skinning). Matrices are row-major 3×4 (a 3×3 block then the translation
+ * column: m0 m1 m2 t0 / m3 m4 m5 t1 / m6 m7 m8 t2, stored as [m0 m1 m2 m3 m4 m5 m6 m7 m8 t0 t1
+ * t2]), 12 values each. Normals are transformed by the 3×3 blocks and renormalised (exact for
+ * rotations and uniform scale); a degenerate normal becomes +z.
  */
-
-/**
- * M·rest + t and normalise(M·restNormal) for `count` particles, M at m[mo..mo+11]: particle i's
- * position, less the anchor at anchor[ao..ao+2], goes to out[o + stride·i ..] (float32 offsets
- * from a nearby anchor keep their precision), its normal to out[no + stride·i ..].
- */
-export function rigidReference(
-  m: Float64Array,
-  mo: number,
-  rest: Float64Array,
-  restNormal: Float64Array,
-  anchor: Float64Array,
-  ao: number,
-  out: Float32Array,
-  o: number,
-  no: number,
-  stride: number,
-  count: number,
-): void {
-  const a00 = m[mo], a01 = m[mo + 1], a02 = m[mo + 2], a10 = m[mo + 3], a11 = m[mo + 4], a12 = m[mo + 5], a20 = m[mo + 6], a21 = m[mo + 7], a22 = m[mo + 8]
-  const tx = m[mo + 9] - anchor[ao], ty = m[mo + 10] - anchor[ao + 1], tz = m[mo + 11] - anchor[ao + 2]
-  for (let i = 0; i < count; i++) {
-    const j = 3 * i, p = o + stride * i, q = no + stride * i
-    const x = rest[j], y = rest[j + 1], z = rest[j + 2]
-    out[p] = a00 * x + a01 * y + a02 * z + tx
-    out[p + 1] = a10 * x + a11 * y + a12 * z + ty
-    out[p + 2] = a20 * x + a21 * y + a22 * z + tz
-    const u = restNormal[j], v = restNormal[j + 1], w = restNormal[j + 2]
-    const nx = a00 * u + a01 * v + a02 * w, ny = a10 * u + a11 * v + a12 * w, nz = a20 * u + a21 * v + a22 * w
-    const l2 = nx * nx + ny * ny + nz * nz
-    const s = l2 > 1e-30 ? 1 / Math.sqrt(l2) : 0
-    out[q] = nx * s
-    out[q + 1] = ny * s
-    out[q + 2] = l2 > 1e-30 ? nz * s : 1
-  }
-}
 
 /**
  * Linear blend skinning: Σ_k w_ik·(M_b·rest_i + t_b), b = joints[4i + k], the matrices at
- * mats[12b..], less the anchor at anchor[ao..ao+2], into out[o + stride·i ..]; the normal, the same blend of the 3×3 blocks applied to
- * restNormal_i and renormalised, into out[no + stride·i ..]. Zero weights are skipped.
+ * mats[12b..], less the anchor at anchor[ao..ao+2] (float32 offsets from a nearby anchor keep
+ * their precision), into out[o + stride·i ..]; the normal, the same blend of the 3×3 blocks
+ * applied to restNormal_i and renormalised, into out[no + stride·i ..]. Zero weights are skipped.
  */
 export function skinReference(
   mats: Float64Array,

@@ -2,7 +2,7 @@
 // weights and hold; nothing is allocated in the tearing steps (the arrays are reserved).
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import { REF, R_MAX } from '../../src/kernels/motion'
+import { LIMITS, L_MAX } from '../../src/kernels/motion'
 import { createCloth, getClothReference, getClothState, getClothTearCount, makeTearable, pinParticle, setClothInertia, setClothMotionConstraints, setTransform, stepCloth } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { DT, drive } from './scenes'
@@ -37,8 +37,8 @@ describe('character cloth that tears', () => {
       expect(getClothTearCount(world, banner)).toBeGreaterThan(0)
       expect(c.count).toBeGreaterThan(n)
       const ch = c.character!
-      const maxOf = (i: number) => ch.ref[REF * i + R_MAX]
-      expect(ch.ref.length).toBeGreaterThanOrEqual(REF * c.count)
+      const maxOf = (i: number) => ch.lim[LIMITS * i + L_MAX]
+      expect(ch.lim.length).toBeGreaterThanOrEqual(LIMITS * c.count)
       for (let i = n; i < c.count; i++) expect(maxOf(i)).toBe(5) // split particles come from the lower rows
       drive(world, pole, (t) => ({ p: [t, 2, 0], yaw: t }), 1)
       const ref = getClothReference(world, banner)!

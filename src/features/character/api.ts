@@ -6,9 +6,9 @@ import { trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
-import { REF, R_BACK, R_MAX, R_RADIUS, R_TO } from '../../kernels/motion'
+import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
 import { blankCharacter, blankSkin, unconstrained } from './state'
-import { currentReference, identityPose, reserveBoneScratch, restNormals, trackedPose } from './reference'
+import { bindRigid, currentReference, identityPose, lastReference, reserveBoneScratch, restNormals, trackedPose } from './reference'
 import {
   M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_ANGULAR, S_CENTRIFUGAL, S_FRAME_EXPLICIT, S_LINEAR, S_MAX_ANGULAR,
   S_MAX_LINEAR, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE,
@@ -111,8 +111,7 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
     for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
     ch.constrained = false
     ch.drive = null
-    for (let o = 0; o < ch.ref.length; o += REF) ch.ref[o + R_RADIUS] = 0
-    unconstrained(ch.ref)
+    unconstrained(ch.lim)
     dropIfUnused(state, c)
     wakeClothState(state, c)
     return
@@ -130,13 +129,13 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
     bsRadius = perParticle('constraints.backstop.radius', bs.radius, n, 0, 1e-9, 1e6)
   }
   const ch = ensureCharacter(state, c)
-  const ref = ch.ref
+  const lim = ch.lim
   let anyDrive = false
   for (let i = 0; i < n; i++) {
-    const o = REF * i
-    ref[o + R_MAX] = maxDistance[i]
-    ref[o + R_BACK] = bsDistance === null ? 0 : bsDistance[i]
-    ref[o + R_RADIUS] = bsRadius === null ? 0 : bsRadius[i]
+    const l = LIMITS * i
+    lim[l + L_MAX] = maxDistance[i]
+    lim[l + L_BACK] = bsDistance === null ? 0 : bsDistance[i]
+    lim[l + L_RADIUS] = bsRadius === null ? 0 : bsRadius[i]
     if (drive[i] > 0) anyDrive = true
   }
   if (anyDrive) {
@@ -169,7 +168,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     rebindRest(state, c, ch) // the reference stays where the skin put it, now carried by the frame
     releaseBones(state, ch)
     ch.skin = null
-    ch.motion[M_REF_VALID] = 0
+    bindRigid(c, ch)
     dropIfUnused(state, c)
     wakeClothState(state, c)
     return
@@ -228,10 +227,9 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
 export function getClothReference(world: object, cloth: number): Float64Array | null {
   const c = getCloth(getClothWorld(world), cloth)
   const ch = c.character
-  if (ch === null || !ch.constrained || ch.motion[M_REF_VALID] !== 1) return null
+  if (ch === null || !ch.constrained || (ch.skin !== null && ch.motion[M_REF_VALID] !== 1)) return null
   const out = new Float64Array(3 * c.count)
-  // offsets from the frame's origin at the end of the last step
-  for (let i = 0; i < c.count; i++) for (let d = 0; d < 3; d++) out[3 * i + d] = ch.motion[M_POSE + d] + ch.ref[REF * i + R_TO + d]
+  lastReference(c, ch, out)
   return out
 }
 
@@ -256,6 +254,7 @@ function ensureCharacter(state: ClothWorldState, c: ClothState): ClothCharacter 
   restNormals(c, ch.rest, ch.restNormal)
   identityPose(ch.motion, M_POSE)
   identityPose(ch.motion, M_BIND)
+  bindRigid(c, ch)
   c.character = ch
   setFrame(state, c, ch, defaultFrame(state, c))
   return ch
@@ -284,6 +283,7 @@ function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid
   m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
   m[M_PRIMED] = 0
   m[M_REF_VALID] = 0
+  if (ch.skin === null) bindRigid(c, ch)
 }
 
 /** rest ← the reference as it stands now (and its normals), so a rebind does not move it. */
@@ -385,10 +385,11 @@ export function reserveCharacter(c: ClothState, P: number): void {
   if (ch === null) return
   ch.rest = grownArray(ch.rest, 3 * P)
   ch.restNormal = grownArray(ch.restNormal, 3 * P)
-  if (ch.ref.length < REF * P) {
-    const ref = unconstrained(new Float32Array(REF * P))
-    ref.set(ch.ref)
-    ch.ref = ref
+  ch.ref = grownArray(ch.ref, BLEND * P)
+  if (ch.lim.length < LIMITS * P) {
+    const lim = unconstrained(new Float32Array(LIMITS * P))
+    lim.set(ch.lim)
+    ch.lim = lim
   }
   if (ch.drive !== null) ch.drive = grownArray(ch.drive, P)
   ch.held = grownArray(ch.held, P)
@@ -405,7 +406,9 @@ export function copyCharacterParticle(c: ClothState, from: number, to: number): 
   if (ch === null) return
   copy3(ch.rest, from, to)
   copy3(ch.restNormal, from, to)
-  for (let k = 0; k < REF; k++) ch.ref[REF * to + k] = ch.ref[REF * from + k]
+  const stride = ch.skin === null ? RIGID : BLEND
+  for (let k = 0; k < stride; k++) ch.ref[stride * to + k] = ch.ref[stride * from + k]
+  for (let k = 0; k < LIMITS; k++) ch.lim[LIMITS * to + k] = ch.lim[LIMITS * from + k]
   if (ch.drive !== null) ch.drive[to] = ch.drive[from]
   const skin = ch.skin
   if (skin !== null) {

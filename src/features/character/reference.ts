@@ -1,8 +1,9 @@
 import { quatToMatrix } from '../../core/math'
-import { rigidReference, skinReference } from '../../kernels/skin'
+import { skinReference } from '../../kernels/skin'
 import type { ClothState, ClothWorldState } from '../../world/state'
-import { REF, R_FROM, R_NORMAL, R_TO } from '../../kernels/motion'
-import { M_BIND, M_POSE, M_REF_VALID, W_FROM, W_TO, type ClothCharacter, type ClothSkin } from './types'
+import { BLEND, RIGID, W_A, W_A0, W_MODE, W_N, W_T, W_T0 } from '../../kernels/motion'
+import { P_STEP_FRACTION, P_STEP_START } from '../../kernels/params'
+import { M_BIND, M_POSE, M_REF_VALID, W_FROM, W_RT, W_TF, W_TO, W_TT, type ClothCharacter, type ClothSkin } from './types'
 
 /**
  * The reference pose of a character cloth: its rest positions carried by the frame's transform
@@ -62,28 +63,36 @@ export function poseMatrix(now: Float64Array, no: number, bind: Float64Array, bo
   }
 }
 
-/** Scratch matrix of a rigid reference. */
-const rigid = new Float64Array(12)
+/**
+ * The frame's transform [R·diag(s) | p] of the pose at pose[po..] into out[oo..oo+11] (the 3×4
+ * layout of `kernels/skin.ts`).
+ */
+export function poseTransform(pose: Float64Array, po: number, out: Float64Array, oo: number): void {
+  quatToMatrix(pose, po + 3, rot, 0)
+  for (let i = 0; i < 3; i++) for (let j = 0; j < 3; j++) out[oo + 3 * i + j] = rot[3 * i + j] * pose[po + 7 + j]
+  out[oo + 9] = pose[po]
+  out[oo + 10] = pose[po + 1]
+  out[oo + 11] = pose[po + 2]
+}
 
 /**
- * The reference of every particle at the frame pose work[wo..] (rigid) or at the bones' poses
- * (skinned: `bonePoses` with stride 10): positions into out[o + stride·i ..], normals into
- * out[no + stride·i ..].
+ * A rigid reference's data (configuration time): each rest position and normal in the frame's
+ * bind coordinates, l = diag(1/s)·Rᵀ·(rest − p) and Rᵀ·normal, into `ref` (RIGID values each).
  */
-function referenceAt(
-  c: ClothState, ch: ClothCharacter, work: Float64Array, wo: number, bonePoses: Float64Array,
-  out: Float32Array, o: number, no: number, stride: number,
-): void {
-  const skin = ch.skin
-  // positions as offsets from the frame's origin at this pose (work[wo..wo+2])
-  if (skin === null) {
-    poseMatrix(work, wo, ch.motion, M_BIND, rigid, 0)
-    rigidReference(rigid, 0, ch.rest, ch.restNormal, work, wo, out, o, no, stride, c.count)
-    return
+export function bindRigid(c: ClothState, ch: ClothCharacter): void {
+  const m = ch.motion
+  quatToMatrix(m, M_BIND + 3, rot, 0)
+  const px = m[M_BIND], py = m[M_BIND + 1], pz = m[M_BIND + 2]
+  for (let i = 0; i < c.count; i++) {
+    const j = 3 * i, o = RIGID * i
+    const dx = ch.rest[j] - px, dy = ch.rest[j + 1] - py, dz = ch.rest[j + 2] - pz
+    const nx = ch.restNormal[j], ny = ch.restNormal[j + 1], nz = ch.restNormal[j + 2]
+    for (let a = 0; a < 3; a++) {
+      ch.ref[o + a] = (rot[a] * dx + rot[3 + a] * dy + rot[6 + a] * dz) / m[M_BIND + 7 + a]
+      ch.ref[o + 3 + a] = rot[a] * nx + rot[3 + a] * ny + rot[6 + a] * nz
+    }
   }
-  const nb = skin.bones.length
-  for (let b = 0; b < nb; b++) poseMatrix(bonePoses, 10 * b, skin.bind, 10 * b, skin.matrices, 12 * b)
-  skinReference(skin.matrices, skin.joints, skin.weights, ch.rest, ch.restNormal, work, wo, out, o, no, stride, c.count)
+  m[M_REF_VALID] = 0
 }
 
 /** Scratch of bone poses at the end of a step (grown to the largest skeleton at configuration time). */
@@ -94,34 +103,78 @@ export function reserveBoneScratch(bones: number): void {
   if (boneScratch.length < 10 * bones) boneScratch = new Float64Array(10 * bones)
 }
 
+/** The skinned reference at the bones' poses `bonePoses` (stride 10), positions less the anchor at work[wo..], into out[o + stride·i], normals into out[no + stride·i]. */
+function skinnedAt(
+  c: ClothState, ch: ClothCharacter, skin: ClothSkin, bonePoses: Float64Array, work: Float64Array, wo: number,
+  out: Float32Array, o: number, no: number, stride: number,
+): void {
+  for (let b = 0; b < skin.bones.length; b++) poseMatrix(bonePoses, 10 * b, skin.bind, 10 * b, skin.matrices, 12 * b)
+  skinReference(skin.matrices, skin.joints, skin.weights, ch.rest, ch.restNormal, work, wo, out, o, no, stride, c.count)
+}
+
 /**
- * Sync phase: the reference at the start and end of the cloth's step (`ref`, see R_* in
- * kernels/motion.ts), as offsets from the frame's origin at the step's start and end. The start is
- * last step's end while the reference is continuous (the same origin); otherwise it is computed
- * from the poses at the step's start (the frame's `work[W_FROM]`, the bones' last poses). Bones
- * then remember their poses at the step's end.
+ * Sync phase, for a cloth with motion constraints: the frame's part of this step's reference. A
+ * rigid reference needs only the frame's transforms at the step's start and end (and its rotation
+ * at the end, for normals). A skinned one is blended per particle (`ref`, BLEND values, offsets
+ * from the frame's origin at the step's start and end): the start is last step's end while the
+ * reference is continuous (the same origin); otherwise it is blended from the poses at the step's
+ * start (the bones' last poses). Bones then remember their poses at the step's end.
  */
 export function updateReference(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
-  const m = ch.motion
+  const w = ch.work
   const skin = ch.skin
-  const ref = ch.ref
-  if (m[M_REF_VALID] === 1) {
-    for (let o = 0; o < REF * c.count; o += REF) {
-      ref[o] = ref[o + R_TO]
-      ref[o + 1] = ref[o + R_TO + 1]
-      ref[o + 2] = ref[o + R_TO + 2]
-    }
-  } else {
-    referenceAt(c, ch, ch.work, W_FROM, skin === null ? boneScratch : skin.pose, ref, R_FROM, R_NORMAL, REF)
-    m[M_REF_VALID] = 1
-  }
   if (skin === null) {
-    referenceAt(c, ch, ch.work, W_TO, boneScratch, ref, R_TO, R_NORMAL, REF)
+    poseTransform(w, W_FROM, w, W_TF)
+    poseTransform(w, W_TO, w, W_TT)
+    quatToMatrix(w, W_TO + 3, w, W_RT)
     return
   }
+  const m = ch.motion
+  const ref = ch.ref
+  if (m[M_REF_VALID] === 1) {
+    for (let o = 0; o < BLEND * c.count; o += BLEND) {
+      ref[o] = ref[o + 3]
+      ref[o + 1] = ref[o + 4]
+      ref[o + 2] = ref[o + 5]
+    }
+  } else {
+    skinnedAt(c, ch, skin, skin.pose, w, W_FROM, ref, 0, 6, BLEND)
+    m[M_REF_VALID] = 1
+  }
   bonePosesAtEnd(state, skin, boneScratch)
-  referenceAt(c, ch, ch.work, W_TO, boneScratch, ref, R_TO, R_NORMAL, REF)
+  skinnedAt(c, ch, skin, boneScratch, w, W_TO, ref, 3, 6, BLEND)
   for (let j = 0; j < skin.pose.length; j++) skin.pose[j] = boneScratch[j]
+}
+
+/**
+ * The frame's part of the reference for local substep k of n (`ch.refParams`, see REF_PARAMS in
+ * kernels/motion.ts), with P_STEP_START and P_STEP_FRACTION set to k/n and (k + 1)/n; k = −1
+ * gives the reference at the step's start.
+ */
+export function referenceSubstep(c: ClothState, ch: ClothCharacter, k: number, n: number): void {
+  const p = c.params
+  const f = (k + 1) / n, f0 = k / n
+  p[P_STEP_START] = f0
+  p[P_STEP_FRACTION] = f
+  const w = ch.work, r = ch.refParams
+  if (ch.skin === null) {
+    r[W_MODE] = 0
+    for (let q = 0; q < 9; q++) {
+      r[W_A + q] = w[W_TF + q] + (w[W_TT + q] - w[W_TF + q]) * f
+      r[W_A0 + q] = w[W_TF + q] + (w[W_TT + q] - w[W_TF + q]) * f0
+      r[W_N + q] = w[W_RT + q]
+    }
+    for (let q = 0; q < 3; q++) {
+      r[W_T + q] = w[W_TF + 9 + q] + (w[W_TT + 9 + q] - w[W_TF + 9 + q]) * f
+      r[W_T0 + q] = w[W_TF + 9 + q] + (w[W_TT + 9 + q] - w[W_TF + 9 + q]) * f0
+    }
+    return
+  }
+  r[W_MODE] = 1
+  for (let q = 0; q < 3; q++) {
+    r[W_T + q] = w[W_FROM + q] + (w[W_TO + q] - w[W_FROM + q]) * f
+    r[W_T0 + q] = w[W_FROM + q] + (w[W_TO + q] - w[W_FROM + q]) * f0
+  }
 }
 
 /** Each bone's pose at the end of the step (a removed bone: its last pose) into out (stride 10). */
@@ -134,9 +187,28 @@ function bonePosesAtEnd(state: ClothWorldState, skin: ClothSkin, out: Float64Arr
 }
 
 /**
- * The reference positions as they stand now (end of the last step: the frame's and bones' current
- * tracked poses) into `out` (xyz per particle; configuration time: rebinding to another frame or
- * skeleton keeps the reference where it is).
+ * The reference positions (xyz per particle, world) at the frame pose `pose[0..9]` and, for a
+ * skinned cloth, the bone poses `bones` (stride 10), into `out` (configuration time and queries).
+ */
+function referencePositions(c: ClothState, ch: ClothCharacter, pose: Float64Array, bones: Float64Array, out: Float64Array): void {
+  const skin = ch.skin
+  if (skin === null) {
+    const t = new Float64Array(12)
+    poseTransform(pose, 0, t, 0)
+    for (let i = 0; i < c.count; i++) {
+      const o = RIGID * i
+      for (let a = 0; a < 3; a++) out[3 * i + a] = t[3 * a] * ch.ref[o] + t[3 * a + 1] * ch.ref[o + 1] + t[3 * a + 2] * ch.ref[o + 2] + t[9 + a]
+    }
+    return
+  }
+  const both = new Float32Array(6 * c.count) // positions (offsets from the frame's origin) and normals
+  skinnedAt(c, ch, skin, bones, pose, 0, both, 0, 3, 6)
+  for (let i = 0; i < c.count; i++) for (let d = 0; d < 3; d++) out[3 * i + d] = pose[d] + both[6 * i + d]
+}
+
+/**
+ * The reference as it stands now (the frame's and bones' current tracked poses) into `out`
+ * (configuration time: rebinding to another frame or skeleton keeps the reference where it is).
  */
 export function currentReference(state: ClothWorldState, c: ClothState, ch: ClothCharacter, out: Float64Array): void {
   const pose = new Float64Array(10)
@@ -145,9 +217,12 @@ export function currentReference(state: ClothWorldState, c: ClothState, ch: Clot
   const skin = ch.skin
   const bones = new Float64Array(skin === null ? 0 : 10 * skin.bones.length)
   if (skin !== null) bonePosesAtEnd(state, skin, bones)
-  const both = new Float32Array(6 * c.count) // positions (offsets from the frame's origin) and normals
-  referenceAt(c, ch, pose, 0, bones, both, 0, 3, 6)
-  for (let i = 0; i < c.count; i++) for (let d = 0; d < 3; d++) out[3 * i + d] = pose[d] + both[6 * i + d]
+  referencePositions(c, ch, pose, bones, out)
+}
+
+/** The reference at the end of the cloth's last step into `out` (queries). */
+export function lastReference(c: ClothState, ch: ClothCharacter, out: Float64Array): void {
+  referencePositions(c, ch, ch.motion.subarray(M_POSE, M_POSE + 10), ch.skin === null ? new Float64Array(0) : ch.skin.pose, out)
 }
 
 /**

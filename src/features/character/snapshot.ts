@@ -1,7 +1,7 @@
 import { entityExists, hasComponent } from 'bitecs'
 import { fit32, fit64, fit8 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
-import { REF } from '../../kernels/motion'
+import { BLEND, LIMITS, RIGID } from '../../kernels/motion'
 import { SLOT_DATA, restoreSlot, saveSlot, trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { reserveBoneScratch } from './reference'
@@ -17,7 +17,7 @@ import { MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
 export interface CharacterSnapshot {
   /** Header (inertia, frame, frame tracked, constrained, skin), settings, motion, then the frame's slot history when tracked. */
   character: Float64Array
-  /** Per particle: rest, rest normal, then the reference data (REF values: reference, normal, limits). */
+  /** Per particle: rest, rest normal, limits, then the reference data (RIGID values, or BLEND when skinned). */
   characterParticles: Float64Array
   /** Drive frequency per particle, or empty when no particle has a drive. */
   characterDrive: Float64Array
@@ -30,7 +30,8 @@ export interface CharacterSnapshot {
 }
 
 const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_CONSTRAINED = 3, H_SKIN = 4, HEADER = 5
-const PER = 6 + REF
+/** Values per particle of `characterParticles` before the reference data: rest, rest normal, limits. */
+const PER = 6 + LIMITS
 const BONE = 20 + SLOT_DATA
 
 export function saveCharacter(state: ClothWorldState, c: ClothState, s: CharacterSnapshot): void {
@@ -58,14 +59,17 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   h.set(ch.settings, HEADER)
   h.set(ch.motion, HEADER + SETTINGS)
   if (tracked) saveSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
-  const p = (s.characterParticles = fit64(s.characterParticles, PER * n))
+  const stride = PER + (ch.skin === null ? RIGID : BLEND)
+  const refStride = stride - PER
+  const p = (s.characterParticles = fit64(s.characterParticles, stride * n))
   for (let i = 0; i < n; i++) {
-    const o = PER * i
+    const o = stride * i
     for (let d = 0; d < 3; d++) {
       p[o + d] = ch.rest[3 * i + d]
       p[o + 3 + d] = ch.restNormal[3 * i + d]
+      p[o + 6 + d] = ch.lim[LIMITS * i + d]
     }
-    for (let k = 0; k < REF; k++) p[o + 6 + k] = ch.ref[REF * i + k]
+    for (let k = 0; k < refStride; k++) p[o + PER + k] = ch.ref[refStride * i + k]
   }
   s.characterDrive = fit64(s.characterDrive, ch.drive === null ? 0 : n)
   if (ch.drive !== null) for (let i = 0; i < n; i++) s.characterDrive[i] = ch.drive[i]
@@ -107,7 +111,7 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   const tracked = h[H_TRACKED] === 1
   const nb = s.characterBones.length
   if (
-    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) || s.characterParticles.length !== PER * n || s.characterHeld.length !== n ||
+    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) || s.characterParticles.length !== (PER + (nb > 0 ? BLEND : RIGID)) * n || s.characterHeld.length !== n ||
     (s.characterDrive.length !== 0 && s.characterDrive.length !== n) ||
     (h[H_SKIN] === 1) !== nb > 0 || s.characterBoneData.length !== BONE * nb || s.characterJoints.length !== (nb > 0 ? 4 * n : 0) ||
     s.characterWeights.length !== s.characterJoints.length
@@ -167,14 +171,17 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
   if (tracked) restoreSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
   ch.constrained = h[H_CONSTRAINED] === 1
   const p = s.characterParticles
+  const stride = PER + (h[H_SKIN] === 1 ? BLEND : RIGID)
+  const refStride = stride - PER
   ch.heldCount = 0
   for (let i = 0; i < n; i++) {
-    const o = PER * i
+    const o = stride * i
     for (let d = 0; d < 3; d++) {
       ch.rest[3 * i + d] = p[o + d]
       ch.restNormal[3 * i + d] = p[o + 3 + d]
+      ch.lim[LIMITS * i + d] = p[o + 6 + d]
     }
-    for (let k = 0; k < REF; k++) ch.ref[REF * i + k] = p[o + 6 + k]
+    for (let k = 0; k < refStride; k++) ch.ref[refStride * i + k] = p[o + PER + k]
     ch.held[i] = s.characterHeld[i]
     if (ch.held[i] === 1) ch.heldList[ch.heldCount++] = i
   }

@@ -1,4 +1,4 @@
-import { FRAME_PARAMS, REF, R_MAX } from '../../kernels/motion'
+import { BLEND, FRAME_PARAMS, LIMITS, L_MAX, L_RADIUS, REF_PARAMS } from '../../kernels/motion'
 import { MOTION, SETTINGS, WORK, type ClothCharacter, type ClothSkin } from './types'
 
 /** Character state with zeroed settings and arrays for a capacity of P particles (the caller fills them). */
@@ -13,7 +13,9 @@ export function blankCharacter(P: number): ClothCharacter {
     frameParams: new Float64Array(FRAME_PARAMS),
     rest: new Float64Array(3 * P),
     restNormal: new Float64Array(3 * P),
-    ref: unconstrained(new Float32Array(REF * P)),
+    ref: new Float32Array(BLEND * P),
+    lim: unconstrained(new Float32Array(LIMITS * P)),
+    refParams: new Float64Array(REF_PARAMS),
     constrained: false,
     drive: null,
     held: new Uint8Array(P),
@@ -36,8 +38,11 @@ export function blankSkin(nb: number, P: number): ClothSkin {
   }
 }
 
-/** Max distance Infinity (and no backstop: radius 0) for every particle of a reference array. */
-export function unconstrained(ref: Float32Array): Float32Array {
-  for (let o = 0; o < ref.length; o += REF) ref[o + R_MAX] = Infinity
-  return ref
+/** Max distance Infinity and no backstop (radius 0) for every particle of a limits array. */
+export function unconstrained(lim: Float32Array): Float32Array {
+  for (let o = 0; o < lim.length; o += LIMITS) {
+    lim[o + L_MAX] = Infinity
+    lim[o + L_RADIUS] = 0
+  }
+  return lim
 }

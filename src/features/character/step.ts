@@ -1,12 +1,11 @@
 import { rotateVecAt } from '../../core/math'
-import { REF, R_FROM, R_TO, constrainAndUpdateVelocities, placeOnReference, predictInFrame } from '../../kernels/motion'
-import { P_STEP_FRACTION, P_STEP_START } from '../../kernels/params'
+import { constrainAndUpdateVelocities, placeOnReference, predictInFrame } from '../../kernels/motion'
 import { K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
 import { moveClothRigidly } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
-import { trackedStartPose, updateReference } from './reference'
+import { referenceSubstep, trackedStartPose, updateReference } from './reference'
 import {
   M_GAP, M_POSE, M_PRIMED, M_REF_VALID, M_V, M_VC, M_W, M_WC, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE, W_FROM, W_TO, W_V, W_W,
   type ClothCharacter,
@@ -141,19 +140,18 @@ function resyncJumpedBones(state: ClothWorldState, ch: ClothCharacter): void {
 
 /** Teleport 'reset': every particle on its reference at the step's start, at rest in the frame. */
 function resetToReference(c: ClothState, ch: ClothCharacter): void {
+  referenceSubstep(c, ch, -1, c.substeps) // (the reference at the step's start)
+  placeOnReference(c.pos, null, c.count, ch.ref, ch.refParams, c.params)
   const w = ch.work
-  const ref = ch.ref
   const { pos, prev, vel } = c
   const vx = w[W_V], vy = w[W_V + 1], vz = w[W_V + 2], ox = w[W_FROM], oy = w[W_FROM + 1], oz = w[W_FROM + 2]
   const ax = w[W_W], ay = w[W_W + 1], az = w[W_W + 2]
-  for (let i = 0; i < c.count; i++) {
-    const j = 3 * i, o = REF * i + R_FROM
-    const x = ox + ref[o], y = oy + ref[o + 1], z = oz + ref[o + 2]
-    pos[j] = prev[j] = x
-    pos[j + 1] = prev[j + 1] = y
-    pos[j + 2] = prev[j + 2] = z
+  for (let j = 0; j < 3 * c.count; j += 3) {
+    prev[j] = pos[j]
+    prev[j + 1] = pos[j + 1]
+    prev[j + 2] = pos[j + 2]
     // the frame's velocity at the particle: V + ω × r
-    const rx = x - ox, ry = y - oy, rz = z - oz
+    const rx = pos[j] - ox, ry = pos[j + 1] - oy, rz = pos[j + 2] - oz
     vel[j] = vx + ay * rz - az * ry
     vel[j + 1] = vy + az * rx - ax * rz
     vel[j + 2] = vz + ax * ry - ay * rx
@@ -162,12 +160,14 @@ function resetToReference(c: ClothState, ch: ClothCharacter): void {
 }
 
 /**
- * Predict phase, for a cloth with character state: integrates in the frame (inertia shares,
- * frame-relative damping) when inertia is on, then places held particles on their reference.
- * Returns false when the world-space predict must run instead.
+ * Predict phase, for a cloth with character state: the reference for this substep (when motion
+ * constraints use it), then the predict in the frame (inertia shares, frame-relative damping) when
+ * inertia is on, then held particles onto their reference. Returns false when the world-space
+ * predict must run instead (it runs before the held particles are placed: see `placeHeld`).
  */
 export function predictCharacter(c: ClothState, k: number): boolean {
   const ch = c.character!
+  if (ch.constrained) referenceSubstep(c, ch, k, c.substeps)
   const inFrame = ch.inertia
   if (inFrame) {
     frameSubstep(c, ch, k, c.substeps)
@@ -177,18 +177,18 @@ export function predictCharacter(c: ClothState, k: number): boolean {
 }
 
 /** Predict phase, after the predict: held particles onto their reference at the substep's end. */
-export function placeHeld(c: ClothState, k: number): void {
+export function placeHeld(c: ClothState): void {
   const ch = c.character!
-  c.params[P_STEP_FRACTION] = (k + 1) / c.substeps
-  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.work, W_FROM, W_TO, c.params)
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params)
 }
 
-/** Writeback phase: max distance, backstop and drive at the end of substep k, then the velocities. */
-export function writebackCharacter(c: ClothState, k: number): void {
+/**
+ * Writeback phase: max distance, backstop and drive at the end of the substep, then the
+ * velocities (the reference for the substep was set up by the predict phase).
+ */
+export function writebackCharacter(c: ClothState): void {
   const ch = c.character!
-  c.params[P_STEP_START] = k / c.substeps
-  c.params[P_STEP_FRACTION] = (k + 1) / c.substeps
-  constrainAndUpdateVelocities(c.pos, c.prev, c.vel, c.invMass, ch.ref, ch.work, W_FROM, W_TO, ch.drive, c.params, c.count)
+  constrainAndUpdateVelocities(c.pos, c.prev, c.vel, c.invMass, ch.ref, ch.lim, ch.refParams, ch.drive, c.params, c.count)
 }
 
 /**
@@ -197,10 +197,13 @@ export function writebackCharacter(c: ClothState, k: number): void {
  */
 export function placeHeldAfterReset(c: ClothState): void {
   const ch = c.character!
-  const { pos, prev } = c
-  const ref = ch.ref, w = ch.work
+  if (ch.heldCount === 0) return
+  referenceSubstep(c, ch, c.substeps - 1, c.substeps)
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params)
   for (let q = 0; q < ch.heldCount; q++) {
-    const i = ch.heldList[q]
-    for (let d = 0; d < 3; d++) pos[3 * i + d] = prev[3 * i + d] = w[W_TO + d] + ref[REF * i + R_TO + d]
+    const j = 3 * ch.heldList[q]
+    c.prev[j] = c.pos[j]
+    c.prev[j + 1] = c.pos[j + 1]
+    c.prev[j + 2] = c.pos[j + 2]
   }
 }

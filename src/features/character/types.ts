@@ -121,12 +121,17 @@ export interface ClothCharacter {
   /** Rest vertex normals, at the same pose. */
   restNormal: Float64Array
   /**
-   * Per particle (REF float32 values, see `kernels/motion.ts`): the reference position at the
-   * start and the end of the cloth's current step as offsets from the frame's origin then
-   * (`work[W_FROM..]`, `work[W_TO..]`; between steps `motion[M_POSE..]`), the reference normal at
-   * its end, max distance (m, Infinity = free), backstop distance and radius (0 = none).
+   * Per particle, float32 (see `kernels/motion.ts`): without a skin, the rest position and normal
+   * in the frame's bind coordinates (RIGID values); with one, the skinned reference at the start
+   * and the end of the cloth's current step as offsets from the frame's origin then
+   * (`work[W_FROM..]`, `work[W_TO..]`; between steps `motion[M_POSE..]`) and the normal at its end
+   * (BLEND values). Room for BLEND values per particle either way.
    */
   ref: Float32Array
+  /** Per particle, float32 (LIMITS values): max distance (m, Infinity = free), backstop distance and radius (0 = none). */
+  lim: Float32Array
+  /** The frame's part of the reference for the current substep (see `kernels/motion.ts`, REF_PARAMS). */
+  refParams: Float64Array
   /** Motion constraints are set (`setClothMotionConstraints`): the reference is kept every step. */
   constrained: boolean
   /** Drive frequency ω per particle (rad/s, Infinity = follows the reference), or null when no particle has a drive. */
@@ -164,7 +169,7 @@ export const M_VC = 26
 export const M_WC = 29
 /** 1 once the velocities above are known (0: the next step feels no acceleration at its start). */
 export const M_PRIMED = 32
-/** 1 while `refFrom` holds the reference at the end of the cloth's last step. */
+/** 1 while a skinned cloth's `ref` holds its reference at the end of its last step. */
 export const M_REF_VALID = 33
 /** 1 when the cloth sat steps out (asleep, frozen): its next step starts from the frame's pose then. */
 export const M_GAP = 34
@@ -187,4 +192,8 @@ export const W_R = 44
 export const W_M = W_R + 40
 export const W_N = W_M + 9
 export const W_P = W_N + 9
-export const WORK = W_P + 9
+/** The frame's transform [R·diag(s) | p] (12) at the step's start and end, and its rotation at the end (9). */
+export const W_TF = W_P + 9
+export const W_TT = W_TF + 12
+export const W_RT = W_TT + 12
+export const WORK = W_RT + 9
