@@ -3,9 +3,9 @@
 // in the character's frame (see scenes.ts).
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import { ClothError, createCloth, getClothState, setClothInertia, setTransform, stepCloth } from '../../src/index'
+import { ClothError, type ClothInertiaOptions, createCloth, getClothState, setClothInertia, setTransform, stepCloth } from '../../src/index'
 import { allFinite, makeWorld, momentum } from '../helpers'
-import { DT, capeOnCharacter, drive, localShape, rms, sprintTurnStop } from './scenes'
+import { DT, capeOnCharacter, drive, expectClothErrors, localShape, rms, sprintTurnStop } from './scenes'
 
 /** RMS over the run of the cape's RMS displacement from its standing shape, in the character's frame. */
 function runDisplacement(inertia: Parameters<typeof capeOnCharacter>[0]): number {
@@ -98,7 +98,7 @@ describe('damping in the frame', () => {
   })
 
   it('a cape on a character running at a steady 4 m/s hangs as it does standing once its start-up swing dies out; world-space damping makes it trail', () => {
-    const trail = (inertia: {} | undefined) => {
+    const trail = (inertia: ClothInertiaOptions | undefined) => {
       const { world, hero, cape } = capeOnCharacter(inertia, makeWorld({ sleep: false }))
       for (let f = 0; f < 240; f++) stepCloth(world, DT)
       const stand = localShape(world, cape, [0, 1.6, 0], 0)
@@ -128,14 +128,7 @@ describe('setClothInertia input', () => {
       [{ teleport: { angle: 4 } }, 'options.teleport.angle'],
       [{ teleport: 3 }, 'options.teleport'],
     ]
-    for (const [options, arg] of bad) {
-      expect(() => setClothInertia(world, cape, options as never), arg).toThrow(ClothError)
-      try {
-        setClothInertia(world, cape, options as never)
-      } catch (e) {
-        expect((e as ClothError).argument).toBe(arg)
-      }
-    }
+    expectClothErrors(bad, (options) => setClothInertia(world, cape, options as never))
     const noTransform = addEntity(world)
     expect(() => setClothInertia(world, cape, { frame: noTransform })).toThrow(/options\.frame.*Transform/)
     expect(() => setClothInertia(world, 12345, {})).toThrow(ClothError)

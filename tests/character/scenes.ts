@@ -1,5 +1,6 @@
 import { addEntity } from 'bitecs'
-import { createCloth, getClothState, pinRow, setClothInertia, setTransform, stepCloth, type ClothInertiaOptions } from '../../src/index'
+import { expect } from 'vitest'
+import { ClothError, createCloth, getClothState, pinRow, setClothInertia, setTransform, stepCloth, type ClothInertiaOptions } from '../../src/index'
 import { makeWorld } from '../helpers'
 
 export const DT = 1 / 60
@@ -111,4 +112,18 @@ export function carriedRest(rest: Float64Array, p0: ArrayLike<number>, a0: numbe
     out[j + 2] = p[2] - s * local[0] + c * local[2]
   }
   return out
+}
+
+/** Calls `call` with each bad input and expects a ClothError naming the argument given beside it. */
+export function expectClothErrors<T>(cases: [T, string][], call: (input: T) => void): void {
+  for (const [input, arg] of cases) {
+    let error: unknown
+    try {
+      call(input)
+    } catch (e) {
+      error = e
+    }
+    expect(error, arg).toBeInstanceOf(ClothError)
+    expect((error as ClothError).argument, arg).toBe(arg)
+  }
 }

@@ -5,7 +5,7 @@ import { glMatrix, mat4, quat, vec3 } from 'gl-matrix'
 import { describe, expect, it } from 'vitest'
 import { ClothError, createCloth, getClothComponents, getClothState, setClothMotionConstraints, setClothSkinning, setTransform, stepCloth } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
-import { DT, positionsNow } from './scenes'
+import { DT, expectClothErrors, positionsNow } from './scenes'
 
 glMatrix.setMatrixArrayType(Array)
 
@@ -164,16 +164,7 @@ describe('skinned reference', () => {
       [{ bones, joints, weights: weights.map((w, k) => (k === 2 ? -0.1 : w)) }, 'skinning.weights[2]'],
       [{ bones, joints, weights: weights.map((w, k) => (k === 2 ? NaN : w)) }, 'skinning.weights[2]'],
     ]
-    for (const [skinning, arg] of bad) {
-      let error: unknown
-      try {
-        setClothSkinning(world, cloth, skinning as never)
-      } catch (e) {
-        error = e
-      }
-      expect(error, arg).toBeInstanceOf(ClothError)
-      expect((error as ClothError).argument).toBe(arg)
-    }
+    expectClothErrors(bad, (skinning) => setClothSkinning(world, cloth, skinning as never))
     expect(() => setClothSkinning(world, cloth, undefined as never)).toThrow(ClothError)
     expect(getClothState(world, cloth).character).toBeNull()
   })

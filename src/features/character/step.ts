@@ -7,7 +7,7 @@ import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
 import { referenceSubstep, trackedStartPose, updateReference } from './reference'
 import {
-  M_GAP, M_POSE, M_PRIMED, M_REF_VALID, M_V, M_VC, M_W, M_WC, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE, W_FROM, W_TO, W_V, W_W,
+  M_GAP, M_POSE, M_PRIMED, M_REF_VALID, M_V, M_VC, M_W, M_WC, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE, W_FROM, W_V, W_W,
   type ClothCharacter,
 } from './types'
 
