@@ -112,7 +112,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   if (ch.constrained || reset) updateReference(state, c, ch)
   if (reset) {
     resetToReference(c, ch)
-    state.stats.teleports++
+    if (pinJump === JUMP_NONE) state.stats.teleports++ // (else the pins counted it, carrying the cloth first)
     if (!ch.constrained) m[M_REF_VALID] = 0 // kept only while constraints use it
   }
 }
