@@ -34,6 +34,7 @@ import { checkBudget, restoreBudget, saveBudget, type BudgetSnapshot } from './f
 import { checkSleep, restoreSleep, saveSleep, type SleepSnapshot } from './features/sleep/snapshot'
 import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './features/guard/snapshot'
 import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearSnapshot } from './features/tearing/snapshot'
+import { touchLayout } from './core/shared'
 
 /**
  * A saved cloth state (see `saveClothState`). Plain data: structured-clone it, keep it, reuse it.
@@ -138,6 +139,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   restoreSleep(state, c, s)
   restoreGuard(c, s)
   restoreTearing(state, c, s)
+  touchLayout() // the restored tether set
   c.version++
 }
 

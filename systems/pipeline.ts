@@ -1,4 +1,4 @@
-import { checkInteger } from '../src/core/errors'
+import { ClothError, checkInteger } from '../src/core/errors'
 import { getClothWorld } from '../src/world/access'
 import { clothCollide } from './clothCollide'
 import { clothForces } from './clothForces'
@@ -10,6 +10,8 @@ import { clothTear } from './clothTear'
 import { clothWriteback } from './clothWriteback'
 import { clothEvents } from './clothEvents'
 import { Q_MEASURED, Q_T0 } from '../src/features/budget/types'
+import { waitForWorkers } from '../src/threads/pool'
+import { collectClothStep, dispatchClothStep } from './threaded'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -39,11 +41,25 @@ export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide,
 /** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
 export function clothFixedStep<W extends object>(world: W): W {
   const state = getClothWorld(world)
+  if (state.frame.open) throw new ClothError('world', world, 'is between beginClothStep and endClothStep (call endClothStep first)')
+  startFixedStep(world, true)
+  finishFixedStep(world)
+  return world
+}
+
+/**
+ * First half of a fixed step: the sync phase, then the substeps and the guard, on this thread or,
+ * in a threaded world, handed to the workers (`blocking`: the caller waits for them right away, so
+ * a step too small to pay for the handoff runs here).
+ */
+export function startFixedStep(world: object, blocking: boolean): void {
+  const state = getClothWorld(world)
   const timing = state.budget.timing
   clothSync(world)
   // a time budget that adapts times one step before each allocation (from here: sync decides)
   const timed = state.budget.timeNext
   if (timed) timing[Q_T0] = performance.now()
+  if (state.threads !== null && dispatchClothStep(state, state.threads, blocking)) return
   for (let s = 0; s < state.substepCount; s++) {
     state.substep = s
     clothForces(world)
@@ -55,9 +71,21 @@ export function clothFixedStep<W extends object>(world: W): W {
   }
   clothGuard(world)
   if (timed) timing[Q_MEASURED] = performance.now() - timing[Q_T0]
+}
+
+/**
+ * Second half: waits for the workers if they have the step, takes their results (the guard's
+ * resets, tear events), then counts the substeps and delivers the step's events.
+ */
+export function finishFixedStep(world: object): void {
+  const state = getClothWorld(world)
+  const th = state.threads
+  if (th !== null && th.phase === 1) {
+    waitForWorkers(th.pool, th.step)
+    collectClothStep(state, th)
+  }
   state.stats.substeps += state.substepCount
   clothEvents(world)
-  return world
 }
 
 /** Number of global substeps in the current fixed step (set by `clothSync`). */

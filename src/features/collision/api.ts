@@ -10,6 +10,7 @@ import { wakeClothState } from '../../world/wake'
 import { releaseCollider } from './colliders'
 import { allocateSelfCollision, releaseSelfCollision } from './selfCollision'
 import type { ClothCollision, CollisionWorld } from './types'
+import { newArray } from '../../core/shared'
 
 export function createCollisionWorld(capacity: number): CollisionWorld<ClothState> {
   return {
@@ -64,8 +65,8 @@ export function createClothCollision(capacity: number): ClothCollision {
     thickness: 0,
     friction: -1,
     staticFriction: -1,
-    bounds: new Float64Array(12),
-    active: new Int32Array(capacity),
+    bounds: newArray(Float64Array, 12),
+    active: newArray(Int32Array, capacity),
     activeCount: 0,
     self: null,
   }

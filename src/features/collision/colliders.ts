@@ -11,6 +11,7 @@ import { growStores } from '../../world/capacity'
 import type { ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { multiplyQuatAt, normalizedQuat, quatToMatrix, rotateVecAt } from '../../core/math'
+import { touchLayout } from '../../core/shared'
 
 /** Options every collider takes. */
 export interface ColliderOptions {
@@ -121,6 +122,7 @@ function spawnCollider(
   C.hulls[eid] = hull
   C.slot[eid] = trackEntity(state, o.body)
   cw.colliders.push(eid)
+  touchLayout()
   reserveActiveColliders(state)
   addComponent(world as never, eid, C)
   sweepColliderBounds(state, eid)
@@ -240,6 +242,7 @@ export function releaseCollider(state: ClothWorldState, eid: number): void {
   if (k < 0) return
   wakeAroundCollider(state, eid) // a cloth sleeping on it must fall
   cw.colliders.splice(k, 1)
+  touchLayout()
   const C = cw.Collider
   if (C.slot[eid] >= 0) untrackEntity(state, C.body[eid])
   C.slot[eid] = -1

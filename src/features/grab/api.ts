@@ -6,6 +6,7 @@ import { getCloth, getClothWorld } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import type { ClothGrabs, GrabWorld } from './types'
+import { newArray } from '../../core/shared'
 
 /**
  * Grabbing: a hand (or a mouse) holding one particle of a cloth and pulling it toward a point.
@@ -43,7 +44,7 @@ const G0 = 9.81
 
 /** Creates a cloth's (empty) grab list. */
 export function createClothGrabs(): ClothGrabs {
-  return { count: 0, id: new Int32Array(0), particle: new Int32Array(0), data: new Float64Array(0) }
+  return { count: 0, id: newArray(Int32Array, 0), particle: newArray(Int32Array, 0), data: newArray(Float64Array, 0) }
 }
 
 /** Creates the per-world grab state. */

@@ -9,6 +9,7 @@ import { carryFrozen, moveClothRigidly } from '../../world/rigid'
 import type { ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
+import { touchLayout } from '../../core/shared'
 
 /** Options of `pinParticle`. */
 export interface PinOptions {
@@ -89,6 +90,7 @@ export function pinParticle(
 
   addComponent(world as never, pin, P)
   c.pins.list.push(pin)
+  touchLayout()
   wakeClothState(state, c)
   if (c.pinCount[index]++ === 0) {
     c.invMass[index] = 0
@@ -137,6 +139,7 @@ export function releasePin(state: ClothWorldState, pin: number): void {
   const k = list.indexOf(pin)
   if (k < 0) return
   list.splice(k, 1)
+  touchLayout()
   wakeClothState(state, c)
   if (P.slot[pin] >= 0) untrackEntity(state, P.target[pin])
   P.slot[pin] = -1

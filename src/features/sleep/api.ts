@@ -2,6 +2,7 @@ import { ClothError, checkNonNegative, checkPositive } from '../../core/errors'
 import { getCloth, getClothWorld } from '../../world/access'
 import type { ClothSleep, ClothSleepOptions, SleepSettings, SleepWorld } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
+import { newArray } from '../../core/shared'
 
 /**
  * Sleeping. A cloth whose particles all stayed slower than a threshold for a while (default
@@ -38,7 +39,7 @@ export function createSleepWorld(defaults: SleepSettings): SleepWorld {
 
 /** A cloth's sleep state from settings: awake. */
 export function createClothSleep(s: SleepSettings): ClothSleep {
-  const sleep: ClothSleep = { asleep: false, enabled: true, speed2: 0, delay: 0, still: 0, bounds: new Float64Array(6) }
+  const sleep: ClothSleep = { asleep: false, enabled: true, speed2: 0, delay: 0, still: 0, bounds: newArray(Float64Array, 6) }
   writeSettings(sleep, s)
   return sleep
 }

@@ -6,6 +6,7 @@ import type { ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { MAX_MIN_PIECE, reserve } from './reserve'
 import { EV, type TearWorld } from './types'
+import { newArray } from '../../core/shared'
 
 /**
  * Tearing by vertex splitting, grown as cracks.
@@ -114,8 +115,8 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
       throw new ClothError('options.capacity', options.capacity, 'cannot grow once the cloth is tearable')
     }
     if (2 * maxTears + 4 > c.tear.cand.length) {
-      c.tear.cand = new Int32Array(2 * maxTears + 4)
-      c.tear.candRatio = new Float64Array(2 * maxTears + 4)
+      c.tear.cand = newArray(Int32Array, 2 * maxTears + 4)
+      c.tear.candRatio = newArray(Float64Array, 2 * maxTears + 4)
     }
   } else {
     reserve(state, c, extra, maxTears)

@@ -1,0 +1,103 @@
+import type { ClothThreads, ClothWorldState } from '../world/state'
+import { clothLayersMatch } from '../features/collision/reach'
+import { configCost } from '../features/budget/levels'
+import type { LevelConfig } from '../features/budget/types'
+
+/**
+ * Shares the cloths out among the workers for one step. Each cloth's cost is the budget's cost
+ * model at the substeps and iterations it runs this step (0 when it sits the step out); cloths that
+ * may collide with each other (self-colliding cloths whose layers match, transitively) form a group
+ * that goes to one worker whole, because their particle–particle contacts interleave. Groups go,
+ * most expensive first, to the worker with the least work so far (longest processing time first).
+ * Each worker's list keeps creation order, the order every phase visits cloths in. Which worker
+ * steps a cloth never changes its result: its computation reads only its own arrays (and its
+ * group's), the same code on the same data.
+ */
+
+/** Cost model numbers (ns: per particle, per projection, per collider test, per cloth and substep) when the world has no calibration; only their ratios matter here. */
+const DEFAULT_CALIBRATION = Float64Array.of(25, 12, 10, 400)
+const cfg: LevelConfig = { substeps: 0, iterations: 0, stepEvery: 0, cost: 0, logQuality: 0 }
+
+/** Fills `th.lists` for this step; returns the predicted cost of the step, ns (all workers together). */
+export function partitionCloths(state: ClothWorldState, th: ClothThreads): number {
+  const cloths = state.cloths
+  const n = cloths.length
+  const cal = state.budget.calibration ?? DEFAULT_CALIBRATION
+  const cost = th.cost, group = th.group, order = th.order
+  for (let ci = 0; ci < n; ci++) {
+    const c = cloths[ci]
+    group[ci] = ci
+    if (c.idle) cost[ci] = 0
+    else {
+      configCost(c, c.substeps, c.iterations, 1, cal, cfg)
+      cost[ci] = cfg.cost
+    }
+  }
+  joinColliding(state, th)
+  // group costs summed at each root
+  let roots = 0
+  for (let ci = 0; ci < n; ci++) {
+    const r = find(group, ci)
+    if (r !== ci) cost[r] += cost[ci]
+    else order[roots++] = ci
+  }
+  // roots by cost, largest first (insertion sort: a few dozen groups, no allocation)
+  for (let i = 1; i < roots; i++) {
+    const r = order[i]
+    let j = i - 1
+    while (j >= 0 && cost[order[j]] < cost[r]) {
+      order[j + 1] = order[j]
+      j--
+    }
+    order[j + 1] = r
+  }
+  const workers = th.lists.length
+  const load = th.load
+  load.fill(0)
+  // the worker of each group, kept in `order`'s place as −1 − worker
+  for (let i = 0; i < roots; i++) {
+    let best = 0
+    for (let w = 1; w < workers; w++) if (load[w] < load[best]) best = w
+    load[best] += cost[order[i]]
+    cost[order[i]] = -1 - best
+  }
+  for (let w = 0; w < workers; w++) th.lists[w][0] = 0
+  for (let ci = 0; ci < n; ci++) {
+    const w = -1 - cost[find(group, ci)]
+    const list = th.lists[w]
+    list[++list[0]] = th.bindings.get(cloths[ci])!.slot
+  }
+  let total = 0
+  for (let w = 0; w < workers; w++) total += load[w]
+  return total
+}
+
+/** Unites the groups of self-colliding cloths that may touch each other. */
+function joinColliding(state: ClothWorldState, th: ClothThreads): void {
+  const self = state.collision.selfCloths
+  if (self.length < 2) return
+  const cloths = state.cloths
+  const group = th.group
+  // index of each self-colliding cloth in `cloths` (both lists are in creation order)
+  const at = th.order
+  let ci = 0
+  for (let a = 0; a < self.length; a++) {
+    while (cloths[ci] !== self[a]) ci++
+    at[a] = ci
+  }
+  for (let a = 0; a < self.length; a++) {
+    for (let b = a + 1; b < self.length; b++) {
+      if (!clothLayersMatch(self[a].collision, self[b].collision)) continue
+      const ra = find(group, at[a]), rb = find(group, at[b])
+      if (ra !== rb) group[ra < rb ? rb : ra] = ra < rb ? ra : rb
+    }
+  }
+}
+
+function find(group: Int32Array, i: number): number {
+  while (group[i] !== i) {
+    group[i] = group[group[i]]
+    i = group[i]
+  }
+  return i
+}
