@@ -20,7 +20,7 @@ import { EMPTY_TETHERS, buildTethers, loosenTethers, type TetherMode } from './m
 import { buildGridTopology, buildMeshTopology } from './model/builders'
 import { checkUvs, gridUvs, planarUvs } from './model/uvs'
 import type { BendSide, BendingModel, ClothTopology, ShearModel } from './model/topology'
-import { getCloth, getClothWorld } from './world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from './world/access'
 import type { ClothState, ClothWorldState } from './world/state'
 import { wakeClothState } from './world/wake'
 import { createClothBudget, setWantedQuality } from './features/budget/api'
@@ -124,7 +124,7 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
  * top edge at `position`. Returns the cloth entity.
  */
 export function createCloth(world: object, options: CreateClothOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const { width, height, columns, rows } = checkGridOptions(options)
   const topo = options.topology === undefined ? 'quad' : checkOneOf('options.topology', options.topology, ['quad', 'triangle'] as const)
   const position = options.position === undefined ? ORIGIN : checkPoint('options.position', options.position)
@@ -149,7 +149,7 @@ export function createCloth(world: object, options: CreateClothOptions): number 
  * pairs and hinges are derived from the triangles. Returns the cloth entity.
  */
 export function createClothFromMesh(world: object, options: CreateClothFromMeshOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkObject('options', options)
   const n = checkMeshInput(options.positions, options.indices, 'options.')
   const positions = options.positions
@@ -343,7 +343,7 @@ export function getCloths(world: object): number[] {
  * these are the most it runs; a quality target (`setClothQualityTarget`) moves them from here.
  */
 export function setClothQuality(world: object, cloth: number, quality: { substeps?: number; iterations?: number }): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkObject('quality', quality)
   const substeps = quality.substeps === undefined ? c.budget.wantSubsteps : checkInteger('quality.substeps', quality.substeps, 1, 256)
@@ -354,7 +354,7 @@ export function setClothQuality(world: object, cloth: number, quality: { substep
 
 /** Changes a cloth's tether settings (`false` turns tethers off); they are rebuilt at the next step. */
 export function setClothTethers(world: object, cloth: number, tethers: boolean | TetherOptions): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof tethers !== 'boolean') checkObject('tethers', tethers)
   const ct = c.tethers
@@ -374,7 +374,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
  * (0.01 = 1 % longer than rest).
  */
 export function getClothStretch(world: object, cloth: number, out = { mean: 0, max: 0 }): { mean: number; max: number } {
-  const c = getCloth(getClothWorld(world), cloth)
+  const c = getCloth(getClothWorldForChange(world), cloth)
   checkObject('out', out)
   const t = c.topology
   return measureStretch(c.pos, t.stretchIds, t.stretchRest, t.stretchCount, out)
@@ -382,7 +382,7 @@ export function getClothStretch(world: object, cloth: number, out = { mean: 0, m
 
 /** Removes a cloth with its pins. */
 export function removeCloth(world: object, cloth: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   getCloth(state, cloth)
   if (entityExists(world as never, cloth) && hasComponent(world as never, cloth, state.components.Cloth)) removeEntity(world as never, cloth)
 }

@@ -23,7 +23,7 @@
 import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
 import { ClothError } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
-import { getCloth, getClothWorld } from './world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from './world/access'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'
@@ -78,7 +78,7 @@ type Writable = { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
  * restoreClothState(world, cape, saved)
  */
 export function saveClothState(world: object, cloth: number, into?: ClothSnapshot): ClothSnapshot {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (into !== undefined && (typeof into !== 'object' || into === null || into.format !== 'bitecs-cloth-state/1')) {
     throw new ClothError('into', into, 'must be a snapshot returned by saveClothState')
@@ -109,7 +109,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
  * the whole world: when rolling back, restore every cloth from snapshots taken at the same time.
  */
 export function restoreClothState(world: object, cloth: number, snapshot: ClothSnapshot): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   const s = snapshot
   const arg = 'state'

@@ -48,18 +48,27 @@ export function clothFixedStep<W extends object>(world: W): W {
 }
 
 /**
- * First half of a fixed step: the sync phase, then the substeps and the guard, on this thread or,
- * in a threaded world, handed to the workers (`blocking`: the caller waits for them right away, so
- * a step too small to pay for the handoff runs here).
+ * First half of a fixed step: the sync phase (the only one that reads transforms), then the
+ * substeps and the guard. `blocking` (the caller finishes the step right away): they run now, on
+ * this thread or, in a threaded world, on the workers unless the step is too small to pay for the
+ * handoff. Otherwise (`beginClothStep`) they go to the workers, or without workers wait for
+ * `finishFixedStep`, so that in every mode the step's results appear at its finish.
  */
 export function startFixedStep(world: object, blocking: boolean): void {
   const state = getClothWorld(world)
-  const timing = state.budget.timing
   clothSync(world)
-  // a time budget that adapts times one step before each allocation (from here: sync decides)
+  if (state.threads !== null && dispatchClothStep(state, state.threads, blocking)) return
+  if (blocking) runSubsteps(world)
+  else state.frame.deferred = true
+}
+
+/** The substeps of every cloth here on this thread, then the guard (timed when the budget asks). */
+function runSubsteps(world: object): void {
+  const state = getClothWorld(world)
+  const timing = state.budget.timing
+  // a time budget that adapts times one step before each allocation (the sync phase decides)
   const timed = state.budget.timeNext
   if (timed) timing[Q_T0] = performance.now()
-  if (state.threads !== null && dispatchClothStep(state, state.threads, blocking)) return
   for (let s = 0; s < state.substepCount; s++) {
     state.substep = s
     clothForces(world)
@@ -74,18 +83,28 @@ export function startFixedStep(world: object, blocking: boolean): void {
 }
 
 /**
- * Second half: waits for the workers if they have the step, takes their results (the guard's
- * resets, tear events), then counts the substeps and delivers the step's events.
+ * Second half: waits for the workers if they have the step (or runs the substeps it deferred),
+ * takes their results (the guard's resets, tear events), then counts the substeps and delivers the
+ * step's events.
  */
 export function finishFixedStep(world: object): void {
   const state = getClothWorld(world)
   const th = state.threads
-  if (th !== null && th.phase === 1) {
-    waitForWorkers(th.pool, th.step)
-    collectClothStep(state, th)
+  const f = state.frame
+  if (th !== null && th.phase === 1) waitForWorkers(th.pool, th.step)
+  // the step is done: listeners (guard resets, tears) may change the world
+  f.delivering = true
+  try {
+    if (th !== null && th.phase === 1) collectClothStep(state, th)
+    else if (f.deferred) {
+      f.deferred = false
+      runSubsteps(world)
+    }
+    state.stats.substeps += state.substepCount
+    clothEvents(world)
+  } finally {
+    f.delivering = false
   }
-  state.stats.substeps += state.substepCount
-  clothEvents(world)
 }
 
 /** Number of global substeps in the current fixed step (set by `clothSync`). */

@@ -28,8 +28,9 @@ export function stepCloth(world: object, dt: number): number {
 /**
  * Starts a frame of `dt` seconds (see `stepCloth`) and returns how many fixed steps it runs. In a
  * threaded world the first step runs on the workers while this thread goes on (animation, AI,
- * rendering of the last frame); `endClothStep` (or `endClothStepAsync`) finishes the frame. On
- * the calling thread (no workers) the steps run here and `endClothStep` only closes the frame.
+ * rendering of the last frame); `endClothStep` (or `endClothStepAsync`) finishes the frame. Without
+ * workers the step's substeps run in `endClothStep`: in every mode a frame's results (positions,
+ * meshes, stats) appear, and its events are delivered, in `endClothStep`.
  *
  * Pins and colliders follow the Transforms as they are when this is called. Between the two calls
  * the game may write Transforms (they are read at the next begin) and read what finished steps
@@ -70,14 +71,7 @@ function openFrame(world: object, dt: number, blocking: boolean): number {
   f.next = 1
   f.overflow = overflow
   try {
-    if (state.threads === null) {
-      // no workers: the whole frame runs now
-      while (f.next <= f.steps) {
-        startFrameStep(world, state, true)
-        finishFixedStep(world)
-      }
-      closeFrame(state)
-    } else startFrameStep(world, state, blocking)
+    startFrameStep(world, state, blocking)
   } catch (e) {
     abandonFrame(state)
     throw e
@@ -96,20 +90,17 @@ export function endClothStep(world: object): number {
   const state = getClothWorld(world)
   const f = state.frame
   if (!f.open) return 0
-  f.open = false
-  if (state.threads !== null) {
-    try {
-      for (;;) {
-        finishFixedStep(world)
-        if (f.next > f.steps) break
-        startFrameStep(world, state, true)
-      }
-    } catch (e) {
-      abandonFrame(state)
-      throw e
+  try {
+    for (;;) {
+      finishFixedStep(world)
+      if (f.next > f.steps) break
+      startFrameStep(world, state, true)
     }
-    closeFrame(state)
+  } catch (e) {
+    abandonFrame(state)
+    throw e
   }
+  closeFrame(state)
   return f.steps
 }
 
@@ -120,18 +111,21 @@ export function endClothStep(world: object): number {
 export async function endClothStepAsync(world: object): Promise<number> {
   const state = getClothWorld(world)
   const f = state.frame
-  if (!f.open) return 0
-  f.open = false
+  if (!f.open || f.ending) return 0
+  f.ending = true
   const th = state.threads
-  if (th !== null) {
+  try {
     for (;;) {
-      if (th.phase === 1) await waitForWorkersAsync(th.pool, th.step)
+      if (th !== null && th.phase === 1) await waitForWorkersAsync(th.pool, th.step)
       finishFixedStep(world)
       if (f.next > f.steps) break
       startFrameStep(world, state, false)
     }
-    closeFrame(state)
+  } catch (e) {
+    abandonFrame(state)
+    throw e
   }
+  closeFrame(state)
   return f.steps
 }
 
@@ -148,16 +142,22 @@ function startFrameStep(world: object, state: ClothWorldState, blocking: boolean
 }
 
 /**
- * A step threw (a host transform refused in the sync phase, a listener's error): the next call
- * starts a frame of its own and samples the transforms again.
+ * A step threw (a host transform refused in the sync phase, a listener's error): the frame ends
+ * there, and the next call starts a frame of its own and samples the transforms again.
  */
 function abandonFrame(state: ClothWorldState): void {
-  state.frame.open = false
+  const f = state.frame
+  f.open = false
+  f.ending = false
+  f.deferred = false
   state.kinematics.framed = false
   state.kinematics.newFrame = true
 }
 
 function closeFrame(state: ClothWorldState): void {
+  const f = state.frame
+  f.open = false
+  f.ending = false
   const k = state.kinematics
   k.framed = false
   k.newFrame = true

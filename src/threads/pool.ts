@@ -72,11 +72,12 @@ export function createWorkerPool(count: number, url: URL | string): WorkerPool {
   for (let w = 0; w < count; w++) {
     let worker: ClothWorker
     if (node !== null) {
-      const nw = new node.Worker(url)
-      nw.unref()
+      // (Node takes file URLs as URL objects, paths as strings)
+      const nw = new node.Worker(typeof url === 'string' && url.startsWith('file:') ? new URL(url) : url)
       nw.on('error', (e) => pool.errors.push(String((e as Error)?.stack ?? e)))
       nw.on('message', (m) => receive(pool, m))
       nw.on('exit', () => pool.exited++)
+      nw.unref() // after the listeners: a 'message' listener refs the worker again
       worker = nw
     } else {
       const Ctor = (globalThis as { Worker?: new (url: URL | string, o: { type: 'module' }) => ClothWorker & EventTarget }).Worker

@@ -382,6 +382,12 @@ export interface ClothFrame {
   next: number
   /** Time beyond `maxStepsPerFrame` fixed steps was dropped this frame. */
   overflow: boolean
+  /** The started fixed step's substeps wait for its finish (`beginClothStep` without workers). */
+  deferred: boolean
+  /** `endClothStepAsync` is finishing the frame. */
+  ending: boolean
+  /** A finished step's listeners are being called (they may change the world). */
+  delivering: boolean
 }
 
 /** Per-world plugin state, kept on the world object under a symbol. */

@@ -9,6 +9,7 @@ import { capes, payForUse, sleepingCost } from './budget'
 import { demoScenes } from './demo'
 import { threeCost } from './three'
 import { proxyCost } from './render'
+import { threadsCost } from './threads'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -61,6 +62,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
   render: { byDefault: true, run: () => proxyCost() },
   demo: { byDefault: false, run: () => demoScenes() },
   three: { byDefault: true, run: () => threeCost() },
+  threads: { byDefault: false, run: () => threadsCost() },
 }
 
 const wanted = process.argv.slice(2)

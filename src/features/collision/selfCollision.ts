@@ -19,7 +19,7 @@ import {
   gatherPairs,
   solvePairs,
 } from '../../kernels/selfCollide'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -72,7 +72,7 @@ export interface SelfCollisionOptions {
  * @example enableSelfCollision(world, curtain, { thickness: 0.02 })
  */
 export function enableSelfCollision(world: object, cloth: number, options: SelfCollisionOptions = {}): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const thickness = options.thickness === undefined ? 0 : checkAtMost('options.thickness', checkPositive('options.thickness', options.thickness), MAX_COORDINATE, ' m')
@@ -90,7 +90,7 @@ export function enableSelfCollision(world: object, cloth: number, options: SelfC
 
 /** Turns self-collision off for a cloth (removes its SelfCollision component). */
 export function disableSelfCollision(world: object, cloth: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   getCloth(state, cloth)
   const S = state.collision.SelfCollision
   if (hasComponent(world as never, cloth, S)) removeComponent(world as never, cloth, S)

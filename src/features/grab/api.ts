@@ -2,7 +2,7 @@ import type { vec3 } from 'gl-matrix'
 import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkPoint, checkPositive } from '../../core/errors'
 import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { grownArray } from '../../core/store'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import type { ClothGrabs, GrabWorld } from './types'
@@ -70,7 +70,7 @@ export function grabParticle(
   target: Readonly<vec3> | ArrayLike<number>,
   options: GrabOptions = {},
 ): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkIndex('index', index, c.count)
   checkPoint('target', target)
@@ -95,7 +95,7 @@ export function grabParticle(
 
 /** Moves a grab's target to the world point `target` (it glides there over the next frame's steps). */
 export function moveGrab(world: object, grab: number, target: Readonly<vec3> | ArrayLike<number>): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = findGrab(state, grab)
   const g = indexOf(c.grab, grab)
   checkPoint('target', target)
@@ -110,7 +110,7 @@ export function moveGrab(world: object, grab: number, target: Readonly<vec3> | A
  * pointer-up without tracking what happened meanwhile.
  */
 export function releaseGrab(world: object, grab: number): boolean {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkHandle(grab)
   const c = locateGrab(state, grab)
   if (c === null) return false

@@ -11,7 +11,7 @@ import { ClothError, checkInteger, checkPositive } from '../../core/errors'
 import { G_FINITE, G_REACH, G_SPEED2, GUARD_PARAM_COUNT, PIECE_STRIDE } from '../../kernels/guard'
 import type { ClothTopology } from '../../model/topology'
 import { grownArray } from '../../core/store'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState } from '../../world/state'
 import { restSize } from './size'
 import { EVENT_CAPACITY, REASONS, type ClothGuardOptions, type ClothGuardState, type ClothResetEvent, type GuardSettings, type GuardWorld } from './types'
@@ -166,7 +166,7 @@ export function forgetResetEvents(w: GuardWorld, cloth: number): void {
 
 /** Changes a cloth's guard settings (over its current ones); `false` turns its guard off. */
 export function setClothGuard(world: object, cloth: number, options: boolean | ClothGuardOptions): void {
-  const c = getCloth(getClothWorld(world), cloth)
+  const c = getCloth(getClothWorldForChange(world), cloth)
   if (typeof options !== 'boolean' && (typeof options !== 'object' || options === null)) {
     throw new ClothError('options', options, 'must be a boolean or guard options')
   }

@@ -2,7 +2,7 @@ import { addComponent, addEntity, entityExists, hasComponent, removeEntity } fro
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from '../../core/errors'
 import { normalizedQuat, rotateVec3 } from '../../core/math'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
 import { carryFrozen, moveClothRigidly } from '../../world/rigid'
@@ -38,7 +38,7 @@ export function pinParticle(
   offset?: Readonly<vec3> | ArrayLike<number>,
   options: PinOptions = {},
 ): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkIndex('index', index, c.count)
   const tgt = target ?? 0
@@ -118,7 +118,7 @@ export function pinRow(world: object, cloth: number, row: number, target?: numbe
 
 /** Releases a pin (removes its entity). The particle keeps its current velocity: no pop. */
 export function unpin(world: object, pin: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   if (typeof pin !== 'number' || !entityExists(world as never, pin) || !hasComponent(world as never, pin, state.components.Pin)) {
     throw new ClothError('pin', pin, 'must be a pin entity of this world')
   }
@@ -191,7 +191,7 @@ export function teleportCloth(
   rotation?: Readonly<quat> | ArrayLike<number>,
   pivot?: Readonly<vec3> | ArrayLike<number>,
 ): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkPoint('translation', translation)
   const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))

@@ -1,6 +1,6 @@
 import { addComponent, hasComponent, observe, onRemove } from 'bitecs'
 import { ClothError, checkInteger, checkPositive } from '../../core/errors'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -102,7 +102,7 @@ export function installTearing(world: object, state: ClothWorldState): void {
  * onClothTear(world, (e) => spawnDust(e.x, e.y, e.z))
  */
 export function makeTearable(world: object, cloth: number, options: TearableOptions = {}): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const strain = options.strain === undefined ? c.material.tearStrain : checkPositive('options.strain', options.strain)

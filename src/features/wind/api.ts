@@ -2,7 +2,7 @@ import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, on
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkVec3, isArrayLike } from '../../core/errors'
 import { NOISE_SCRATCH, ZONE_STRIDE, addZoneAir } from '../../kernels/wind'
-import { getClothWorld } from '../../world/access'
+import { getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothWorldState } from '../../world/state'
@@ -99,7 +99,7 @@ export function installWind(world: object, state: ClothWorldState): void {
  * gustWind(world, breeze, { strength: 8, duration: 1.5 })
  */
 export function createWindZone(world: object, options: WindZoneOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const shape = options.shape === undefined ? 'global' : checkOneOf('options.shape', options.shape, ['global', 'box', 'sphere'] as const)
   const position = options.position === undefined ? [0, 0, 0] : checkVec3('options.position', options.position)
@@ -176,7 +176,7 @@ export function gustWind(world: object, zone: number, options: GustOptions): voi
 
 /** Removes a wind zone (as `removeEntity` does). */
 export function removeWindZone(world: object, zone: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkZone(world, state, zone)
   removeEntity(world as never, zone)
 }
