@@ -70,7 +70,10 @@ function loop(): void {
   const c = control
   if (c === null) return
   for (;;) {
-    if (Atomics.load(c, C_QUIT) === 1) return close()
+    if (Atomics.load(c, C_QUIT) === 1) {
+      close()
+      return
+    }
     const step = Atomics.load(c, C_STEP)
     if (step === done) {
       Atomics.wait(c, C_STEP, done)

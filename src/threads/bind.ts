@@ -36,12 +36,22 @@ export function resolveThreadOptions(o: ClothPluginOptions): { count: number; ur
     warned = true
     return null
   }
-  return { count, url: o.workerUrl ?? new URL('./worker.js', import.meta.url), inlineNs: min * 1e6 }
+  return { count, url: o.workerUrl ?? defaultWorkerUrl(), inlineNs: min * 1e6 }
+}
+
+/**
+ * The package's worker script, dist/worker.js: beside the library's entry files, one folder up from
+ * the shared code (dist/chunks/) this module is bundled into. A bundler that moves the library
+ * elsewhere needs `workerUrl`.
+ */
+function defaultWorkerUrl(): URL {
+  const here = import.meta.url
+  return new URL(here.includes('/chunks/') ? '../worker.js' : './worker.js', here)
 }
 
 /** Terminates a world's workers if the world is garbage-collected without `disposeClothWorld` (a safety net). */
 const registry = typeof FinalizationRegistry === 'function'
-  ? new FinalizationRegistry<WorkerPool>((pool) => {
+  ? /* @__PURE__ */ new FinalizationRegistry<WorkerPool>((pool) => {
     disposeWorkerPool(pool)
     releaseSharedMemory()
   })

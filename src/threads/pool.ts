@@ -69,6 +69,7 @@ export function createWorkerPool(count: number, url: URL | string): WorkerPool {
   for (let w = 0; w < count; w++) control[C_DONE + w] = -1
   const pool: WorkerPool = { workers: [], control, errors: [], exited: 0 }
   const node = nodeWorkerThreads()
+  if (node !== null) checkScript(url)
   for (let w = 0; w < count; w++) {
     let worker: ClothWorker
     if (node !== null) {
@@ -91,6 +92,15 @@ export function createWorkerPool(count: number, url: URL | string): WorkerPool {
     pool.workers.push(worker)
   }
   return pool
+}
+
+/** Node: a worker script that is not there would only fail inside the worker; say so here. */
+function checkScript(url: URL | string): void {
+  const fs = (globalThis as { process?: { getBuiltinModule?: (id: string) => unknown } }).process?.getBuiltinModule?.('node:fs') as { existsSync(p: URL | string): boolean } | undefined
+  const file = typeof url === 'string' && url.startsWith('file:') ? new URL(url) : url
+  if (fs && (typeof file === 'string' || file.protocol === 'file:') && !fs.existsSync(file)) {
+    throw new ClothError('options.workerUrl', String(url), 'must name the cloth worker script (the package ships dist/worker.js; bundle bitecs-cloth/worker yourself when you bundle the library)')
+  }
 }
 
 function receive(pool: WorkerPool, m: unknown): void {
