@@ -139,7 +139,6 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   restoreSleep(state, c, s)
   restoreGuard(c, s)
   restoreTearing(state, c, s)
-  touchLayout() // the restored tether set
   c.version++
 }
 
@@ -240,6 +239,7 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   ct.loosen = s.settings[8] === 2
   c.pins.skipTeleport = s.settings[9] === 1
   ct.mode = s.tetherMode
+  if (ct.set !== s.tethers) touchLayout() // the cloth holds another tether set
   ct.set = s.tethers
   const k = state.kinematics
   state.accumulator = s.world[0]

@@ -4,7 +4,8 @@ import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guar
 import { EV } from '../src/features/tearing/types'
 import { Q_MEASURED } from '../src/features/budget/types'
 import { refreshBindings } from '../src/threads/bind'
-import { IO_HEALTH, OUT_EVENTS, OUT_MS, OUT_SLEPT, OUT_TEARS, addWorkerStats, readClothHandoff, writeClothHandoff, writeWorkerStats, writeWorldHandoff } from '../src/threads/handoff'
+import { IO_HEALTH, OUT_EVENTS, OUT_MS, OUT_SLEPT, OUT_TEARS, readClothHandoff, writeClothHandoff, writeWorldHandoff } from '../src/threads/handoff'
+import { addStats, takeStats } from '../src/world/stats'
 import { clothFingerprint } from '../src/threads/layout'
 import type { WorkerWorld } from '../src/threads/mirror'
 import { partitionCloths } from '../src/threads/partition'
@@ -70,7 +71,7 @@ export function collectClothStep(state: ClothWorldState, th: ClothThreads): void
     }
     if (th.verify) verifyWorker(th, w)
     const out = outputs[w]
-    addWorkerStats(out, state.stats)
+    addStats(state.stats, out, 0)
     slept += out[OUT_SLEPT]
     if (out[OUT_MS] > ms) ms = out[OUT_MS]
   }
@@ -126,7 +127,9 @@ function mergeTearEvents(state: ClothWorldState, th: ClothThreads): void {
  * output block (`out`).
  */
 export function runWorkerStep(ww: WorkerWorld, list: Int32Array, out: Float64Array): void {
-  const t0 = performance.now()
+  // the clock only for the budget's timed steps (performance.now allocates)
+  const timed = ww.state.budget.timeNext
+  const t0 = timed ? performance.now() : 0
   const world = ww.world
   const state = ww.state
   state.sleep.count = 0
@@ -146,11 +149,11 @@ export function runWorkerStep(ww: WorkerWorld, list: Int32Array, out: Float64Arr
     io[IO_HEALTH] = guardCheck(state, ww.cloths[list[i]]!)
   }
   for (let i = 1; i <= n; i++) writeClothHandoff(ww.cloths[list[i]]!, ww.ios[list[i]]!)
-  writeWorkerStats(state.stats, out)
+  takeStats(state.stats, out, 0)
   out[OUT_SLEPT] = state.sleep.count
   const tw = state.tearing
   const events = Math.min(tw.pendingCount, ((out.length - OUT_EVENTS) / EV) | 0)
   out[OUT_TEARS] = events
   for (let i = 0; i < events * EV; i++) out[OUT_EVENTS + i] = tw.pending[i]
-  out[OUT_MS] = performance.now() - t0
+  out[OUT_MS] = timed ? performance.now() - t0 : 0
 }

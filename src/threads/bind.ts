@@ -81,6 +81,8 @@ export function startThreads(count: number, url: URL | string, inlineNs: number)
     cost: new Float64Array(0),
     group: new Int32Array(0),
     order: new Int32Array(0),
+    sorted: new Int32Array(0),
+    assign: new Int32Array(0),
     load: new Float64Array(count),
     verify: false,
     verifyText: [],
@@ -132,6 +134,7 @@ export function refreshBindings(state: ClothWorldState, th: ClothThreads): boole
       let slot = th.slots.indexOf(null)
       if (slot < 0) slot = th.slots.push(null) - 1
       b = { cloth: c, slot, io: sharedF64(IO_SIZE), layout }
+      if (slot < th.assign.length) th.assign[slot] = -1
       th.slots[slot] = b
       th.bindings.set(c, b)
       sends.push(b)
@@ -154,6 +157,10 @@ export function refreshBindings(state: ClothWorldState, th: ClothThreads): boole
     th.cost = new Float64Array(size)
     th.group = new Int32Array(size)
     th.order = new Int32Array(size)
+    th.sorted = new Int32Array(size)
+    const assign = new Int32Array(size).fill(-1)
+    assign.set(th.assign.subarray(0, Math.min(th.assign.length, size)))
+    th.assign = assign
   }
   const outSize = OUT_EVENTS + state.tearing.pending.length
   const newOutputs = th.outputs.length === 0 || th.outputs[0].length < outSize

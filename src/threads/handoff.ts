@@ -1,6 +1,6 @@
 import { CORE_HANDOFF, readCoreHandoff, writeCoreHandoff } from '../world/handoff'
-import type { ClothState, ClothStats, ClothWorldState } from '../world/state'
-import { createStats } from '../world/stats'
+import type { ClothState, ClothWorldState } from '../world/state'
+import { STAT_COUNT } from '../world/stats'
 import { SLEEP_HANDOFF, readSleepHandoff, writeSleepHandoff } from '../features/sleep/handoff'
 import { GRAB_HANDOFF, readGrabHandoff, writeGrabHandoff } from '../features/grab/handoff'
 import { WIND_HANDOFF, readWindHandoff, writeWindHandoff } from '../features/wind/handoff'
@@ -49,18 +49,20 @@ export function readClothHandoff(io: Float64Array, c: ClothState): void {
   readTearHandoff(io, IO_TEAR, c)
 }
 
-/** World values per step (`ClothThreads.worldIO`): substep count, speed limit, fixed step, wind clamp. */
+/** World values per step (`ClothThreads.worldIO`): substep count, speed limit, fixed step, wind clamp, whether the budget times the step. */
 const W_SUBSTEPS = 0
 const W_MAX_SPEED = 1
 const W_FIXED_STEP = 2
 const W_WIND_CLAMP = 3
-export const WORLD_IO_SIZE = 4
+const W_TIMED = 4
+export const WORLD_IO_SIZE = 5
 
 export function writeWorldHandoff(state: ClothWorldState, io: Float64Array): void {
   io[W_SUBSTEPS] = state.substepCount
   io[W_MAX_SPEED] = state.maxSpeed
   io[W_FIXED_STEP] = state.fixedTimeStep
   io[W_WIND_CLAMP] = state.wind.clamp ? 1 : 0
+  io[W_TIMED] = state.budget.timeNext ? 1 : 0
 }
 
 export function readWorldHandoff(io: Float64Array, state: ClothWorldState): void {
@@ -68,28 +70,15 @@ export function readWorldHandoff(io: Float64Array, state: ClothWorldState): void
   state.maxSpeed = io[W_MAX_SPEED]
   state.fixedTimeStep = io[W_FIXED_STEP]
   state.wind.clamp = io[W_WIND_CLAMP] === 1
+  state.budget.timeNext = io[W_TIMED] === 1
 }
 
 /**
- * A worker's output block (`ClothThreads.outputs[w]`): its work counters (in `STAT_KEYS` order),
- * how many cloths fell asleep, its time for the step (ms), then the tear events it raised (count,
- * then EV doubles each, in its cloths' order).
+ * A worker's output block (`ClothThreads.outputs[w]`): its work counters (see `takeStats`), how
+ * many cloths fell asleep, its time for the step (ms, when the budget times it), then the tear
+ * events it raised (count, then EV doubles each, in its cloths' order).
  */
-export const STAT_KEYS = Object.keys(createStats()) as readonly (keyof ClothStats)[]
-export const OUT_SLEPT = STAT_KEYS.length
+export const OUT_SLEPT = STAT_COUNT
 export const OUT_MS = OUT_SLEPT + 1
 export const OUT_TEARS = OUT_MS + 1
 export const OUT_EVENTS = OUT_TEARS + 1
-
-/** Adds a worker's counters to the world's. */
-export function addWorkerStats(out: Float64Array, stats: ClothStats): void {
-  for (let k = 0; k < STAT_KEYS.length; k++) stats[STAT_KEYS[k]] += out[k]
-}
-
-/** Writes a worker's counters and zeroes them for the next step. */
-export function writeWorkerStats(stats: ClothStats, out: Float64Array): void {
-  for (let k = 0; k < STAT_KEYS.length; k++) {
-    out[k] = stats[STAT_KEYS[k]]
-    stats[STAT_KEYS[k]] = 0
-  }
-}

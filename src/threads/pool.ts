@@ -57,6 +57,8 @@ export function canBlock(): boolean {
 export interface WorkerPool {
   workers: ClothWorker[]
   control: Int32Array
+  /** This thread may block in Atomics.wait (see `canBlock`). */
+  block: boolean
   /** Messages the workers posted (errors), newest last. */
   errors: string[]
   /** Workers that exited. */
@@ -67,7 +69,7 @@ export interface WorkerPool {
 export function createWorkerPool(count: number, url: URL | string): WorkerPool {
   const control = new Int32Array(new SharedArrayBuffer(4 * CONTROL_WORDS))
   for (let w = 0; w < count; w++) control[C_DONE + w] = -1
-  const pool: WorkerPool = { workers: [], control, errors: [], exited: 0 }
+  const pool: WorkerPool = { workers: [], control, block: canBlock(), errors: [], exited: 0 }
   const node = nodeWorkerThreads()
   if (node !== null) checkScript(url)
   for (let w = 0; w < count; w++) {
@@ -126,28 +128,36 @@ export function workersDone(pool: WorkerPool, step: number): boolean {
   return true
 }
 
-/** How long a blocking wait gives the workers before it reports them stuck, ms. */
-const STUCK_MS = 60_000
+/** How long a wait gives the workers before it reports them stuck: this many 50 ms waits. */
+const STUCK_WAITS = 1200
 
 /**
  * Waits until every worker finished step `step`: Atomics.wait where the thread may block, else a
- * spin on the control words (a browser's main thread; prefer `endClothStepAsync` there).
+ * spin on the control words (a browser's main thread; prefer `endClothStepAsync` there). (No
+ * clock reads: performance.now allocates.)
  */
 export function waitForWorkers(pool: WorkerPool, step: number): void {
   const c = pool.control
-  const block = canBlock()
-  const t0 = performance.now()
+  let waits = 0
+  let spins = 0
   for (let w = 0; w < pool.workers.length; w++) {
     for (;;) {
       const done = Atomics.load(c, C_DONE + w)
       if (done === step) break
       if (Atomics.load(c, C_STATE + w) === 2) throw workerFailure(pool, w)
-      if (block) Atomics.wait(c, C_DONE + w, done, 50)
-      if (performance.now() - t0 > STUCK_MS) {
-        throw new ClothError('world', undefined, `has a cloth worker that did not finish a step in ${STUCK_MS / 1000} s (did the worker script load? ${pool.errors.join('; ') || 'no error reported'})`)
+      if (pool.block) {
+        if (Atomics.wait(c, C_DONE + w, done, 50) === 'timed-out') waits++
+      } else if (++spins === 1 << 22) {
+        spins = 0
+        waits++ // (a rough clock: some milliseconds per 4 M spins)
       }
+      if (waits > STUCK_WAITS) throw stuck(pool)
     }
   }
+}
+
+function stuck(pool: WorkerPool): ClothError {
+  return new ClothError('world', undefined, `has a cloth worker that did not finish a step in a minute (did the worker script load? ${pool.errors.join('; ') || 'no error reported'})`)
 }
 
 /** Resolves when every worker finished step `step` (Atomics.waitAsync where there is one). */
@@ -160,7 +170,7 @@ export async function waitForWorkersAsync(pool: WorkerPool, step: number): Promi
       const done = Atomics.load(c, C_DONE + w)
       if (done === step) break
       if (Atomics.load(c, C_STATE + w) === 2) throw workerFailure(pool, w)
-      if (performance.now() - t0 > STUCK_MS) throw new ClothError('world', undefined, `has a cloth worker that did not finish a step in ${STUCK_MS / 1000} s`)
+      if (performance.now() - t0 > 50 * STUCK_WAITS) throw stuck(pool)
       if (typeof waitAsync === 'function') {
         const r = waitAsync(c, C_DONE + w, done, 50)
         if (r.async) await r.value

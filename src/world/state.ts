@@ -452,7 +452,7 @@ export interface ClothBinding {
 /** Per-world threading state (`ClothWorldState.threads`; null when the world steps on its own thread). */
 export interface ClothThreads {
   /** The pool (src/threads/pool.ts): workers, control words, errors. */
-  pool: { workers: ClothWorker[]; control: Int32Array; errors: string[]; exited: number }
+  pool: { workers: ClothWorker[]; control: Int32Array; block: boolean; errors: string[]; exited: number }
   /** Per-step world values the workers read (see `src/threads/handoff.ts`). */
   worldIO: Float64Array
   /** Per worker: the slots of the cloths it steps this step ([0] = count). */
@@ -473,11 +473,14 @@ export interface ClothThreads {
   phase: number
   /** Steps whose predicted cost (ns, the budget's cost model) is below this run on this thread. */
   inlineNs: number
-  /** Partition scratch: per cloth cost, group and order; per worker load. */
+  /** Partition scratch, per cloth: cost, group, the worker of a group (at its root), sort order; per worker: load. */
   cost: Float64Array
   group: Int32Array
   order: Int32Array
+  sorted: Int32Array
   load: Float64Array
+  /** The worker of each binding slot at the last step (−1: none yet). */
+  assign: Int32Array
   /** Test hook: check every step that the layout did not change unannounced and the workers hold the same values. */
   verify: boolean
   /** In verify mode: the main thread's fingerprints of the cloths it handed over, by slot. */

@@ -3,7 +3,7 @@ import {
   addCapsuleCollider, beginClothStep, createCloth, disposeClothWorld, endClothStep, installClothPlugin, pinRow, setTransform, stepCloth,
 } from '../../src/index'
 import { getClothWorld } from '../../src/world/access'
-import { workersDone } from '../../src/threads/pool'
+import { waitForWorkers } from '../../src/threads/pool'
 import { fmt, saveJson, table } from './harness'
 
 const DT = 1 / 60
@@ -63,7 +63,7 @@ function frame(c: Crowd, out: { main: number; wall: number }): void {
   const t0 = performance.now()
   beginClothStep(c.world, DT)
   const t1 = performance.now()
-  while (th.phase === 1 && !workersDone(th.pool, th.step)) { /* the workers' time: wall only */ }
+  if (th.phase === 1) waitForWorkers(th.pool, th.step) // (blocking, not spinning: the workers need the cores)
   const t2 = performance.now()
   endClothStep(c.world)
   const t3 = performance.now()

@@ -6,8 +6,8 @@ import { getClothWorld } from '../../src/world/access'
 import { buildRun } from './scene'
 
 describe('threaded step: bitwise identical to the single-threaded one', () => {
-  it('600 frames of capes on running characters, colliders, wind, a tearing curtain, self-collision, sleep, a budget and a guard reset: same bytes with 0, 1 and 2 workers after every frame', { timeout: 300_000 }, () => {
-    const runs = [buildRun(0), buildRun(1), buildRun(2)]
+  it('600 frames of capes on running characters, colliders, wind, a tearing curtain, self-collision, sleep, a budget and a guard reset: same bytes with 0, 1, 2 and 3 workers (other partitions) after every frame', { timeout: 300_000 }, () => {
+    const runs = [buildRun(0), buildRun(1), buildRun(2), buildRun(3)]
     let handed = 0
     try {
       for (let f = 0; f < 600; f++) {
@@ -15,6 +15,7 @@ describe('threaded step: bitwise identical to the single-threaded one', () => {
         const h0 = runs[0].hash()
         expect(runs[1].hash(), `frame ${f}, 1 worker`).toBe(h0)
         expect(runs[2].hash(), `frame ${f}, 2 workers`).toBe(h0)
+        expect(runs[3].hash(), `frame ${f}, 3 workers`).toBe(h0)
       }
       handed = getClothWorld(runs[2].world).threads!.step
       // the scene did what it is for
@@ -28,6 +29,7 @@ describe('threaded step: bitwise identical to the single-threaded one', () => {
       expect(runs[0].events.some((e) => e.startsWith('reset'))).toBe(true)
       expect(runs[1].events).toEqual(runs[0].events)
       expect(runs[2].events).toEqual(runs[0].events)
+      expect(runs[3].events).toEqual(runs[0].events)
     } finally {
       for (const r of runs) disposeClothWorld(r.world)
     }
