@@ -3,7 +3,7 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, beginClothStep, createCloth, disposeClothWorld, endClothStep, endClothStepAsync, getClothMesh, getClothState,
+  ClothError, beginClothStep, createCloth, disposeClothWorld, endClothStep, endClothStepAsync, getClothComponents, getClothMesh, getClothState,
   getClothStats, makeTearable, onClothTear, pinParticle, pinRow, removeCloth, setClothQuality, setTransform, stepCloth, unpin,
 } from '../../src/index'
 import { hashBytes } from '../helpers'
@@ -120,4 +120,31 @@ describe('beginClothStep / endClothStep', () => {
       }
     })
   }
+
+  it('pipelined by one frame, the cloth drawn is one step behind its pins (8.3 cm at 5 m/s); moved by the pin target’s motion since that step, its pinned row is back on the target', () => {
+    const s = scene(2)
+    try {
+      const pin = getClothState(s.world, s.capes[0]).pins.list[0]
+      const P = getClothComponents(s.world).Pin
+      let x = 2
+      const step = 5 / 60 // 5 m/s
+      s.animate(0)
+      stepCloth(s.world, 1 / 60)
+      for (let f = 0; f < 30; f++) {
+        // frame f: start this frame's step after animating, finish it at the start of the next frame
+        const heroAtStep = x
+        setTransform(s.world, s.hero, [x, 1.6, 0])
+        beginClothStep(s.world, 1 / 60)
+        endClothStep(s.world) // (at the start of the next frame, before it animates)
+        x += step // the next frame's animation: this is where the hero is when the pose above is drawn
+        const drawn = getClothState(s.world, s.capes[0]).pos[3 * P.particle[pin]]
+        const held = x + P.ox[pin] // where the pin holds the particle at the moment it is drawn
+        if (f < 3) continue
+        expect(held - drawn).toBeCloseTo(step, 9) // 8.3 cm behind
+        expect(drawn + (x - heroAtStep)).toBeCloseTo(held, 9) // moved with the target since the step: on it
+      }
+    } finally {
+      disposeClothWorld(s.world)
+    }
+  })
 })
