@@ -23,7 +23,7 @@
 import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
 import { ClothError } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
-import { getCloth, getClothWorld, getClothWorldForChange } from './world/access'
+import { getCloth, getClothWorldForChange } from './world/access'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'

@@ -1,12 +1,12 @@
 // A scene with every feature the threaded step must reproduce: capes on running characters with
-// body colliders, a tearing curtain pulled apart in a turbulent wind, two self-colliding sheets
+// body colliders, a tearing curtain pulled apart in a turbulent wind (and dragged by a grab), two self-colliding sheets
 // folded onto the ground (they collide with each other), a sheet that falls asleep and is woken by a
 // rolling ball, a world budget with distance levels, a guard reset, and cloths, pins, colliders and
 // self-collision added and removed between steps.
 import { addEntity, createWorld } from 'bitecs'
 import {
   addCapsuleCollider, addSphereCollider, createCloth, createWindZone, disableSelfCollision, enableSelfCollision, getClothState,
-  getClothStats, getCloths, gustWind, installClothPlugin, makeTearable, onClothReset, onClothTear, pinParticle, removeCloth,
+  getClothStats, getCloths, grabParticle, gustWind, moveGrab, releaseGrab, installClothPlugin, makeTearable, onClothReset, onClothTear, pinParticle, removeCloth,
   removeCollider, setClothBudget, setClothVisible, setTransform, stepCloth, teleportCloth, unpin, wakeCloth, type ClothPluginOptions,
 } from '../../src/index'
 import { getClothWorld } from '../../src/world/access'
@@ -71,7 +71,7 @@ export function buildRun(threads: number, seed = 7): Run {
   const camera = addEntity(world)
   setTransform(world, camera, [0, 2, 6])
   setClothBudget(world, { viewer: camera, near: 6, far: 14, msPerFrame: 2, adapt: false, interval: 10, calibration: CALIBRATION })
-  let extra = -1, extraPin = -1, pinned = -1, arm = -1
+  let extra = -1, extraPin = -1, pinned = -1, arm = -1, hand = -1
   let t = 0
   const yaw = [0, 0, 0]
   const frame = (f: number): void => {
@@ -93,6 +93,10 @@ export function buildRun(threads: number, seed = 7): Run {
     setTransform(world, camera, [2 * Math.sin(t / 3), 2, 6])
     if (f % 90 === 45) gustWind(world, breeze, { strength: 8 * r(), duration: 1 })
     // changes between steps: cloths, pins, colliders, self-collision, visibility, teleports
+    // a hand grabs the curtain's hem, drags it about and lets go
+    if (f === 60) hand = grabParticle(world, curtain, 76, [-3, 1.6, 2.2])
+    if (hand >= 0 && f < 300) moveGrab(world, hand, [-3 + 0.3 * Math.sin(t * 2), 1.5, 2.3])
+    if (f === 300) releaseGrab(world, hand)
     if (f === 120) {
       extra = createCloth(world, { width: 0.5, height: 0.5, resolution: 5, position: [0, 3, 3] })
       extraPin = pinParticle(world, extra, 0)
