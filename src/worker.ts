@@ -119,7 +119,11 @@ const proc = (globalThis as { process?: { getBuiltinModule?: (id: string) => unk
 const nodePort = proc?.versions?.node && typeof proc.getBuiltinModule === 'function'
   ? ((proc.getBuiltinModule('node:worker_threads') as { parentPort: Port | null }).parentPort)
   : null
-const scope = globalThis as unknown as { addEventListener(t: 'message', fn: (e: MessageEvent) => void): void; postMessage(m: unknown): void; close(): void }
+const scope = globalThis as unknown as {
+  addEventListener(t: 'message', fn: (e: MessageEvent) => void): void
+  postMessage(m: unknown): void
+  close(): void
+}
 
 function post(m: unknown): void {
   if (nodePort !== null) nodePort.postMessage(m)

@@ -4,7 +4,16 @@ import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guar
 import { EV } from '../src/features/tearing/types'
 import { Q_MEASURED } from '../src/features/budget/types'
 import { refreshBindings } from '../src/threads/bind'
-import { IO_HEALTH, OUT_EVENTS, OUT_MS, OUT_SLEPT, OUT_TEARS, readClothHandoff, writeClothHandoff, writeWorldHandoff } from '../src/threads/handoff'
+import {
+  IO_HEALTH,
+  OUT_EVENTS,
+  OUT_MS,
+  OUT_SLEPT,
+  OUT_TEARS,
+  readClothHandoff,
+  writeClothHandoff,
+  writeWorldHandoff,
+} from '../src/threads/handoff'
 import { addStats, takeStats } from '../src/world/stats'
 import { clothFingerprint } from '../src/threads/layout'
 import type { WorkerWorld } from '../src/threads/mirror'

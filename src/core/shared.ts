@@ -17,8 +17,8 @@ export type TypedArray = Float64Array | Float32Array | Int32Array | Uint32Array 
 
 /** A typed-array constructor (`Float64Array`, `Int32Array`, ...). */
 export interface TypedArrayConstructor<T extends TypedArray> {
-  new (length: number): T
-  new (buffer: SharedArrayBuffer, byteOffset?: number, length?: number): T
+  new(length: number): T
+  new(buffer: SharedArrayBuffer, byteOffset?: number, length?: number): T
   readonly BYTES_PER_ELEMENT: number
 }
 

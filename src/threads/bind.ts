@@ -30,7 +30,8 @@ export function resolveThreadOptions(o: ClothPluginOptions): { count: number; ur
   const min = o.threadMinStepMs === undefined ? DEFAULT_MIN_STEP_NS * 1e-6 : checkNonNegative('options.threadMinStepMs', o.threadMinStepMs)
   if (count === 0) return null
   if (!sharedMemoryAvailable()) {
-    const why = 'needs SharedArrayBuffer, which this page does not have: serve it cross-origin isolated (headers Cross-Origin-Opener-Policy: same-origin and Cross-Origin-Embedder-Policy: require-corp)'
+    const why =
+      'needs SharedArrayBuffer, which this page does not have: serve it cross-origin isolated (headers Cross-Origin-Opener-Policy: same-origin and Cross-Origin-Embedder-Policy: require-corp)'
     if (o.requireThreads === true) throw new ClothError('options.threads', count, why)
     if (!warned) console.warn(`bitecs-cloth: options.threads ${why}; stepping cloths on the calling thread instead`)
     warned = true
@@ -139,7 +140,10 @@ export function refreshBindings(state: ClothWorldState, th: ClothThreads): boole
       th.bindings.set(c, b)
       sends.push(b)
     } else if (!sameLayout(layout, b.layout)) {
-      if (th.verify && th.epoch === epoch) throw new Error(`bitecs-cloth: cloth ${c.eid}'s layout changed without touchLayout at step ${th.step} (${describeChange(b.layout, layout)})`)
+      if (th.verify && th.epoch === epoch)
+        throw new Error(
+          `bitecs-cloth: cloth ${c.eid}'s layout changed without touchLayout at step ${th.step} (${describeChange(b.layout, layout)})`,
+        )
       b.layout = layout
       sends.push(b)
     }
@@ -164,16 +168,20 @@ export function refreshBindings(state: ClothWorldState, th: ClothThreads): boole
   }
   const outSize = OUT_EVENTS + state.tearing.pending.length
   const newOutputs = th.outputs.length === 0 || th.outputs[0].length < outSize
-  if (newOutputs) for (let w = 0; w < workers; w++) th.outputs[w] = sharedF64(outSize)
+  if (newOutputs) { for (let w = 0; w < workers; w++) th.outputs[w] = sharedF64(outSize) }
   const anything = worldChanged || newLists || newOutputs || sends.length > 0 || drops.length > 0
   if (anything && th.verify && th.epoch === epoch) {
-    throw new Error(`bitecs-cloth: the layout changed without touchLayout (${worldChanged ? 'world' : ''} ${sends.map((b) => b.slot).join(',')} ${drops.join(',')})`)
+    throw new Error(
+      `bitecs-cloth: the layout changed without touchLayout (${worldChanged ? 'world' : ''} ${sends.map((b) => b.slot).join(',')} ${
+        drops.join(',')
+      })`,
+    )
   }
   th.epoch = layoutEpoch() // (adopting arrays moved it)
   if (!anything && !th.verify) return false
   th.layoutSeq++
   const cloths = sends.map((b) => ({ slot: b.slot, cloth: clothDescriptor(b.cloth), io: b.io }))
-  if (th.verify && th.verifyText.length === 0) for (let w = 0; w < workers; w++) th.verifyText[w] = sharedI32(VERIFY_WORDS)
+  if (th.verify && th.verifyText.length === 0) { for (let w = 0; w < workers; w++) th.verifyText[w] = sharedI32(VERIFY_WORDS) }
   for (let w = 0; w < workers; w++) {
     th.pool.workers[w].postMessage({
       kind: 'layout',

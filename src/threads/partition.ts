@@ -59,7 +59,7 @@ export function partitionCloths(state: ClothWorldState, th: ClothThreads): numbe
       total += cost[ci]
     } else if (owner[r] !== w) keep = false
   }
-  if (keep) for (let w = 0; w < workers; w++) if (load[w] > (IMBALANCE * total) / workers) keep = false
+  if (keep) { for (let w = 0; w < workers; w++) if (load[w] > (IMBALANCE * total) / workers) keep = false }
   if (!keep) total = shareOut(th, n)
   for (let w = 0; w < workers; w++) th.lists[w][0] = 0
   for (let ci = 0; ci < n; ci++) {

@@ -34,7 +34,7 @@ export const CONTROL_WORDS = C_ERROR + ERROR_CHARS
 export const MAX_THREADS = 32
 
 interface NodeWorkerThreads {
-  Worker: new (url: URL | string, options?: { workerData?: unknown }) => ClothWorker & {
+  Worker: new(url: URL | string, options?: { workerData?: unknown }) => ClothWorker & {
     unref(): void
     on(event: string, fn: (value: unknown) => void): void
   }
@@ -83,8 +83,9 @@ export function createWorkerPool(count: number, url: URL | string): WorkerPool {
       nw.unref() // after the listeners: a 'message' listener refs the worker again
       worker = nw
     } else {
-      const Ctor = (globalThis as { Worker?: new (url: URL | string, o: { type: 'module' }) => ClothWorker & EventTarget }).Worker
-      if (typeof Ctor !== 'function') throw new ClothError('options.threads', count, 'needs Web Workers, which this environment does not have')
+      const Ctor = (globalThis as { Worker?: new(url: URL | string, o: { type: 'module' }) => ClothWorker & EventTarget }).Worker
+      if (typeof Ctor !== 'function')
+        throw new ClothError('options.threads', count, 'needs Web Workers, which this environment does not have')
       const bw = new Ctor(url, { type: 'module' })
       bw.addEventListener('error', (e) => pool.errors.push(String((e as ErrorEvent).message ?? e)))
       bw.addEventListener('message', (e) => receive(pool, (e as MessageEvent).data))
@@ -98,10 +99,16 @@ export function createWorkerPool(count: number, url: URL | string): WorkerPool {
 
 /** Node: a worker script that is not there would only fail inside the worker; say so here. */
 function checkScript(url: URL | string): void {
-  const fs = (globalThis as { process?: { getBuiltinModule?: (id: string) => unknown } }).process?.getBuiltinModule?.('node:fs') as { existsSync(p: URL | string): boolean } | undefined
+  const fs = (globalThis as { process?: { getBuiltinModule?: (id: string) => unknown } }).process?.getBuiltinModule?.('node:fs') as {
+    existsSync(p: URL | string): boolean
+  } | undefined
   const file = typeof url === 'string' && url.startsWith('file:') ? new URL(url) : url
   if (fs && (typeof file === 'string' || file.protocol === 'file:') && !fs.existsSync(file)) {
-    throw new ClothError('options.workerUrl', String(url), 'must name the cloth worker script (the package ships dist/worker.js; bundle bitecs-cloth/worker yourself when you bundle the library)')
+    throw new ClothError(
+      'options.workerUrl',
+      String(url),
+      'must name the cloth worker script (the package ships dist/worker.js; bundle bitecs-cloth/worker yourself when you bundle the library)',
+    )
   }
 }
 
@@ -157,13 +164,21 @@ export function waitForWorkers(pool: WorkerPool, step: number): void {
 }
 
 function stuck(pool: WorkerPool): ClothError {
-  return new ClothError('world', undefined, `has a cloth worker that did not finish a step in a minute (did the worker script load? ${pool.errors.join('; ') || 'no error reported'})`)
+  return new ClothError(
+    'world',
+    undefined,
+    `has a cloth worker that did not finish a step in a minute (did the worker script load? ${
+      pool.errors.join('; ') || 'no error reported'
+    })`,
+  )
 }
 
 /** Resolves when every worker finished step `step` (Atomics.waitAsync where there is one). */
 export async function waitForWorkersAsync(pool: WorkerPool, step: number): Promise<void> {
   const c = pool.control
-  const waitAsync = (Atomics as { waitAsync?: (a: Int32Array, i: number, v: number, t?: number) => { async: boolean; value: Promise<string> | string } }).waitAsync
+  const waitAsync =
+    (Atomics as { waitAsync?: (a: Int32Array, i: number, v: number, t?: number) => { async: boolean; value: Promise<string> | string } })
+      .waitAsync
   const t0 = performance.now()
   for (let w = 0; w < pool.workers.length; w++) {
     for (;;) {

@@ -1,6 +1,14 @@
 import { addEntity, createWorld } from 'bitecs'
 import {
-  addCapsuleCollider, beginClothStep, createCloth, disposeClothWorld, endClothStep, installClothPlugin, pinRow, setTransform, stepCloth,
+  addCapsuleCollider,
+  beginClothStep,
+  createCloth,
+  disposeClothWorld,
+  endClothStep,
+  installClothPlugin,
+  pinRow,
+  setTransform,
+  stepCloth,
 } from '../../src/index'
 import { getClothWorld } from '../../src/world/access'
 import { waitForWorkers } from '../../src/threads/pool'
@@ -29,7 +37,14 @@ function crowd(threads: number, n: number, res: number, minStepMs?: number) {
     addCapsuleCollider(world, addEntity(world), { body: hero, offset: [-0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
     addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
     const back = [0.2 * Math.sin(phase), 1.62, -0.2 * Math.cos(phase)]
-    const cape = createCloth(world, { width: 0.6, height: 1, resolution: res, position: [hx + back[0], back[1], hz + back[2]], rotation: turn, material: 'cotton' })
+    const cape = createCloth(world, {
+      width: 0.6,
+      height: 1,
+      resolution: res,
+      position: [hx + back[0], back[1], hz + back[2]],
+      rotation: turn,
+      material: 'cotton',
+    })
     pinRow(world, cape, 0, hero)
     heroes.push({ eid: hero, x, z, phase })
   }
@@ -105,14 +120,17 @@ export function threadsCost(): void {
   for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0 })
   const m = measure(worlds, 7, 20)
   const wall0 = median(m[0].wall)
-  table('64 capes of 24×24, 3 capsules each, tethers, 8 substeps: ms per 60 Hz frame (median of 7 interleaved rounds of 20 frames; range of the round medians)', counts.map((n, i) => ({
-    workers: n,
-    'main thread ms': fmt(median(m[i].main), 3),
-    'main range': spread(m[i].main),
-    'wall ms': fmt(median(m[i].wall), 2),
-    'wall range': spread(m[i].wall),
-    'wall / none': fmt(median(m[i].wall) / wall0, 2),
-  })))
+  table(
+    '64 capes of 24×24, 3 capsules each, tethers, 8 substeps: ms per 60 Hz frame (median of 7 interleaved rounds of 20 frames; range of the round medians)',
+    counts.map((n, i) => ({
+      workers: n,
+      'main thread ms': fmt(median(m[i].main), 3),
+      'main range': spread(m[i].main),
+      'wall ms': fmt(median(m[i].wall), 2),
+      'wall range': spread(m[i].wall),
+      'wall / none': fmt(median(m[i].wall) / wall0, 2),
+    })),
+  )
   for (const w of worlds) disposeClothWorld(w.world)
 
   // one small cape: the handoff (pack, wake a worker, wait, unpack) against the step itself
@@ -125,8 +143,18 @@ export function threadsCost(): void {
   const s = measureBlocking(smalls.map(blocking), 9, 200)
   table('One cape of 12×12 with 3 capsules, 8 substeps: stepCloth ms per frame (median of 9 interleaved rounds of 200 frames)', [
     { mode: 'no workers', 'ms/frame': fmt(median(s[0]), 4), range: spread(s[0]), 'vs none': '1.00' },
-    { mode: '1 worker, every step handed over (threadMinStepMs 0)', 'ms/frame': fmt(median(s[1]), 4), range: spread(s[1]), 'vs none': fmt(median(s[1]) / median(s[0]), 2) },
-    { mode: '1 worker, default (small steps stay on the calling thread)', 'ms/frame': fmt(median(s[2]), 4), range: spread(s[2]), 'vs none': fmt(median(s[2]) / median(s[0]), 2) },
+    {
+      mode: '1 worker, every step handed over (threadMinStepMs 0)',
+      'ms/frame': fmt(median(s[1]), 4),
+      range: spread(s[1]),
+      'vs none': fmt(median(s[1]) / median(s[0]), 2),
+    },
+    {
+      mode: '1 worker, default (small steps stay on the calling thread)',
+      'ms/frame': fmt(median(s[2]), 4),
+      range: spread(s[2]),
+      'vs none': fmt(median(s[2]) / median(s[0]), 2),
+    },
   ])
   for (const w of smalls) disposeClothWorld(w.world)
   saveJson('threads', { crowd: counts.map((n, i) => ({ workers: n, ...m[i] })), small: s })

@@ -3,8 +3,25 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, beginClothStep, createCloth, disposeClothWorld, endClothStep, endClothStepAsync, getClothComponents, getClothMesh, getClothState,
-  getClothStats, makeTearable, onClothTear, pinParticle, pinRow, removeCloth, setClothQuality, setTransform, stepCloth, unpin,
+  ClothError,
+  beginClothStep,
+  createCloth,
+  disposeClothWorld,
+  endClothStep,
+  endClothStepAsync,
+  getClothComponents,
+  getClothMesh,
+  getClothState,
+  getClothStats,
+  makeTearable,
+  onClothTear,
+  pinParticle,
+  pinRow,
+  removeCloth,
+  setClothQuality,
+  setTransform,
+  stepCloth,
+  unpin,
 } from '../../src/index'
 import { hashBytes } from '../helpers'
 import { threadedWorld } from './scene'
@@ -37,10 +54,11 @@ function scene(threads: number) {
     setTransform(world, hands[0], [2.5 - spread, 2, 0])
     setTransform(world, hands[1], [3.5 + spread, 2, 0])
   }
-  const hash = () => cloths.map((e) => {
-    const c = getClothState(world, e)
-    return hashBytes(c.pos.subarray(0, 3 * c.count)) + hashBytes(c.vel.subarray(0, 3 * c.count))
-  }).join('') + JSON.stringify(getClothStats(world))
+  const hash = () =>
+    cloths.map((e) => {
+      const c = getClothState(world, e)
+      return hashBytes(c.pos.subarray(0, 3 * c.count)) + hashBytes(c.vel.subarray(0, 3 * c.count))
+    }).join('') + JSON.stringify(getClothStats(world))
   return { world, hero, capes, sheet, cloths, tears, animate, hash }
 }
 

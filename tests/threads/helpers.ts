@@ -11,7 +11,16 @@ let url: URL | null = null
 export function workerUrl(): URL {
   if (url !== null) return url
   const out = join(mkdtempSync(join(tmpdir(), 'cloth-worker-')), 'worker.mjs')
-  buildSync({ entryPoints: [join(root, 'src', 'worker.ts')], bundle: true, format: 'esm', platform: 'neutral', mainFields: ['module', 'main'], target: 'es2022', outfile: out, logLevel: 'warning' })
+  buildSync({
+    entryPoints: [join(root, 'src', 'worker.ts')],
+    bundle: true,
+    format: 'esm',
+    platform: 'neutral',
+    mainFields: ['module', 'main'],
+    target: 'es2022',
+    outfile: out,
+    logLevel: 'warning',
+  })
   url = pathToFileURL(out)
   return url
 }

@@ -13,7 +13,14 @@ import { getClothWorld } from '../../src/world/access'
 import { workerUrl } from './helpers'
 
 const script = join(mkdtempSync(join(tmpdir(), 'cloth-life-')), 'scene.mjs')
-buildSync({ entryPoints: [join(__dirname, '..', 'fixtures', 'threads-lifecycle.ts')], bundle: true, platform: 'node', format: 'esm', outfile: script, logLevel: 'error' })
+buildSync({
+  entryPoints: [join(__dirname, '..', 'fixtures', 'threads-lifecycle.ts')],
+  bundle: true,
+  platform: 'node',
+  format: 'esm',
+  outfile: script,
+  logLevel: 'error',
+})
 
 function run(mode: string, flags: string[] = []) {
   const t0 = performance.now()
@@ -53,7 +60,9 @@ describe('worker lifecycle', () => {
     g.crossOriginIsolated = false
     try {
       expect(() => installClothPlugin(createWorld(), { threads: 2, requireThreads: true, workerUrl: workerUrl() })).toThrow(ClothError)
-      expect(() => installClothPlugin(createWorld(), { threads: 2, requireThreads: true })).toThrow(/Cross-Origin-Embedder-Policy: require-corp/)
+      expect(() => installClothPlugin(createWorld(), { threads: 2, requireThreads: true })).toThrow(
+        /Cross-Origin-Embedder-Policy: require-corp/,
+      )
       const world = installClothPlugin(createWorld(), { threads: 2, workerUrl: workerUrl() })
       expect(getClothWorld(world).threads).toBeNull()
       disposeClothWorld(world) // nothing to stop

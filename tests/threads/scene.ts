@@ -5,9 +5,34 @@
 // self-collision added and removed between steps.
 import { addEntity, createWorld } from 'bitecs'
 import {
-  addCapsuleCollider, addSphereCollider, createCloth, createWindZone, disableSelfCollision, enableSelfCollision, getClothState,
-  getClothStats, getCloths, grabParticle, gustWind, moveGrab, releaseGrab, installClothPlugin, makeTearable, onClothReset, onClothTear, pinParticle, removeCloth,
-  removeCollider, setClothBudget, setClothVisible, setTransform, stepCloth, teleportCloth, unpin, wakeCloth, type ClothPluginOptions,
+  addCapsuleCollider,
+  addSphereCollider,
+  createCloth,
+  createWindZone,
+  disableSelfCollision,
+  enableSelfCollision,
+  getClothState,
+  getClothStats,
+  getCloths,
+  grabParticle,
+  gustWind,
+  moveGrab,
+  releaseGrab,
+  installClothPlugin,
+  makeTearable,
+  onClothReset,
+  onClothTear,
+  pinParticle,
+  removeCloth,
+  removeCollider,
+  setClothBudget,
+  setClothVisible,
+  setTransform,
+  stepCloth,
+  teleportCloth,
+  unpin,
+  wakeCloth,
+  type ClothPluginOptions,
 } from '../../src/index'
 import { getClothWorld } from '../../src/world/access'
 import { hashBytes, rng } from '../helpers'
@@ -66,7 +91,16 @@ export function buildRun(threads: number, seed = 7): Run {
   const ball = addEntity(world)
   setTransform(world, ball, [12, 0.2, 0.3])
   addSphereCollider(world, ball, { radius: 0.2 })
-  const breeze = createWindZone(world, { shape: 'box', position: [-0.5, 2, 1], size: [9, 4, 6], falloff: 0.2, direction: [0.2, 0, 1], strength: 5, turbulence: 0.4, seed: 3 })
+  const breeze = createWindZone(world, {
+    shape: 'box',
+    position: [-0.5, 2, 1],
+    size: [9, 4, 6],
+    falloff: 0.2,
+    direction: [0.2, 0, 1],
+    strength: 5,
+    turbulence: 0.4,
+    seed: 3,
+  })
   const fan = createWindZone(world, { shape: 'box', position: [-3, 2, 1.5], size: [1, 1, 1], direction: [0, 0.3, 1], strength: 10 })
   const camera = addEntity(world)
   setTransform(world, camera, [0, 2, 6])
@@ -128,7 +162,9 @@ export function buildRun(threads: number, seed = 7): Run {
     const parts = getCloths(world).map((e) => {
       const c = getClothState(world, e)
       const n = 3 * c.count
-      return `${e}:${c.count}:${hashBytes(c.pos.subarray(0, n))}${hashBytes(c.prev.subarray(0, n))}${hashBytes(c.vel.subarray(0, n))}:${c.sleep.asleep}:${c.substeps}`
+      return `${e}:${c.count}:${hashBytes(c.pos.subarray(0, n))}${hashBytes(c.prev.subarray(0, n))}${
+        hashBytes(c.vel.subarray(0, n))
+      }:${c.sleep.asleep}:${c.substeps}`
     })
     return parts.join(' ') + ' ' + JSON.stringify(getClothStats(world)) + ' ' + floor
   }

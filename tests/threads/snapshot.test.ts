@@ -4,8 +4,18 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  addSphereCollider, createCloth, createWindZone, disposeClothWorld, enableSelfCollision, getClothState, pinRow, restoreClothState,
-  saveClothState, setTransform, stepCloth, type ClothSnapshot,
+  addSphereCollider,
+  createCloth,
+  createWindZone,
+  disposeClothWorld,
+  enableSelfCollision,
+  getClothState,
+  pinRow,
+  restoreClothState,
+  saveClothState,
+  setTransform,
+  stepCloth,
+  type ClothSnapshot,
 } from '../../src/index'
 import { hashBytes } from '../helpers'
 import { heroWithBody, poseLegs } from '../stability/scenes'
@@ -32,10 +42,12 @@ function scene(threads: number) {
     setTransform(world, ball, [2 + 0.5 * Math.sin(a * 3), 1.6, 0.3])
     stepCloth(world, (f % 3 === 0 ? 1.4 : 0.8) / 60)
   }
-  const hash = () => cloths.map((e) => {
-    const c = getClothState(world, e)
-    return hashBytes(c.pos.subarray(0, 3 * c.count)) + hashBytes(c.prev.subarray(0, 3 * c.count)) + hashBytes(c.vel.subarray(0, 3 * c.count))
-  }).join('')
+  const hash = () =>
+    cloths.map((e) => {
+      const c = getClothState(world, e)
+      return hashBytes(c.pos.subarray(0, 3 * c.count)) + hashBytes(c.prev.subarray(0, 3 * c.count)) +
+        hashBytes(c.vel.subarray(0, 3 * c.count))
+    }).join('')
   return { world, cloths, frame, hash }
 }
 
@@ -43,7 +55,8 @@ function scene(threads: number) {
 function snapshotBytes(s: ClothSnapshot): string {
   return Object.entries(s).map(([k, v]) => {
     if (ArrayBuffer.isView(v)) return `${k}:${hashBytes(v)}`
-    if (v !== null && typeof v === 'object') return `${k}:{${Object.entries(v).map(([a, b]) => `${a}=${ArrayBuffer.isView(b) ? hashBytes(b) : String(b)}`).join(',')}}`
+    if (v !== null && typeof v === 'object')
+      return `${k}:{${Object.entries(v).map(([a, b]) => `${a}=${ArrayBuffer.isView(b) ? hashBytes(b) : String(b)}`).join(',')}}`
     return `${k}:${String(v)}`
   }).sort().join(' ')
 }
