@@ -16,6 +16,7 @@ import {
   pinParticle,
   pinRow,
   setTransform,
+  stepCloth,
 } from '../../../src/index'
 import { getClothWorld } from '../../../src/world/access'
 
@@ -60,6 +61,13 @@ async function run(steps: number): Promise<unknown> {
     mainMs += performance.now() - t0
     await endClothStepAsync(one.world)
     await endClothStepAsync(two.world)
+  }
+  // stepCloth waits for the workers too: on a page's main thread, which may not Atomics.wait, by spinning
+  for (let f = steps; f < steps + 10; f++) {
+    for (const s of [one, two]) {
+      s.animate(f)
+      stepCloth(s.world, 1 / 60)
+    }
   }
   let same = true, particles = 0
   const cloths = (w: object) => getClothWorld(w).cloths
