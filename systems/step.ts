@@ -90,6 +90,7 @@ export function endClothStep(world: object): number {
   const state = getClothWorld(world)
   const f = state.frame
   if (!f.open) return 0
+  if (f.ending) throw new ClothError('world', world, 'is finishing a frame in endClothStepAsync: await it instead')
   try {
     for (;;) {
       finishFixedStep(world)
@@ -173,6 +174,7 @@ function closeFrame(state: ClothWorldState): void {
  */
 export function disposeClothWorld(world: object): void {
   const state = getClothWorld(world)
+  if (state.frame.ending) throw new ClothError('world', world, 'is finishing a frame in endClothStepAsync: await it first')
   if (state.frame.open) endClothStep(world)
   const th = state.threads
   if (th === null) return

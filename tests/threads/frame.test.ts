@@ -165,4 +165,21 @@ describe('beginClothStep / endClothStep', () => {
       disposeClothWorld(s.world)
     }
   })
+
+  it('while endClothStepAsync is pending, the frame stays locked: no other end, no dispose, no changes', async () => {
+    const s = scene(2)
+    try {
+      s.animate(0)
+      stepCloth(s.world, 1 / 60)
+      beginClothStep(s.world, 1 / 60)
+      const ending = endClothStepAsync(s.world)
+      expect(() => endClothStep(s.world)).toThrow(ClothError)
+      expect(() => disposeClothWorld(s.world)).toThrow(ClothError)
+      expect(() => pinParticle(s.world, s.capes[0], 10)).toThrow(ClothError)
+      expect(await ending).toBe(1)
+      expect(await endClothStepAsync(s.world)).toBe(0)
+    } finally {
+      disposeClothWorld(s.world)
+    }
+  })
 })
