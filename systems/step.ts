@@ -109,8 +109,12 @@ export function endClothStep(world: object): number {
  * `endClothStep` for a thread that may not block (a browser's main thread): resolves when the frame
  * is finished, its events delivered. Allocates a promise per call.
  */
-export async function endClothStepAsync(world: object): Promise<number> {
-  const state = getClothWorld(world)
+export function endClothStepAsync(world: object): Promise<number> {
+  // (a wrong world throws here, not in the promise)
+  return finishFrameAsync(world, getClothWorld(world))
+}
+
+async function finishFrameAsync(world: object, state: ClothWorldState): Promise<number> {
   const f = state.frame
   if (!f.open || f.ending) return 0
   f.ending = true
