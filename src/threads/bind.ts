@@ -14,7 +14,7 @@ import { MAX_THREADS, createWorkerPool, disposeWorkerPool, type WorkerPool } fro
 const VERIFY_WORDS = 1 << 21
 
 /** Predicted step cost (the cost model's ns) below which `stepCloth` steps on its own thread by default. */
-const DEFAULT_MIN_STEP_NS = 50_000
+const DEFAULT_MIN_STEP_NS = 200_000
 
 let warned = false
 

@@ -93,7 +93,7 @@ export interface ClothPluginOptions {
   /**
    * A step the cost model predicts cheaper than this (ms) runs on the calling thread when
    * `stepCloth` waits for it anyway: the handoff to the workers costs tens of microseconds.
-   * Default 0.05; 0 always hands steps to the workers. (`beginClothStep` always hands them over.)
+   * Default 0.2; 0 always hands steps to the workers. (`beginClothStep` always hands them over.)
    */
   threadMinStepMs?: number
 }

@@ -114,7 +114,8 @@ const spread = (a: number[]): string => `${fmt(Math.min(...a), 2)}–${fmt(Math.
  * main-thread and wall ms per 60 Hz frame, one run, interleaved rounds; then one small cape, to
  * show what the handoff costs.
  */
-export function threadsCost(): void {
+export async function threadsCost(): Promise<void> {
+  const free = await parallelism()
   const counts = [0, 1, 2]
   const worlds = counts.map((n) => crowd(n, 64, 24))
   for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0 })
@@ -157,7 +158,51 @@ export function threadsCost(): void {
     },
   ])
   for (const w of smalls) disposeClothWorld(w.world)
-  saveJson('threads', { crowd: counts.map((n, i) => ({ workers: n, ...m[i] })), small: s })
+  console.log(
+    `\n(The machine during this run: the same arithmetic split over 2 workers ran ${
+      fmt(free, 2)
+    }× as fast as on 1; 2.00 means two free cores.)`,
+  )
+  saveJson('threads', { crowd: counts.map((n, i) => ({ workers: n, ...m[i] })), small: s, parallelism: free })
+}
+
+/**
+ * How many cores the run really had: a fixed amount of arithmetic on 1 worker, then split over 2
+ * (median of 3 rounds): the ratio is the most any split of work could gain on this machine now.
+ */
+async function parallelism(): Promise<number> {
+  const wt = (globalThis as { process?: { getBuiltinModule?: (id: string) => unknown } }).process?.getBuiltinModule?.(
+    'node:worker_threads',
+  ) as
+    | {
+      Worker: new(
+        code: string,
+        o: { eval: true },
+      ) => { postMessage(m: unknown): void; once(e: 'message', f: () => void): void; terminate(): Promise<number> }
+    }
+    | undefined
+  if (!wt) return NaN
+  const code = `const { parentPort } = require('node:worker_threads')
+parentPort.on('message', (n) => { let x = 0; for (let i = 0; i < n; i++) x += Math.sqrt(i); parentPort.postMessage(x) })`
+  const run = async (k: number, n: number): Promise<number> => {
+    const ws = Array.from({ length: k }, () => new wt.Worker(code, { eval: true }))
+    const go = (m: number) =>
+      Promise.all(ws.map((w) =>
+        new Promise<void>((r) => {
+          w.once('message', r)
+          w.postMessage(m)
+        })
+      ))
+    await go(1e6)
+    const t0 = performance.now()
+    await go(n / k)
+    const t = performance.now() - t0
+    await Promise.all(ws.map((w) => w.terminate()))
+    return t
+  }
+  const ratios: number[] = []
+  for (let r = 0; r < 3; r++) ratios.push((await run(1, 2e8)) / (await run(2, 2e8)))
+  return median(ratios)
 }
 
 function measureBlocking(fns: (() => void)[], rounds: number, frames: number): number[][] {
