@@ -12,7 +12,7 @@ import {
 } from '../../src/index'
 import { getClothWorld } from '../../src/world/access'
 import { waitForWorkers } from '../../src/threads/pool'
-import { fmt, saveJson, table } from './harness'
+import { cpuMs, fmt, saveJson, table } from './harness'
 
 const DT = 1 / 60
 /** The cloth worker, bundled next to the benchmark bundle by run.mjs. */
@@ -66,15 +66,18 @@ type Crowd = ReturnType<typeof crowd>
  * what the calling thread spends) and wall ms (begin to end, waiting included). Without workers
  * both are stepCloth's time.
  */
-function frame(c: Crowd, out: { main: number; wall: number }): void {
+function frame(c: Crowd, out: { main: number; wall: number; cpu: number }): void {
   c.animate()
   const th = getClothWorld(c.world).threads
   if (th === null) {
+    const c0 = cpuMs()
     const t0 = performance.now()
     stepCloth(c.world, DT)
     out.main = out.wall = performance.now() - t0
+    out.cpu = cpuMs() - c0
     return
   }
+  const c0 = cpuMs()
   const t0 = performance.now()
   beginClothStep(c.world, DT)
   const t1 = performance.now()
@@ -84,24 +87,27 @@ function frame(c: Crowd, out: { main: number; wall: number }): void {
   const t3 = performance.now()
   out.main = t1 - t0 + (t3 - t2)
   out.wall = t3 - t0
+  out.cpu = cpuMs() - c0
 }
 
 const median = (a: number[]): number => [...a].sort((x, y) => x - y)[a.length >> 1]
 
-/** Interleaved rounds of `frames` frames per world; per world the median per round of main and wall ms. */
-function measure(worlds: Crowd[], rounds: number, frames: number): { main: number[]; wall: number[] }[] {
-  const out = worlds.map(() => ({ main: [] as number[], wall: [] as number[] }))
-  const t = { main: 0, wall: 0 }
+/** Interleaved rounds of `frames` frames per world; per world the median per round of main, wall and CPU ms. */
+function measure(worlds: Crowd[], rounds: number, frames: number): { main: number[]; wall: number[]; cpu: number[] }[] {
+  const out = worlds.map(() => ({ main: [] as number[], wall: [] as number[], cpu: [] as number[] }))
+  const t = { main: 0, wall: 0, cpu: 0 }
   for (let r = 0; r < rounds; r++) {
     for (let w = 0; w < worlds.length; w++) {
-      const main: number[] = [], wall: number[] = []
+      const main: number[] = [], wall: number[] = [], cpu: number[] = []
       for (let f = 0; f < frames; f++) {
         frame(worlds[w], t)
         main.push(t.main)
         wall.push(t.wall)
+        cpu.push(t.cpu)
       }
       out[w].main.push(median(main))
       out[w].wall.push(median(wall))
+      out[w].cpu.push(median(cpu))
     }
   }
   return out
@@ -111,14 +117,16 @@ const spread = (a: number[]): string => `${fmt(Math.min(...a), 2)}–${fmt(Math.
 
 /**
  * The crowd of 64 capes (24×24, three capsules each, tethers, 8 substeps) with 0, 1 and 2 workers:
- * main-thread and wall ms per 60 Hz frame, one run, interleaved rounds; then one small cape, to
- * show what the handoff costs.
+ * main-thread and wall ms per 60 Hz frame (the wall clock: what a frame waits), and the CPU time
+ * of all the process's threads per frame (the work done, which waiting for a busy machine's cores
+ * does not inflate: with the work shared evenly, two free cores would take about half of it as wall
+ * time), one run, interleaved rounds; then one small cape, to show what the handoff costs.
  */
 export async function threadsCost(): Promise<void> {
   const free = await parallelism()
   const counts = [0, 1, 2]
   const worlds = counts.map((n) => crowd(n, 64, 24))
-  for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0 })
+  for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0, cpu: 0 })
   const m = measure(worlds, 7, 20)
   const wall0 = median(m[0].wall)
   table(
@@ -130,13 +138,14 @@ export async function threadsCost(): Promise<void> {
       'wall ms': fmt(median(m[i].wall), 2),
       'wall range': spread(m[i].wall),
       'wall / none': fmt(median(m[i].wall) / wall0, 2),
+      'CPU ms, all threads': fmt(median(m[i].cpu), 2),
     })),
   )
   for (const w of worlds) disposeClothWorld(w.world)
 
   // one small cape: the handoff (pack, wake a worker, wait, unpack) against the step itself
   const smalls = [crowd(0, 1, 12), crowd(1, 1, 12, 0), crowd(1, 1, 12)]
-  for (const w of smalls) for (let f = 0; f < 200; f++) frame(w, { main: 0, wall: 0 })
+  for (const w of smalls) for (let f = 0; f < 200; f++) frame(w, { main: 0, wall: 0, cpu: 0 })
   const blocking = (c: Crowd) => () => {
     c.animate()
     stepCloth(c.world, DT)
