@@ -152,6 +152,42 @@ export function refreshBindings(state: ClothWorldState, th: ClothThreads): boole
   const wl = worldLayout(wd)
   const worldChanged = !sameLayout(wl, th.worldLayout)
   th.worldLayout = wl
+  const resized = sizeWorkerBuffers(state, th)
+  const anything = worldChanged || resized || sends.length > 0 || drops.length > 0
+  if (anything && th.verify && th.epoch === epoch) {
+    throw new Error(
+      `bitecs-cloth: the layout changed without touchLayout (${worldChanged ? 'world' : ''} ${sends.map((b) => b.slot).join(',')} ${
+        drops.join(',')
+      })`,
+    )
+  }
+  th.epoch = layoutEpoch() // (adopting arrays moved it)
+  if (!anything && !th.verify) return false
+  th.layoutSeq++
+  const workers = th.pool.workers.length
+  const cloths = sends.map((b) => ({ slot: b.slot, cloth: clothDescriptor(b.cloth), io: b.io }))
+  if (th.verify && th.verifyText.length === 0) { for (let w = 0; w < workers; w++) th.verifyText[w] = sharedI32(VERIFY_WORDS) }
+  for (let w = 0; w < workers; w++) {
+    th.pool.workers[w].postMessage({
+      kind: 'layout',
+      seq: th.layoutSeq,
+      world: worldChanged ? wd : null,
+      worldIO: th.worldIO,
+      list: th.lists[w],
+      output: th.outputs[w],
+      cloths,
+      drops,
+      verify: th.verify ? th.verifyText[w] : null,
+    })
+  }
+  return true
+}
+
+/**
+ * Sizes the per-worker slot lists, the partition's scratch and the workers' output blocks for the
+ * bound cloths and the world's tear events; returns whether any was replaced (the workers need it).
+ */
+function sizeWorkerBuffers(state: ClothWorldState, th: ClothThreads): boolean {
   const workers = th.pool.workers.length
   const need = th.slots.length + 1
   const newLists = th.lists.length === 0 || th.lists[0].length < need
@@ -169,33 +205,7 @@ export function refreshBindings(state: ClothWorldState, th: ClothThreads): boole
   const outSize = OUT_EVENTS + state.tearing.pending.length
   const newOutputs = th.outputs.length === 0 || th.outputs[0].length < outSize
   if (newOutputs) { for (let w = 0; w < workers; w++) th.outputs[w] = sharedF64(outSize) }
-  const anything = worldChanged || newLists || newOutputs || sends.length > 0 || drops.length > 0
-  if (anything && th.verify && th.epoch === epoch) {
-    throw new Error(
-      `bitecs-cloth: the layout changed without touchLayout (${worldChanged ? 'world' : ''} ${sends.map((b) => b.slot).join(',')} ${
-        drops.join(',')
-      })`,
-    )
-  }
-  th.epoch = layoutEpoch() // (adopting arrays moved it)
-  if (!anything && !th.verify) return false
-  th.layoutSeq++
-  const cloths = sends.map((b) => ({ slot: b.slot, cloth: clothDescriptor(b.cloth), io: b.io }))
-  if (th.verify && th.verifyText.length === 0) { for (let w = 0; w < workers; w++) th.verifyText[w] = sharedI32(VERIFY_WORDS) }
-  for (let w = 0; w < workers; w++) {
-    th.pool.workers[w].postMessage({
-      kind: 'layout',
-      seq: th.layoutSeq,
-      world: worldChanged ? wd : null,
-      worldIO: th.worldIO,
-      list: th.lists[w],
-      output: th.outputs[w],
-      cloths,
-      drops,
-      verify: th.verify ? th.verifyText[w] : null,
-    })
-  }
-  return true
+  return newLists || newOutputs
 }
 
 function describeChange(a: unknown[], b: unknown[]): string {
