@@ -1,5 +1,6 @@
 export { SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_BOX, SHAPE_HULL, SHAPE_PLANE, type ConvexHull } from '../src/core/shapes'
 import type { ConvexHull } from '../src/core/shapes'
+import { newArray } from '../src/core/shared'
 
 /**
  * A collider: a rigid shape that pushes cloth particles out and applies friction. Structure of
@@ -54,19 +55,19 @@ export interface ColliderStore {
 /** Allocates a Collider store for `capacity` entity ids. Called by `installClothPlugin`. */
 export function createColliderStore(capacity: number): ColliderStore {
   return {
-    shape: new Uint8Array(capacity),
-    body: new Uint32Array(capacity),
-    slot: new Int32Array(capacity),
-    offset: new Float64Array(3 * capacity),
-    rotation: new Float64Array(4 * capacity),
-    size: new Float64Array(4 * capacity),
-    bound: new Float64Array(4 * capacity),
-    depth: new Float64Array(capacity),
-    friction: new Float64Array(capacity),
-    staticFriction: new Float64Array(capacity),
-    layer: new Uint32Array(capacity),
-    mask: new Uint32Array(capacity),
-    swept: new Float64Array(8 * capacity),
+    shape: newArray(Uint8Array, capacity),
+    body: newArray(Uint32Array, capacity),
+    slot: newArray(Int32Array, capacity),
+    offset: newArray(Float64Array, 3 * capacity),
+    rotation: newArray(Float64Array, 4 * capacity),
+    size: newArray(Float64Array, 4 * capacity),
+    bound: newArray(Float64Array, 4 * capacity),
+    depth: newArray(Float64Array, capacity),
+    friction: newArray(Float64Array, capacity),
+    staticFriction: newArray(Float64Array, capacity),
+    layer: newArray(Uint32Array, capacity),
+    mask: newArray(Uint32Array, capacity),
+    swept: newArray(Float64Array, 8 * capacity),
     hulls: [],
   }
 }

@@ -1,3 +1,4 @@
+import { newArray } from '../src/core/shared'
 /**
  * A pin is an entity that holds one cloth particle at a point: on a target entity's Transform
  * (offset given in the target's local frame, so rotation and scale apply) or, with no target, at a
@@ -29,15 +30,15 @@ export interface PinStore {
 /** Allocates a Pin store for `capacity` entity ids. Called by `installClothPlugin`. */
 export function createPinStore(capacity: number): PinStore {
   return {
-    cloth: new Uint32Array(capacity),
-    particle: new Uint32Array(capacity),
-    target: new Uint32Array(capacity),
-    slot: new Int32Array(capacity),
-    ox: new Float64Array(capacity),
-    oy: new Float64Array(capacity),
-    oz: new Float64Array(capacity),
-    blendFrom: new Float64Array(3 * capacity),
-    blendLeft: new Float64Array(capacity),
-    blendTime: new Float64Array(capacity),
+    cloth: newArray(Uint32Array, capacity),
+    particle: newArray(Uint32Array, capacity),
+    target: newArray(Uint32Array, capacity),
+    slot: newArray(Int32Array, capacity),
+    ox: newArray(Float64Array, capacity),
+    oy: newArray(Float64Array, capacity),
+    oz: newArray(Float64Array, capacity),
+    blendFrom: newArray(Float64Array, 3 * capacity),
+    blendLeft: newArray(Float64Array, capacity),
+    blendTime: newArray(Float64Array, capacity),
   }
 }

@@ -1,3 +1,4 @@
+import { newArray } from '../src/core/shared'
 /**
  * Marks a cloth entity as tearable: an edge that stays stretched beyond `strain` for `hysteresis`
  * consecutive steps breaks, and the mesh splits there. Structure of arrays indexed by the cloth's
@@ -20,10 +21,10 @@ export interface TearableStore {
 /** Allocates a Tearable store for `capacity` entity ids. Called by `installClothPlugin`. */
 export function createTearableStore(capacity: number): TearableStore {
   return {
-    strain: new Float64Array(capacity),
-    maxTearsPerStep: new Uint16Array(capacity),
-    hysteresis: new Uint8Array(capacity),
-    minPiece: new Uint16Array(capacity),
-    tears: new Uint32Array(capacity),
+    strain: newArray(Float64Array, capacity),
+    maxTearsPerStep: newArray(Uint16Array, capacity),
+    hysteresis: newArray(Uint8Array, capacity),
+    minPiece: newArray(Uint16Array, capacity),
+    tears: newArray(Uint32Array, capacity),
   }
 }

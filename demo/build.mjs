@@ -16,6 +16,17 @@ export async function buildDemo() {
     outfile: join(here, 'dist', 'main.js'),
     logLevel: 'warning',
   })
+  // the cloth worker of threaded worlds (the crowd's workers switch), beside main.js
+  await build({
+    entryPoints: [join(here, '..', 'src', 'worker.ts')],
+    bundle: true,
+    format: 'esm',
+    platform: 'browser',
+    target: 'es2022',
+    sourcemap: true,
+    outfile: join(here, 'dist', 'worker.js'),
+    logLevel: 'warning',
+  })
 }
 
 if (process.argv[1] === fileURLToPath(import.meta.url)) {

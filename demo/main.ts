@@ -8,6 +8,7 @@ import {
   getClothState,
   getClothStretch,
   getClothTearCount,
+  disposeClothWorld,
   installClothPlugin,
   isClothSleeping,
   grabParticle,
@@ -18,7 +19,7 @@ import {
   stepCloth,
 } from '../src/index'
 import { createClothGeometry, createProxyGeometry, updateClothGeometry, updateProxyGeometry } from '../src/three/index'
-import type { DemoScene, DemoSettings, SceneInstance, SceneLabel } from './scene'
+import { setInputDeferral, type DemoScene, type DemoSettings, type SceneInstance, type SceneLabel } from './scene'
 import { scenes } from './scenes/index'
 import { View } from './view'
 
@@ -41,6 +42,8 @@ applyResolution()
 
 const settings: DemoSettings = { material: 'cotton', substeps: 8, iterations: 1, tethers: true }
 let world: object
+/** Whether `world` exists yet (a scene's world is disposed when the next scene loads: its workers exit). */
+let haveWorld = false
 let scene: DemoScene
 let instance: SceneInstance
 let paused = false
@@ -87,27 +90,39 @@ function applySettings(): void {
   showSettings()
 }
 
-sceneSelect.addEventListener('change', () => loadScene(sceneSelect.value))
-materialSelect.addEventListener('change', () => {
+/**
+ * Input that changes the world waits while workers step it (the crowd on workers: between
+ * `beginClothStep` and `endClothStepAsync` changes throw), and runs at the start of the next frame.
+ */
+const deferred: (() => void)[] = []
+let stepping = false
+function change(f: () => void): void {
+  if (stepping) deferred.push(f)
+  else f()
+}
+
+setInputDeferral(change) // the scenes' own controls too
+sceneSelect.addEventListener('change', () => change(() => loadScene(sceneSelect.value)))
+materialSelect.addEventListener('change', () => change(() => {
   settings.material = materialSelect.value
   loadScene(scene.id, false)
-})
-substeps.addEventListener('input', () => {
+}))
+substeps.addEventListener('input', () => change(() => {
   settings.substeps = Number(substeps.value)
   applySettings()
-})
-iterations.addEventListener('input', () => {
+}))
+iterations.addEventListener('input', () => change(() => {
   settings.iterations = Number(iterations.value)
   applySettings()
-})
-tethers.addEventListener('change', () => {
+}))
+tethers.addEventListener('change', () => change(() => {
   settings.tethers = tethers.checked
   applySettings()
-})
+}))
 tintBox.addEventListener('change', () => setTint(tintBox.checked))
 $('pause').addEventListener('click', () => setPaused(!paused))
 $('step').addEventListener('click', () => stepOnce++)
-$('reset').addEventListener('click', () => loadScene(scene.id, false))
+$('reset').addEventListener('click', () => change(() => loadScene(scene.id, false)))
 
 function setPaused(p: boolean): void {
   paused = p
@@ -219,7 +234,9 @@ function loadScene(id: string, useDefaults = true): void {
   if (useDefaults) Object.assign(settings, { material: 'cotton', substeps: 8, iterations: 1, tethers: true }, scene.defaults)
   view.clear()
   clothViews.length = 0
-  world = installClothPlugin(createWorld())
+  if (haveWorld) disposeClothWorld(world)
+  world = installClothPlugin(createWorld(), scene.worldOptions?.() ?? {})
+  haveWorld = true
   const ui = $('extra')
   ui.replaceChildren()
   labelLayer.replaceChildren()
@@ -233,7 +250,7 @@ function loadScene(id: string, useDefaults = true): void {
   view.shadowRadius = scene.shadowRadius ?? 4
   view.setSun(scene.sun ?? [-0.45, 0.8, 0.4], scene.shadowMapSize ?? 2048)
   lastOrbit = -Infinity
-  instance = scene.create({ world, settings, ui, refresh: applySettings, root: view.root, showCloth, camera: view.camera })
+  instance = scene.create({ world, settings, ui, refresh: applySettings, root: view.root, showCloth, camera: view.camera, reload: () => loadScene(scene.id, false) })
   simTime = 0
   setTint(tint)
   view.update()
@@ -291,7 +308,9 @@ canvas.addEventListener('pointerdown', (e) => {
   }
   const c = getClothState(world, best.cloth)
   const at = [c.pos[3 * best.index], c.pos[3 * best.index + 1], c.pos[3 * best.index + 2]]
-  drag = { grab: grabParticle(world, best.cloth, best.index, at), depth: best.t }
+  change(() => {
+    drag = { grab: grabParticle(world, best.cloth, best.index, at), depth: best.t }
+  })
 })
 canvas.addEventListener('pointermove', (e) => {
   if (orbit) {
@@ -302,14 +321,17 @@ canvas.addEventListener('pointermove', (e) => {
   } else if (drag) {
     const [x, y] = ndc(e)
     view.ray(x, y, rayO, rayD)
-    moveGrab(world, drag.grab, rayO.clone().addScaledVector(rayD, drag.depth).toArray())
+    const grab = drag.grab, to = rayO.clone().addScaledVector(rayD, drag.depth).toArray()
+    change(() => moveGrab(world, grab, to))
   }
 })
 const endDrag = () => {
   orbit = null
-  if (!drag) return
-  releaseGrab(world, drag.grab)
-  drag = null
+  change(() => {
+    if (!drag) return
+    releaseGrab(world, drag.grab)
+    drag = null
+  })
 }
 canvas.addEventListener('pointerup', (e) => {
   endDrag()
@@ -334,8 +356,8 @@ canvas.addEventListener('wheel', (e) => {
 // Frame: update, step, geometry, render; costs measured per frame and averaged over a second
 
 /** Main-thread ms per frame, averaged over the last second: the scene's own work, the cloth step, geometry updates, rendering. */
-const costs = { sceneMs: 0, stepMs: 0, geometryMs: 0, renderMs: 0, frameMs: 0 }
-const acc = { sceneMs: 0, stepMs: 0, geometryMs: 0, renderMs: 0, frameMs: 0, frames: 0, start: 0 }
+const costs = { sceneMs: 0, stepMs: 0, waitMs: 0, geometryMs: 0, renderMs: 0, frameMs: 0 }
+const acc = { sceneMs: 0, stepMs: 0, waitMs: 0, geometryMs: 0, renderMs: 0, frameMs: 0, frames: 0, start: 0 }
 /** Time stamps of the frames drawn in the last second (the fps is their count). */
 const drawn: number[] = []
 let fps = 0
@@ -360,6 +382,27 @@ function advance(h: number): number {
   return steps
 }
 
+/**
+ * `advance` for a scene whose step does not block (`stepAsync`): the step's main-thread time is
+ * what its begin and end take, the wait for the workers is not counted (`waitMs` shows it).
+ */
+async function advanceAsync(h: number, step: (dt: number) => Promise<number>): Promise<number> {
+  simTime += h
+  const t0 = performance.now()
+  instance.update?.(simTime, h)
+  const t1 = performance.now()
+  const pending = step(h)
+  const t2 = performance.now()
+  const steps = await pending
+  const t3 = performance.now()
+  acc.sceneMs += t1 - t0
+  acc.stepMs += t2 - t1 + (performance.now() - t3)
+  acc.waitMs += t3 - t2
+  stepsInWindow += steps
+  followCamera(h)
+  return steps
+}
+
 /** The camera eases toward a followed point (0.12 s) and yaw (1.5 s), unless the user orbited lately. */
 function followCamera(h: number): void {
   const follow = instance.follow?.()
@@ -379,15 +422,26 @@ function followCamera(h: number): void {
 
 let last = performance.now()
 let running = true
-function tick(now: number): void {
+async function tick(now: number): Promise<void> {
   if (!running) return
   const dt = Math.min(scene.maxFrameTime ?? 0.05, Math.max(0, (now - last) / 1000)) // rAF stamps can precede the last read
   last = now
   const f0 = performance.now()
+  for (const f of deferred.splice(0)) f()
   if (!paused || stepOnce > 0) {
     const h = paused ? 1 / 60 : dt
     if (paused) stepOnce--
-    if (h > 0) advance(h)
+    const stepAsync = instance.stepAsync
+    if (h > 0) {
+      if (stepAsync) {
+        stepping = true
+        try {
+          await advanceAsync(h, stepAsync)
+        } finally {
+          stepping = false
+        }
+      } else advance(h)
+    }
   }
   draw()
   acc.frameMs += performance.now() - f0
@@ -405,11 +459,12 @@ function countFrame(now: number): void {
     const n = Math.max(1, acc.frames)
     costs.sceneMs = acc.sceneMs / n
     costs.stepMs = acc.stepMs / n
+    costs.waitMs = acc.waitMs / n
     costs.geometryMs = acc.geometryMs / n
     costs.renderMs = acc.renderMs / n
     costs.frameMs = acc.frameMs / n
     msPerStep = stepsInWindow > 0 ? acc.stepMs / stepsInWindow : msPerStep
-    acc.sceneMs = acc.stepMs = acc.geometryMs = acc.renderMs = acc.frameMs = 0
+    acc.sceneMs = acc.stepMs = acc.waitMs = acc.geometryMs = acc.renderMs = acc.frameMs = 0
     acc.frames = 0
     acc.start = now
     stepsInWindow = 0
@@ -488,6 +543,7 @@ function showStats(): void {
     `fps         ${fps}${fixedRatio === null && resolution > 0 ? ` (at ${RESOLUTIONS[resolution] * 100} % resolution)` : ''}`,
     `ms/frame    ${f(costs.frameMs)}`,
     `  step      ${f(costs.stepMs)}`,
+    ...(costs.waitMs > 0 ? [`  (waiting  ${f(costs.waitMs)} for the workers: main thread free)`] : []),
     `  geometry  ${f(costs.geometryMs)}`,
     `  render    ${f(costs.renderMs)}`,
     `  scene     ${f(costs.sceneMs)}`,

@@ -1,5 +1,5 @@
 import type * as THREE from 'three'
-import type { RenderProxyOptions } from '../src/index'
+import type { ClothPluginOptions, RenderProxyOptions } from '../src/index'
 
 /** Settings shared by every scene, driven by the panel. */
 export interface DemoSettings {
@@ -28,6 +28,8 @@ export interface SceneContext {
   showCloth(cloth: number, material: THREE.Material, fine?: RenderProxyOptions): THREE.Mesh
   /** The view: camera, renderer, sun (e.g. for the crowd's frustum test). */
   camera: THREE.PerspectiveCamera
+  /** Builds the scene again in a fresh world (e.g. after a change of `worldOptions`). */
+  reload(): void
 }
 
 /** A text label drawn over the canvas at a world point (an HTML overlay). */
@@ -49,6 +51,12 @@ export interface SceneInstance {
    * taken. A scene that steps differently (the crowd) does it here, in one place.
    */
   step?(dt: number): number
+  /**
+   * The live loop's step, when the scene has one that does not block (the crowd on workers:
+   * `beginClothStep`, then `await endClothStepAsync`): the frame is drawn once it resolves.
+   * `step` still serves `simulate`, which runs steps back to back.
+   */
+  stepAsync?(dt: number): Promise<number>
   /** Called before drawing: move three.js objects to the entities' poses. */
   sync?(): void
   /** Applies a change of the panel's substeps/iterations/tethers (default: to every cloth). */
@@ -108,7 +116,17 @@ export interface DemoScene {
   hint?: string
   /** Pictures for the README (`npm run screenshots`). */
   moments?: SceneMoment[]
+  /** Plugin options of the scene's world (e.g. `threads`); read each time the scene loads. */
+  worldOptions?(): ClothPluginOptions
   create(ctx: SceneContext): SceneInstance
+}
+
+/** Runs an input's change now, or later while workers step the world (set by main.ts). */
+let defer: (change: () => void) => void = (change) => change()
+
+/** Sets how the controls' changes run (main.ts holds them back while workers step the world). */
+export function setInputDeferral(d: (change: () => void) => void): void {
+  defer = d
 }
 
 /** Adds a button to a scene's control area. */
@@ -116,7 +134,7 @@ export function addButton(ui: HTMLElement, label: string, onClick: () => void, i
   const b = document.createElement('button')
   b.textContent = label
   if (id) b.id = id
-  b.addEventListener('click', onClick)
+  b.addEventListener('click', () => defer(onClick))
   ui.appendChild(b)
   return b
 }
@@ -159,7 +177,8 @@ export function addSlider(
   out.textContent = String(value)
   input.addEventListener('input', () => {
     out.textContent = input.value
-    onInput(Number(input.value))
+    const v = Number(input.value)
+    defer(() => onInput(v))
   })
   row.append(label, input, out)
   ui.appendChild(row)
@@ -173,7 +192,10 @@ export function addToggle(ui: HTMLElement, label: string, value: boolean, onChan
   input.type = 'checkbox'
   input.checked = value
   if (id) input.id = id
-  input.addEventListener('change', () => onChange(input.checked))
+  input.addEventListener('change', () => {
+    const v = input.checked
+    defer(() => onChange(v))
+  })
   row.append(label, input)
   ui.appendChild(row)
   return input

@@ -20,7 +20,7 @@ import { EMPTY_TETHERS, buildTethers, loosenTethers, type TetherMode } from './m
 import { buildGridTopology, buildMeshTopology } from './model/builders'
 import { checkUvs, gridUvs, planarUvs } from './model/uvs'
 import type { BendSide, BendingModel, ClothTopology, ShearModel } from './model/topology'
-import { getCloth, getClothWorld } from './world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from './world/access'
 import type { ClothState, ClothWorldState } from './world/state'
 import { wakeClothState } from './world/wake'
 import { createClothBudget, setWantedQuality } from './features/budget/api'
@@ -30,6 +30,7 @@ import { createClothCollision } from './features/collision/api'
 import { createClothSleep } from './features/sleep/api'
 import { createClothGrabs } from './features/grab/api'
 import { rebuildTearTethers } from './features/tearing/tethers'
+import { arrayOf, newArray, touchLayout } from './core/shared'
 
 /** Long-range attachment settings. */
 export interface TetherOptions {
@@ -123,7 +124,7 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
  * top edge at `position`. Returns the cloth entity.
  */
 export function createCloth(world: object, options: CreateClothOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const { width, height, columns, rows } = checkGridOptions(options)
   const topo = options.topology === undefined ? 'quad' : checkOneOf('options.topology', options.topology, ['quad', 'triangle'] as const)
   const position = options.position === undefined ? ORIGIN : checkPoint('options.position', options.position)
@@ -131,7 +132,7 @@ export function createCloth(world: object, options: CreateClothOptions): number 
   const common = checkCommon(options, columns * rows, state)
   const topology = buildGridTopology(width, height, columns, rows, common.material, topo, common.topologyOptions)
 
-  const pos = new Float64Array(3 * topology.particleCount)
+  const pos = newArray(Float64Array, 3 * topology.particleCount)
   const p = new Float64Array(3)
   for (let i = 0; i < topology.particleCount; i++) {
     const r = topology.restPositions
@@ -148,7 +149,7 @@ export function createCloth(world: object, options: CreateClothOptions): number 
  * pairs and hinges are derived from the triangles. Returns the cloth entity.
  */
 export function createClothFromMesh(world: object, options: CreateClothFromMeshOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkObject('options', options)
   const n = checkMeshInput(options.positions, options.indices, 'options.')
   const positions = options.positions
@@ -165,7 +166,7 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
   const unused = topology.unused
   if (masses) for (let i = 0; i < n; i++) if (!(masses[i] > 0) && (unused === null || unused[i] === 0 || masses[i] < 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
   const uv = uvs === undefined ? planarUvs(topology.restPositions, n, topology.triangles, topology.triangleCount) : Float32Array.from(uvs)
-  return spawnCloth(world, state, topology, Float64Array.from(positions), common, masses, uv)
+  return spawnCloth(world, state, topology, arrayOf(Float64Array, positions), common, masses, uv)
 }
 
 interface CommonOptions {
@@ -211,7 +212,7 @@ function checkTetherOptions(t: boolean | TetherOptions | undefined, arg: string)
  */
 function inverseMasses(topology: ClothTopology, o: CommonOptions, masses: ArrayLike<number> | undefined): Float64Array {
   const n = topology.particleCount
-  const invMass = new Float64Array(n)
+  const invMass = newArray(Float64Array, n)
   let scale = 1
   if (o.mass !== undefined) {
     let total = 0
@@ -257,12 +258,12 @@ function spawnCloth(
     material: o.material,
     count: n,
     pos,
-    prev: Float64Array.from(pos),
-    vel: new Float64Array(3 * n),
+    prev: arrayOf(Float64Array, pos),
+    vel: newArray(Float64Array, 3 * n),
     invMass,
-    baseInvMass: Float64Array.from(invMass),
-    invMass3: new Float64Array(3 * n),
-    pinCount: new Uint16Array(n),
+    baseInvMass: arrayOf(Float64Array, invMass),
+    invMass3: newArray(Float64Array, 3 * n),
+    pinCount: newArray(Uint16Array, n),
     accel: null,
     piece: topology.pieces, // (a tearable cloth gets its own labels, relabelled as it tears)
     pieceCount: topology.pieceCount,
@@ -275,10 +276,10 @@ function spawnCloth(
     subIndex: -1,
     idle: false,
     params: createKernelParams(),
-    distLambda: new Float64Array(topology.distCount),
-    compLambda: new Float64Array(topology.compCount),
-    lineLambda: new Float64Array(3 * topology.lineCount),
-    hingeLambda: new Float64Array(topology.hingeCount),
+    distLambda: newArray(Float64Array, topology.distCount),
+    compLambda: newArray(Float64Array, topology.compCount),
+    lineLambda: newArray(Float64Array, 3 * topology.lineCount),
+    hingeLambda: newArray(Float64Array, topology.hingeCount),
     version: 0,
     tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false, loosen: false },
     render: {
@@ -309,6 +310,7 @@ function spawnCloth(
 export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   const ct = c.tethers
   ct.dirty = false
+  touchLayout() // the cloth holds another tether set
   if (!ct.enabled) {
     ct.loosen = false
     ct.set = EMPTY_TETHERS
@@ -342,7 +344,7 @@ export function getCloths(world: object): number[] {
  * these are the most it runs; a quality target (`setClothQualityTarget`) moves them from here.
  */
 export function setClothQuality(world: object, cloth: number, quality: { substeps?: number; iterations?: number }): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkObject('quality', quality)
   const substeps = quality.substeps === undefined ? c.budget.wantSubsteps : checkInteger('quality.substeps', quality.substeps, 1, 256)
@@ -353,7 +355,7 @@ export function setClothQuality(world: object, cloth: number, quality: { substep
 
 /** Changes a cloth's tether settings (`false` turns tethers off); they are rebuilt at the next step. */
 export function setClothTethers(world: object, cloth: number, tethers: boolean | TetherOptions): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof tethers !== 'boolean') checkObject('tethers', tethers)
   const ct = c.tethers
@@ -373,7 +375,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
  * (0.01 = 1 % longer than rest).
  */
 export function getClothStretch(world: object, cloth: number, out = { mean: 0, max: 0 }): { mean: number; max: number } {
-  const c = getCloth(getClothWorld(world), cloth)
+  const c = getCloth(getClothWorldForChange(world), cloth)
   checkObject('out', out)
   const t = c.topology
   return measureStretch(c.pos, t.stretchIds, t.stretchRest, t.stretchCount, out)
@@ -381,7 +383,7 @@ export function getClothStretch(world: object, cloth: number, out = { mean: 0, m
 
 /** Removes a cloth with its pins. */
 export function removeCloth(world: object, cloth: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   getCloth(state, cloth)
   if (entityExists(world as never, cloth) && hasComponent(world as never, cloth, state.components.Cloth)) removeEntity(world as never, cloth)
 }

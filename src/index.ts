@@ -6,7 +6,7 @@
  * @module bitecs-cloth
  */
 export { installClothPlugin, getClothComponents, getClothStats, resetClothStats } from './plugin'
-export { stepCloth } from '../systems/step'
+export { stepCloth, beginClothStep, endClothStep, endClothStepAsync, disposeClothWorld } from '../systems/step'
 export { getClothMesh } from './mesh'
 export {
   createRenderProxy,

@@ -1,5 +1,5 @@
 import { writeRenderMesh } from './kernels/mesh'
-import { getCloth, getClothWorld } from './world/access'
+import { checkStepFinished, getCloth, getClothWorld } from './world/access'
 import type { ClothMesh, ClothRender, ClothState } from './world/state'
 
 /**
@@ -8,7 +8,8 @@ import type { ClothMesh, ClothRender, ClothState } from './world/state'
  * the cloth moved), so uploading them each frame allocates nothing.
  */
 export function getClothMesh(world: object, cloth: number): ClothMesh {
-  const c = getCloth(getClothWorld(world), cloth)
+  const state = getClothWorld(world)
+  const c = getCloth(state, cloth)
   const triCount = c.topology.triangleCount
   const r = c.render
   let mesh = r.mesh
@@ -23,6 +24,9 @@ export function getClothMesh(world: object, cloth: number): ClothMesh {
     }
     r.version = -1
   }
+  // between beginClothStep and endClothStep the workers may be writing the positions: only a mesh
+  // read since the last finished step can be handed out
+  if (r.version !== c.version) checkStepFinished(state, world, cloth)
   refreshClothRender(c)
   return mesh
 }

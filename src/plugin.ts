@@ -20,6 +20,8 @@ import { createGuardWorld, defaultGuardSettings, forgetResetEvents, resolveGuard
 import { installCharacter, releaseCharacter } from './features/character/api'
 import { createTearWorld, installTearing } from './features/tearing/api'
 import { forgetTearEvents } from './features/tearing/events'
+import { arrayOf, retainSharedMemory, touchLayout } from './core/shared'
+import { releaseWithWorld, resolveThreadOptions, startThreads } from './threads/bind'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
@@ -48,6 +50,9 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   if (options.transforms !== undefined) validateTransformSource(options.transforms)
   const guard = resolveGuardOptions(options.guard, defaultGuardSettings(maxSpeed), 'options.guard')
   const sleep = resolveSleepOptions(options.sleep, DEFAULT_SLEEP, 'options.sleep')
+  // a threaded world's arrays live in shared memory from the start
+  const threads = resolveThreadOptions(options)
+  if (threads !== null) retainSharedMemory()
 
   const Transform = createTransformStore(capacity)
   const Cloth = createClothStore<ClothState>()
@@ -56,7 +61,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   const Tearable = createTearableStore(capacity)
   const wind = createWindWorld(options.airDensity)
   const state: ClothWorldState = {
-    gravity: Float64Array.from(gravity),
+    gravity: arrayOf(Float64Array, gravity),
     fixedTimeStep,
     maxStepsPerFrame,
     teleportDistance,
@@ -78,7 +83,10 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     budget: createBudgetWorld(),
     guard: createGuardWorld(guard),
     tearing: createTearWorld(),
+    frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false },
+    threads: threads !== null ? startThreads(threads.count, threads.url, threads.inlineNs) : null,
   }
+  if (state.threads !== null) releaseWithWorld(world, state.threads)
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
 
   observeLifecycle(world, state)
@@ -136,6 +144,7 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
     }
     const i = state.cloths.indexOf(cloth)
     if (i >= 0) state.cloths.splice(i, 1)
+    touchLayout()
   })
 }
 

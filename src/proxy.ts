@@ -3,7 +3,7 @@ import { FRAME_SIZE, updateProxySeams, updateProxyVertices } from './kernels/pro
 import { bindProxy, type ProxyBinding } from './model/proxy'
 import { checkMeshInput } from './model/options'
 import { checkUvs } from './model/uvs'
-import { getCloth, getClothWorld } from './world/access'
+import { checkStepFinished, getCloth, getClothWorld } from './world/access'
 import type { ClothState, ClothWorldState } from './world/state'
 import { refreshClothRender } from './mesh'
 
@@ -127,6 +127,7 @@ export function updateRenderProxy(world: object, proxy: ClothRenderProxy): Rende
   const p = liveProxy(world, proxy)
   const c = p.state
   if (p.version === c.version) return p.mesh
+  checkStepFinished(p.world, world, p.cloth) // (the positions may be half written)
   const r = refreshClothRender(c)
   const b = p.binding, m = p.mesh
   const tris = c.topology.triangles

@@ -25,7 +25,7 @@
 import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
 import { ClothError } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
-import { getCloth, getClothWorld } from './world/access'
+import { getCloth, getClothWorldForChange } from './world/access'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'
@@ -37,6 +37,7 @@ import { checkSleep, restoreSleep, saveSleep, type SleepSnapshot } from './featu
 import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './features/guard/snapshot'
 import { checkCharacter, restoreCharacter, saveCharacter, type CharacterSnapshot } from './features/character/snapshot'
 import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearSnapshot } from './features/tearing/snapshot'
+import { touchLayout } from './core/shared'
 
 /**
  * A saved cloth state (see `saveClothState`). Plain data: structured-clone it, keep it, reuse it.
@@ -80,7 +81,7 @@ type Writable = { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
  * restoreClothState(world, cape, saved)
  */
 export function saveClothState(world: object, cloth: number, into?: ClothSnapshot): ClothSnapshot {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (into !== undefined && (typeof into !== 'object' || into === null || into.format !== 'bitecs-cloth-state/1')) {
     throw new ClothError('into', into, 'must be a snapshot returned by saveClothState')
@@ -112,7 +113,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
  * the whole world: when rolling back, restore every cloth from snapshots taken at the same time.
  */
 export function restoreClothState(world: object, cloth: number, snapshot: ClothSnapshot): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   const s = snapshot
   const arg = 'state'
@@ -244,6 +245,7 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   ct.loosen = s.settings[8] === 2
   c.pins.skipTeleport = s.settings[9] === 1
   ct.mode = s.tetherMode
+  if (ct.set !== s.tethers) touchLayout() // the cloth holds another tether set
   ct.set = s.tethers
   const k = state.kinematics
   state.accumulator = s.world[0]

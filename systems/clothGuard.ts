@@ -1,5 +1,4 @@
-import { guardActive } from '../src/features/guard/api'
-import { checkGuardHealth, deliverResets, keepSafePose, restoreSafePose } from '../src/features/guard/step'
+import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guard/step'
 import { HEALTH_OK } from '../src/kernels/guard'
 import { getClothWorld } from '../src/world/access'
 import { placeHeldAfterReset } from '../src/features/character/step'
@@ -17,12 +16,8 @@ export function clothGuard<W extends object>(world: W): W {
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
-    const g = c.guard
-    if (!guardActive(g) || c.subIndex < 0) continue // off, or asleep this step (a cloth that fell asleep in it still counts)
-    state.stats.guardChecks++
-    const health = checkGuardHealth(c)
-    if (health === HEALTH_OK) keepSafePose(c)
-    else {
+    const health = guardCheck(state, c)
+    if (health > HEALTH_OK) {
       restoreSafePose(state, c, health)
       if (c.character !== null) placeHeldAfterReset(c)
     }

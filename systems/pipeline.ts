@@ -1,4 +1,4 @@
-import { checkInteger } from '../src/core/errors'
+import { ClothError, checkInteger } from '../src/core/errors'
 import { getClothWorld } from '../src/world/access'
 import { clothCollide } from './clothCollide'
 import { clothForces } from './clothForces'
@@ -10,6 +10,8 @@ import { clothTear } from './clothTear'
 import { clothWriteback } from './clothWriteback'
 import { clothEvents } from './clothEvents'
 import { Q_MEASURED, Q_T0 } from '../src/features/budget/types'
+import { waitForWorkers } from '../src/threads/pool'
+import { collectClothStep, dispatchClothStep } from './threaded'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -42,9 +44,32 @@ export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide,
 /** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
 export function clothFixedStep<W extends object>(world: W): W {
   const state = getClothWorld(world)
-  const timing = state.budget.timing
+  if (state.frame.open) throw new ClothError('world', world, 'is between beginClothStep and endClothStep (call endClothStep first)')
+  startFixedStep(world, true)
+  finishFixedStep(world)
+  return world
+}
+
+/**
+ * First half of a fixed step: the sync phase (the only one that reads transforms), then the
+ * substeps and the guard. `blocking` (the caller finishes the step right away): they run now, on
+ * this thread or, in a threaded world, on the workers unless the step is too small to pay for the
+ * handoff. Otherwise (`beginClothStep`) they go to the workers, or without workers wait for
+ * `finishFixedStep`, so that in every mode the step's results appear at its finish.
+ */
+export function startFixedStep(world: object, blocking: boolean): void {
+  const state = getClothWorld(world)
   clothSync(world)
-  // a time budget that adapts times one step before each allocation (from here: sync decides)
+  if (state.threads !== null && dispatchClothStep(state, state.threads, blocking)) return
+  if (blocking) runSubsteps(world)
+  else state.frame.deferred = true
+}
+
+/** The substeps of every cloth here on this thread, then the guard (timed when the budget asks). */
+function runSubsteps(world: object): void {
+  const state = getClothWorld(world)
+  const timing = state.budget.timing
+  // a time budget that adapts times one step before each allocation (the sync phase decides)
   const timed = state.budget.timeNext
   if (timed) timing[Q_T0] = performance.now()
   for (let s = 0; s < state.substepCount; s++) {
@@ -58,9 +83,31 @@ export function clothFixedStep<W extends object>(world: W): W {
   }
   clothGuard(world)
   if (timed) timing[Q_MEASURED] = performance.now() - timing[Q_T0]
-  state.stats.substeps += state.substepCount
-  clothEvents(world)
-  return world
+}
+
+/**
+ * Second half: waits for the workers if they have the step (or runs the substeps it deferred),
+ * takes their results (the guard's resets, tear events), then counts the substeps and delivers the
+ * step's events.
+ */
+export function finishFixedStep(world: object): void {
+  const state = getClothWorld(world)
+  const th = state.threads
+  const f = state.frame
+  if (th !== null && th.phase === 1) waitForWorkers(th.pool, th.step)
+  // the step is done: listeners (guard resets, tears) may change the world
+  f.delivering = true
+  try {
+    if (th !== null && th.phase === 1) collectClothStep(state, th)
+    else if (f.deferred) {
+      f.deferred = false
+      runSubsteps(world)
+    }
+    state.stats.substeps += state.substepCount
+    clothEvents(world)
+  } finally {
+    f.delivering = false
+  }
 }
 
 /** Number of global substeps in the current fixed step (set by `clothSync`). */

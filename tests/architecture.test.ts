@@ -32,9 +32,9 @@ export function placeOf(file: string): Place | null {
     return { layer: 6, name: 'features', feature: order }
   }
   if (f.startsWith('src/world/')) return { layer: 5, name: 'world' }
-  if (['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts'].includes(f)) return { layer: 7, name: 'composition' }
+  if (['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts'].includes(f) || f.startsWith('src/threads/')) return { layer: 7, name: 'composition' }
   if (f.startsWith('systems/')) return { layer: 8, name: 'systems' }
-  if (['src/index.ts', 'src/simulation.ts', 'src/checked.ts', 'src/calibrate.ts'].includes(f) || f.startsWith('src/three/')) {
+  if (['src/index.ts', 'src/simulation.ts', 'src/checked.ts', 'src/calibrate.ts', 'src/worker.ts'].includes(f) || f.startsWith('src/three/')) {
     return { layer: 9, name: 'public entry' }
   }
   return null

@@ -1,7 +1,9 @@
 import { addEntity } from 'bitecs'
 import * as THREE from 'three'
 import {
+  beginClothStep,
   createCloth,
+  endClothStepAsync,
   getClothBudgetStats,
   getClothLod,
   getClothStretch,
@@ -10,6 +12,7 @@ import {
   setClothVisible,
   setTransform,
   stepCloth,
+  type ClothPluginOptions,
 } from '../../src/index'
 import { Character, CrowdFigures, Track, type Gait } from '../character'
 import { simpleCotton } from '../fabrics'
@@ -29,6 +32,17 @@ function lodClass(lod: { substeps: number; stepEvery: number; frozen: boolean })
   if (lod.frozen) return 5
   if (lod.stepEvery > 1) return 4
   return lod.substeps >= 8 ? 0 : lod.substeps >= 4 ? 1 : lod.substeps >= 2 ? 2 : 3
+}
+
+/**
+ * Workers that step the crowd's cloths (0: the page's main thread). Kept across reloads of the
+ * scene; `?threads=2` starts with them.
+ */
+let threads = Number(new URLSearchParams(location.search).get('threads') ?? 0) === 2 ? 2 : 0
+
+/** The crowd's world: on `threads` workers (the worker script is built beside the demo's main.js). */
+function crowdWorld(): ClothPluginOptions {
+  return threads > 0 ? { threads, workerUrl: new URL('./worker.js', import.meta.url).href } : {}
 }
 
 /** The budget's distances from the camera: full quality within NEAR, one substep beyond FAR, m. */
@@ -53,6 +67,10 @@ const LANES: { radius: number; count: number; gait: Gait; pace: number; directio
  * get fewer, down to one at 25 m, and a time budget per fixed step (4, 8 or 16 ms, or none) lowers
  * levels further until the predicted cost fits; capes outside the view are marked invisible
  * (`setClothVisible`) and freeze. "Tint by LOD" colours each cape by the level it runs.
+ * "Workers 2" steps the capes on two Web Workers (the page is cross-origin isolated: the demo
+ * server sends COOP and COEP): `beginClothStep` after the characters move, `endClothStepAsync`
+ * before drawing, so the main thread only syncs and hands over; the capes move bit for bit as
+ * without workers.
  */
 export const crowdScene: DemoScene = {
   id: 'crowd',
@@ -64,11 +82,12 @@ export const crowdScene: DemoScene = {
   // at most two fixed steps per drawn frame: on a slow machine the crowd runs in slow motion
   // rather than spending ever more time per frame
   maxFrameTime: 1 / 30,
+  worldOptions: crowdWorld,
   moments: [
     { name: 'rest', seconds: 3 },
     { name: 'motion', seconds: 3, action: 'lodByDistance' },
   ],
-  create({ world, settings, ui, root, showCloth, camera }) {
+  create({ world, settings, ui, root, showCloth, camera, reload }) {
     const characters: Character[] = []
     const capes: number[] = []
     const meshes: THREE.Mesh[] = []
@@ -119,6 +138,13 @@ export const crowdScene: DemoScene = {
     setBudget(budget)
     const showBudget = addSegmented<Budget>(ui, 'Budget ms', [['4', '4'], ['8', '8'], ['16', '16'], ['distance', 'none']], budget, setBudget, 'budget')
 
+    // workers: the scene is built again in a world with (or without) them
+    const setThreads = (n: number) => {
+      threads = n
+      reload()
+    }
+    addSegmented<'0' | '2'>(ui, 'Workers', [['0', 'none'], ['2', '2']], threads === 2 ? '2' : '0', (v) => setThreads(Number(v)), 'workers')
+
     const lodMaterials = LOD_CLASSES.map((c) => new THREE.MeshStandardMaterial({ color: c.color, roughness: 0.8, side: THREE.DoubleSide }))
     let tintLod = false
     const tintBox = addToggle(ui, 'Tint by LOD', tintLod, (v) => (tintLod = v), 'tint-lod')
@@ -154,8 +180,15 @@ export const crowdScene: DemoScene = {
         setTransform(world, viewer, camera.position.toArray())
         cull()
       },
-      /** All of the crowd's cloth stepping happens here. */
+      /** All of the crowd's cloth stepping happens here (`simulate` runs steps back to back). */
       step: (dt) => stepCloth(world, dt),
+      // with workers, the live loop draws once the frame is done, and the main thread does not wait
+      stepAsync: threads > 0
+        ? (dt) => {
+          beginClothStep(world, dt)
+          return endClothStepAsync(world)
+        }
+        : undefined,
       sync() {
         figures.sync()
         histogram.fill(0)
@@ -169,6 +202,7 @@ export const crowdScene: DemoScene = {
       stats() {
         const b = getClothBudgetStats(world)
         return [
+          `workers     ${threads > 0 ? `${threads} (cross-origin isolated: ${crossOriginIsolated})` : 'none (main thread)'}`,
           budget === 'distance'
             ? `budget      none: by distance (full within ${NEAR} m, 1 substep beyond ${FAR} m)`
             : `budget      ${budget} ms: ${b.predictedMs.toFixed(2)} predicted, ${b.measuredMs.toFixed(2)} measured`,
@@ -197,6 +231,8 @@ export const crowdScene: DemoScene = {
         histogram: () => Object.fromEntries(LOD_CLASSES.map((c, k) => [c.label, histogram[k]])),
         budget: () => getClothBudgetStats(world),
         visible: () => visibleCount,
+        /** Builds the crowd again on `n` workers (0 or 2). */
+        threads: (n: number) => setThreads(n),
         maxStretch: () => Math.max(...capes.map((c) => getClothStretch(world, c).max)),
       },
     }

@@ -1,5 +1,7 @@
+import { newArrayLike, type TypedArray } from './shared'
+
 /** Typed arrays a component store may hold. */
-export type StoreArray = Float64Array | Float32Array | Uint32Array | Int32Array | Uint16Array | Uint8Array | Int8Array
+export type StoreArray = TypedArray
 
 /**
  * Grows every typed-array field of an entity-indexed store so that index `eid` fits (capacity
@@ -17,17 +19,19 @@ export function ensureStoreCapacity(store: object, capacity: number, eid: number
     if (!ArrayBuffer.isView(old) || old instanceof DataView) continue
     const arr = old as StoreArray
     const stride = Math.max(1, Math.round(arr.length / capacity))
-    const Ctor = arr.constructor as new (n: number) => StoreArray
-    const grown = new Ctor(next * stride)
+    const grown = newArrayLike(arr, next * stride) // shared memory stays shared
     grown.set(arr)
     fields[key] = grown
   }
   return next
 }
 
-/** A copy of `a` with room for at least `n` elements (the new tail zeroed); creation time only. */
+/**
+ * A copy of `a` with room for at least `n` elements (the new tail zeroed), in shared memory when `a`
+ * is; creation time only.
+ */
 export function grownArray<T extends StoreArray>(a: T, n: number): T {
-  const out = new (a.constructor as new (n: number) => T)(Math.max(n, a.length))
+  const out = newArrayLike(a, Math.max(n, a.length))
   out.set(a)
   return out
 }

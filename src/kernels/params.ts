@@ -1,3 +1,4 @@
+import { newArray } from '../core/shared'
 /**
  * Scalar inputs of the kernels for one cloth's current substep, kept in a Float64Array rather
  * than passed as number arguments: V8 boxes a double passed to a function it does not inline
@@ -30,7 +31,7 @@ export const PARAM_COUNT = 12
 
 /** A zeroed parameter block. */
 export function createKernelParams(): Float64Array {
-  return new Float64Array(PARAM_COUNT)
+  return newArray(Float64Array, PARAM_COUNT)
 }
 
 /** Fills the per-substep slots of a parameter block. */

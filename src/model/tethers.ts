@@ -1,3 +1,4 @@
+import { newArray } from '../core/shared'
 /**
  * Long-range attachments (Kim, Chentanez, Müller-Fischer, SCA 2012): every free particle is tied
  * to its nearest pinned particles by a one-sided constraint that only acts when the particle is
@@ -78,9 +79,9 @@ export function buildTethers(
     for (let k = 0; k < K; k++) if (bestAnchor[i * K + k] >= 0) total++
   }
   const out: TetherSet = {
-    particle: new Int32Array(total),
-    anchor: new Int32Array(total),
-    rest: new Float64Array(total),
+    particle: newArray(Int32Array, total),
+    anchor: newArray(Int32Array, total),
+    rest: newArray(Float64Array, total),
     count: total,
   }
   let t = 0
@@ -190,16 +191,16 @@ export function createAnchorScratch(particles: number, edges: number, kCap: numb
   const heap = withHeap ? particles + 2 * kCap * edges + 16 : 0
   return {
     kCap,
-    anchors: new Int32Array(particles),
-    adjStart: new Int32Array(particles + 1),
-    adjList: new Int32Array(2 * edges),
-    fill: new Int32Array(particles),
-    bestAnchor: new Int32Array(particles * kCap),
-    bestDist: new Float64Array(particles * kCap),
-    settled: new Int32Array(particles),
-    heapKey: new Float64Array(heap),
-    heapNode: new Int32Array(heap),
-    heapSrc: new Int32Array(heap),
+    anchors: newArray(Int32Array, particles),
+    adjStart: newArray(Int32Array, particles + 1),
+    adjList: newArray(Int32Array, 2 * edges),
+    fill: newArray(Int32Array, particles),
+    bestAnchor: newArray(Int32Array, particles * kCap),
+    bestDist: newArray(Float64Array, particles * kCap),
+    settled: newArray(Int32Array, particles),
+    heapKey: newArray(Float64Array, heap),
+    heapNode: newArray(Int32Array, heap),
+    heapSrc: newArray(Int32Array, heap),
   }
 }
 

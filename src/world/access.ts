@@ -19,3 +19,26 @@ export function getCloth(state: ClothWorldState, cloth: number): ClothState {
   if (!c) throw new ClothError('cloth', cloth, 'must be a cloth entity of this world')
   return c
 }
+
+/**
+ * The plugin state of a world about to be changed; throws ClothError between `beginClothStep` and
+ * `endClothStep`, while the workers may be reading and writing the cloths (in every mode, so that a
+ * game behaves the same with and without workers).
+ */
+export function getClothWorldForChange(world: object): ClothWorldState {
+  const state = getClothWorld(world)
+  if (state.frame.open && !state.frame.delivering) {
+    throw new ClothError('world', world, 'is between beginClothStep and endClothStep: change cloths, pins, colliders and settings after endClothStep')
+  }
+  return state
+}
+
+/**
+ * Throws ClothError between `beginClothStep` and `endClothStep` (but while the finished step's
+ * listeners run): reading a cloth's particles then could see a step half written by the workers.
+ */
+export function checkStepFinished(state: ClothWorldState, world: object, cloth: number): void {
+  if (state.frame.open && !state.frame.delivering) {
+    throw new ClothError('world', world, `is between beginClothStep and endClothStep, and cloth ${cloth}'s mesh was not read since its last finished step: read meshes after endClothStep (and before the next beginClothStep)`)
+  }
+}

@@ -1,6 +1,7 @@
 import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../core/errors'
 import { multiplyQuatAt, normalizeQuatAt, relativeRotationAt } from '../core/math'
 import { K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
+import { newArray, newArrayLike, type TypedArray } from '../core/shared'
 
 export { K_SINCE_SAMPLE, K_STEP_FRACTION }
 
@@ -21,12 +22,12 @@ export function createKinematics(): Kinematics {
     free: [],
     sampleFrom: new Float64Array(0),
     sampleTo: new Float64Array(0),
-    stepFrom: new Float64Array(0),
-    stepTo: new Float64Array(0),
-    scaleSampleFrom: new Float64Array(0),
-    scaleSampleTo: new Float64Array(0),
-    scaleStepFrom: new Float64Array(0),
-    scaleStepTo: new Float64Array(0),
+    stepFrom: newArray(Float64Array, 0),
+    stepTo: newArray(Float64Array, 0),
+    scaleSampleFrom: newArray(Float64Array, 0),
+    scaleSampleTo: newArray(Float64Array, 0),
+    scaleStepFrom: newArray(Float64Array, 0),
+    scaleStepTo: newArray(Float64Array, 0),
     jumped: new Uint8Array(0),
     moved: new Uint8Array(0),
     forceJump: new Uint8Array(0),
@@ -114,8 +115,8 @@ export function untrackEntity(state: ClothWorldState, eid: number): void {
 }
 
 function growSlots(k: Kinematics, n: number): void {
-  const grow = <T extends Float64Array | Int32Array | Uint8Array>(a: T, stride: number, fill = 0): T => {
-    const b = new (a.constructor as new (n: number) => T)(n * stride)
+  const grow = <T extends TypedArray>(a: T, stride: number, fill = 0): T => {
+    const b = newArrayLike(a, n * stride) // shared memory stays shared
     if (fill !== 0) b.fill(fill)
     b.set(a)
     return b

@@ -75,6 +75,28 @@ export interface ClothPluginOptions {
    * Default on: a cloth whose particles all stay below 1 cm/s for 1 s sleeps until disturbed.
    */
   sleep?: boolean | ClothSleepOptions
+  /**
+   * Worker threads that step this world's cloths (Web Workers in browsers, `worker_threads` in
+   * Node), the particle state in shared memory; 0 (default) steps on the calling thread. The
+   * results are bitwise identical whatever the count. See `beginClothStep` / `endClothStep`.
+   */
+  threads?: number
+  /**
+   * The worker script: the package's `worker.js` (next to its `index.js`), or your bundle of
+   * `bitecs-cloth/worker`. Default: `worker.js` beside the library file.
+   */
+  workerUrl?: string | URL
+  /**
+   * Without shared memory (a browser page that is not cross-origin isolated), `threads` cannot
+   * work: true throws a ClothError; false (default) warns once and steps on the calling thread.
+   */
+  requireThreads?: boolean
+  /**
+   * A step the cost model predicts cheaper than this (ms) runs on the calling thread when
+   * `stepCloth` waits for it anyway: the handoff to the workers costs tens of microseconds.
+   * Default 0.2; 0 always hands steps to the workers. (`beginClothStep` always hands them over.)
+   */
+  threadMinStepMs?: number
 }
 
 /** Counters of the work each phase did, accumulated since install (or the last reset). */
@@ -354,6 +376,23 @@ export interface Kinematics {
 export const K_SINCE_SAMPLE = 0
 export const K_STEP_FRACTION = 1
 
+/** The frame `beginClothStep` opened (`ClothWorldState.frame`). */
+export interface ClothFrame {
+  /** Between `beginClothStep` and `endClothStep`: cloths may not change. */
+  open: boolean
+  /** Fixed steps the frame runs, and the next one to start (1-based). */
+  steps: number
+  next: number
+  /** Time beyond `maxStepsPerFrame` fixed steps was dropped this frame. */
+  overflow: boolean
+  /** The started fixed step's substeps wait for its finish (`beginClothStep` without workers). */
+  deferred: boolean
+  /** `endClothStepAsync` is finishing the frame. */
+  ending: boolean
+  /** A finished step's listeners are being called (they may change the world). */
+  delivering: boolean
+}
+
 /** Per-world plugin state, kept on the world object under a symbol. */
 export interface ClothWorldState {
   gravity: Float64Array
@@ -390,6 +429,69 @@ export interface ClothWorldState {
   budget: BudgetWorld
   guard: GuardWorld
   tearing: TearWorld
+  /** The frame being stepped (`beginClothStep` / `endClothStep`). */
+  frame: ClothFrame
+  /** Workers stepping the cloths, or null (the calling thread steps them). */
+  threads: ClothThreads | null
+}
+
+/** A worker as the plugin uses it (a Web Worker or a Node `worker_threads` Worker). */
+export interface ClothWorker {
+  postMessage(message: unknown): void
+  terminate(): unknown
+}
+
+/** A cloth as the workers know it: its handoff block and the arrays it held when last sent. */
+export interface ClothBinding {
+  cloth: ClothState
+  /** Index the workers know the cloth by. */
+  slot: number
+  /** The per-step handoff block (see `src/threads/handoff.ts`), shared with the workers. */
+  io: Float64Array
+  /** The cloth's arrays in a fixed order, as last sent (see `src/threads/layout.ts`). */
+  layout: unknown[]
+}
+
+/** Per-world threading state (`ClothWorldState.threads`; null when the world steps on its own thread). */
+export interface ClothThreads {
+  /** The pool (src/threads/pool.ts): workers, control words, errors. */
+  pool: { workers: ClothWorker[]; control: Int32Array; block: boolean; errors: string[]; exited: number }
+  /** Per-step world values the workers read (see `src/threads/handoff.ts`). */
+  worldIO: Float64Array
+  /** Per worker: the slots of the cloths it steps this step ([0] = count). */
+  lists: Int32Array[]
+  /** Per worker: what it hands back (work counters, sleep count, time, tear events). */
+  outputs: Float64Array[]
+  /** Binding of each slot (null: free), and of each cloth. */
+  slots: (ClothBinding | null)[]
+  bindings: Map<ClothState, ClothBinding>
+  /** Layout epoch (src/core/shared.ts) when the bindings were last checked; layout messages sent. */
+  epoch: number
+  layoutSeq: number
+  /** The world's shared arrays as last sent. */
+  worldLayout: unknown[]
+  /** Step number of the last step handed to the workers. */
+  step: number
+  /** 0: idle; 1: a step is with the workers; 2: a step ran on this thread and waits to be finished. */
+  phase: number
+  /** Steps whose predicted cost (ns, the budget's cost model) is below this run on this thread. */
+  inlineNs: number
+  /** Partition scratch, per cloth: cost, group, the worker of a group (at its root), sort order; per worker: load. */
+  cost: Float64Array
+  group: Int32Array
+  order: Int32Array
+  sorted: Int32Array
+  load: Float64Array
+  /** The worker of each binding slot at the last step (−1: none yet). */
+  assign: Int32Array
+  /** Test hook: check every step that the layout did not change unannounced and the workers hold the same values. */
+  verify: boolean
+  /** In verify mode: the main thread's fingerprints of the cloths it handed over, by slot. */
+  verifyBefore: Map<number, string[]>
+  /** Per worker, in verify mode: its fingerprints of the cloths before and after the step (text in shared memory). */
+  verifyText: Int32Array[]
+  /** Shared copies of arrays found outside shared memory (see `src/threads/layout.ts`). */
+  adopt: WeakMap<object, object>
 }
 
 /** Symbol under which the plugin keeps its state on a world. */

@@ -10,6 +10,7 @@ import { demoScenes } from './demo'
 import { threeCost } from './three'
 import { proxyCost } from './render'
 import { characterCost } from './character'
+import { threadsCost } from './threads'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -63,6 +64,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
   character: { byDefault: true, run: () => characterCost() },
   demo: { byDefault: false, run: () => demoScenes() },
   three: { byDefault: true, run: () => threeCost() },
+  threads: { byDefault: false, run: () => threadsCost() },
 }
 
 const wanted = process.argv.slice(2)

@@ -23,6 +23,17 @@ await build({
   outfile,
   logLevel: 'warning',
 })
+// the cloth worker of threaded worlds (tests/bench/threads.ts), beside the benchmark bundle
+await build({
+  entryPoints: [join(root, 'src', 'worker.ts')],
+  bundle: true,
+  platform: 'neutral',
+  mainFields: ['module', 'main'],
+  format: 'esm',
+  target: 'es2022',
+  outfile: join(outDir, 'worker.mjs'),
+  logLevel: 'warning',
+})
 const hash = spawnSync('git', ['rev-parse', '--short=12', 'HEAD'], { cwd: root, encoding: 'utf8' }).stdout.trim()
 const dirty = spawnSync('git', ['status', '--porcelain', '--untracked-files=no'], { cwd: root, encoding: 'utf8' }).stdout.trim() !== ''
 const commit = hash ? `commit ${hash}${dirty ? ' with uncommitted changes' : ''}` : 'not a git checkout'

@@ -5,7 +5,11 @@ import { addEntity, createWorld } from 'bitecs'
 import { BufferGeometry, type Mesh, MeshBasicMaterial } from 'three'
 import {
   ClothError,
+  beginClothStep,
   createCloth,
+  disposeClothWorld,
+  endClothStep,
+  getClothState,
   getClothMesh,
   getClothTearCount,
   installClothPlugin,
@@ -83,6 +87,26 @@ try {
 } catch (error) {
   check(error instanceof ClothError && error.argument === 'geometry', 'the error is a ClothError naming the geometry')
 }
+
+// threads: the package's own worker script (dist/worker.js) is found without workerUrl, and a
+// threaded world steps to the same bytes as one without workers
+const crowd = [0, 2].map((threads) => {
+  const w = installClothPlugin(createWorld(), { threads, threadMinStepMs: 0 })
+  const h = addEntity(w)
+  setTransform(w, h, [0, 1.6, 0])
+  const capes = [0, 1, 2].map((k) => {
+    const c = createCloth(w, { width: 0.5, height: 0.8, resolution: 8, position: [k, 1.5, -0.1] })
+    pinRow(w, c, 0, h)
+    return c
+  })
+  for (let f = 1; f <= 60; f++) {
+    setTransform(w, h, [f / 30, 1.6, 0])
+    beginClothStep(w, 1 / 60)
+    endClothStep(w)
+  }
+  return capes.map((c) => Array.from(getClothState(w, c).pos)).join() + (disposeClothWorld(w), '')
+})
+check(crowd[0] === crowd[1], 'two workers give the same positions as none')
 
 // the declarations are real types, not any (type-checked, never called)
 export function wrongCalls(): void {

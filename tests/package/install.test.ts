@@ -42,6 +42,8 @@ describe('the packed package, as a user installs it', () => {
           'dist/index.d.ts',
           'dist/three.js',
           'dist/three.d.ts',
+          'dist/worker.js',
+          'dist/worker.d.ts',
           'LICENSE',
           'README.md',
           'CHANGELOG.md',

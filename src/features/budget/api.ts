@@ -1,6 +1,6 @@
 import { hasComponent, observe, onAdd, onRemove } from 'bitecs'
 import { ClothError, checkInteger, checkObject, checkPositive } from '../../core/errors'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
@@ -179,7 +179,7 @@ export function checkCalibration(c: ClothCostCalibration, arg: string): Float64A
 
 /** `setClothQualityTarget`, with the calibration run it needs for a time target (`measure`) passed in. */
 export function configureQualityTarget(world: object, cloth: number, target: ClothQualityTarget | null, measure: () => Float64Array): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   const lod = c.budget
   const q = state.budget
@@ -209,7 +209,7 @@ export function configureQualityTarget(world: object, cloth: number, target: Clo
 
 /** `setClothBudget`, with the calibration run it needs for a time budget (`measure`) passed in. */
 export function configureBudget(world: object, options: ClothBudgetOptions | null, measure: () => Float64Array): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const q = state.budget
   if (options === null) {
     q.settings = null

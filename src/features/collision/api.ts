@@ -4,12 +4,13 @@ import { createSelfCollisionStore, type SelfCollisionStore } from '../../../comp
 import { checkAtMost, checkInteger, checkNonNegative, ClothError, MAX_COORDINATE } from '../../core/errors'
 import { COLLIDE_SCRATCH, FRAME_SIZE } from '../../kernels/collide'
 import { SELF_PARAM_COUNT } from '../../kernels/selfCollide'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { releaseCollider } from './colliders'
 import { allocateSelfCollision, releaseSelfCollision } from './selfCollision'
 import type { ClothCollision, CollisionWorld } from './types'
+import { newArray } from '../../core/shared'
 
 export function createCollisionWorld(capacity: number): CollisionWorld<ClothState> {
   return {
@@ -64,8 +65,8 @@ export function createClothCollision(capacity: number): ClothCollision {
     thickness: 0,
     friction: -1,
     staticFriction: -1,
-    bounds: new Float64Array(12),
-    active: new Int32Array(capacity),
+    bounds: newArray(Float64Array, 12),
+    active: newArray(Int32Array, capacity),
     activeCount: 0,
     self: null,
   }
@@ -93,7 +94,7 @@ export interface ClothCollisionOptions {
  * @example setClothCollision(world, cape, { layer: 2, mask: HERO_BODY, thickness: 0.01 })
  */
 export function setClothCollision(world: object, cloth: number, options: ClothCollisionOptions): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const cc = c.collision

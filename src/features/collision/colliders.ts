@@ -6,11 +6,12 @@ import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkFinite
 import { buildConvexHull } from '../../model/hull'
 import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, F_SW, F_SWR } from '../../kernels/collide'
 import { interpolatePose, interpolateScale, readPoseInto, readScaleInto, trackEntity, untrackEntity } from '../../world/kinematics'
-import { getClothWorld } from '../../world/access'
+import { getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { multiplyQuatAt, normalizedQuat, quatToMatrix, rotateVecAt } from '../../core/math'
+import { touchLayout } from '../../core/shared'
 
 /** Options every collider takes. */
 export interface ColliderOptions {
@@ -121,6 +122,7 @@ function spawnCollider(
   C.hulls[eid] = hull
   C.slot[eid] = trackEntity(state, o.body)
   cw.colliders.push(eid)
+  touchLayout()
   reserveActiveColliders(state)
   addComponent(world as never, eid, C)
   sweepColliderBounds(state, eid)
@@ -135,7 +137,7 @@ function spawnCollider(
  * @example addSphereCollider(world, ball, { radius: 0.3 })
  */
 export function addSphereCollider(world: object, eid: number, options: SphereColliderOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const o = checkCommon(world, state, eid, options)
   const r = checkLength('options.radius', options.radius, true)
   return spawnCollider(world, state, eid, SHAPE_SPHERE, o, [r], [0, 0, 0, r], r)
@@ -150,7 +152,7 @@ export function addSphereCollider(world: object, eid: number, options: SphereCol
  * addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0, 1.15, 0], radius: 0.19, halfHeight: 0.22 })
  */
 export function addCapsuleCollider(world: object, eid: number, options: CapsuleColliderOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const o = checkCommon(world, state, eid, options)
   const r = checkLength('options.radius', options.radius, true)
   const hh = checkLength('options.halfHeight', options.halfHeight, false)
@@ -167,7 +169,7 @@ export function addCapsuleCollider(world: object, eid: number, options: CapsuleC
 
 /** Makes `eid` a box collider with `halfExtents` along its local axes. Returns `eid`. */
 export function addBoxCollider(world: object, eid: number, options: BoxColliderOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const o = checkCommon(world, state, eid, options)
   const h = checkPoint('options.halfExtents', options.halfExtents)
   for (let k = 0; k < 3; k++) if (!(h[k] > 0)) throw new ClothError('options.halfExtents', options.halfExtents, 'must be > 0 on every axis')
@@ -181,7 +183,7 @@ export function addBoxCollider(world: object, eid: number, options: BoxColliderO
  * @example addConvexHullCollider(world, rock, { points: [0, 1, 0, 1, 0, 0, -1, 0, 0, 0, 0, 1, 0, 0, -1] })
  */
 export function addConvexHullCollider(world: object, eid: number, options: ConvexHullColliderOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const o = checkCommon(world, state, eid, options)
   const hull = buildConvexHull(checkBoundedArray('options.points', options.points, 3, MAX_COORDINATE), 'options.points')
   const v = hull.vertices
@@ -206,7 +208,7 @@ export function addConvexHullCollider(world: object, eid: number, options: Conve
  * @example addPlaneCollider(world, ground)  // y = ground's y, normal +y
  */
 export function addPlaneCollider(world: object, eid: number, options: PlaneColliderOptions = {}): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const o = checkCommon(world, state, eid, options)
   let n: ArrayLike<number> = [0, 1, 0]
   if (options.normal !== undefined) {
@@ -222,7 +224,7 @@ export function addPlaneCollider(world: object, eid: number, options: PlaneColli
 
 /** Removes `eid`'s collider (the entity stays). Removing the entity does the same. */
 export function removeCollider(world: object, eid: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const C = state.collision.Collider
   if (typeof eid !== 'number' || !hasComponent(world as never, eid, C)) throw new ClothError('eid', eid, 'must be a collider entity of this world')
   removeComponent(world as never, eid, C)
@@ -240,6 +242,7 @@ export function releaseCollider(state: ClothWorldState, eid: number): void {
   if (k < 0) return
   wakeAroundCollider(state, eid) // a cloth sleeping on it must fall
   cw.colliders.splice(k, 1)
+  touchLayout()
   const C = cw.Collider
   if (C.slot[eid] >= 0) untrackEntity(state, C.body[eid])
   C.slot[eid] = -1

@@ -3,6 +3,7 @@ import { SHAPE_PLANE } from '../../core/shapes'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import type { ClothCollision } from './types'
+import { newArray } from '../../core/shared'
 
 /** Which colliders reach which cloths: layers, swept bounds, per-cloth collider lists. */
 
@@ -51,7 +52,7 @@ export function reserveActiveColliders(state: ClothWorldState): void {
   for (let ci = 0; ci < state.cloths.length; ci++) {
     const cc = state.cloths[ci].collision!
     if (cc.active.length < n) {
-      const grown = new Int32Array(Math.max(n, 2 * cc.active.length))
+      const grown = newArray(Int32Array, Math.max(n, 2 * cc.active.length))
       grown.set(cc.active)
       cc.active = grown
     }

@@ -19,10 +19,11 @@ import {
   gatherPairs,
   solvePairs,
 } from '../../kernels/selfCollide'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
+import { newArray, touchLayout } from '../../core/shared'
 
 /**
  * How far particles may travel relative to their cloth's mean motion within one fixed step, in
@@ -71,7 +72,7 @@ export interface SelfCollisionOptions {
  * @example enableSelfCollision(world, curtain, { thickness: 0.02 })
  */
 export function enableSelfCollision(world: object, cloth: number, options: SelfCollisionOptions = {}): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const thickness = options.thickness === undefined ? 0 : checkAtMost('options.thickness', checkPositive('options.thickness', options.thickness), MAX_COORDINATE, ' m')
@@ -89,7 +90,7 @@ export function enableSelfCollision(world: object, cloth: number, options: SelfC
 
 /** Turns self-collision off for a cloth (removes its SelfCollision component). */
 export function disableSelfCollision(world: object, cloth: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   getCloth(state, cloth)
   const S = state.collision.SelfCollision
   if (hasComponent(world as never, cloth, S)) removeComponent(world as never, cloth, S)
@@ -121,22 +122,22 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
     friction,
     staticFriction: S.staticFriction[eid] >= 0 ? S.staticFriction[eid] : friction,
     mask: table - 1,
-    start: old && old.start.length === table + 1 ? old.start : new Int32Array(table + 1),
-    visited: old && old.visited.length === table + 1 ? old.visited : new Int32Array(table + 1),
-    entries: old && old.entries.length === n ? old.entries : new Int32Array(n),
+    start: old && old.start.length === table + 1 ? old.start : newArray(Int32Array, table + 1),
+    visited: old && old.visited.length === table + 1 ? old.visited : newArray(Int32Array, table + 1),
+    entries: old && old.entries.length === n ? old.entries : newArray(Int32Array, n),
     hashed: 0,
-    bucket: old && old.bucket.length === n ? old.bucket : new Int32Array(n),
-    sorted: old && old.sorted.length === 3 * n ? old.sorted : new Float64Array(3 * n),
-    pairs: old && old.capacity === capacity ? old.pairs : new Int32Array(2 * capacity),
+    bucket: old && old.bucket.length === n ? old.bucket : newArray(Int32Array, n),
+    sorted: old && old.sorted.length === 3 * n ? old.sorted : newArray(Float64Array, 3 * n),
+    pairs: old && old.capacity === capacity ? old.pairs : newArray(Int32Array, 2 * capacity),
     capacity,
     pairCount: 0,
-    cross: old ? old.cross : new Int32Array(0),
+    cross: old ? old.cross : newArray(Int32Array, 0),
     crossCapacity: old ? old.crossCapacity : 0,
     crossCount: 0,
-    blocks: old ? old.blocks : new Int32Array(0),
+    blocks: old ? old.blocks : newArray(Int32Array, 0),
     blockCount: 0,
-    values: new Float64Array(4),
-    touched: old && old.touched.length === n ? old.touched : new Uint8Array(n),
+    values: newArray(Float64Array, 4),
+    touched: old && old.touched.length === n ? old.touched : newArray(Uint8Array, n),
   }
   c.collision.self = st
   if (cw.selfCloths.indexOf(c) < 0) {
@@ -148,11 +149,11 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
   const m = cw.selfCloths.length
   for (let k = 0; k < m; k++) {
     const other = cw.selfCloths[k].collision.self!
-    if (other.blocks.length < 3 * m) other.blocks = new Int32Array(3 * m)
+    if (other.blocks.length < 3 * m) other.blocks = newArray(Int32Array, 3 * m)
     // (again when a cloth grew: tearing reserves more particles, whatever came first)
     if (m >= 2 && other.crossCapacity < PAIRS_PER_PARTICLE * other.bucket.length) {
       other.crossCapacity = PAIRS_PER_PARTICLE * other.bucket.length
-      other.cross = new Int32Array(2 * other.crossCapacity)
+      other.cross = newArray(Int32Array, 2 * other.crossCapacity)
     }
   }
 }
@@ -162,6 +163,7 @@ export function releaseSelfCollision(state: ClothWorldState, c: ClothState): voi
   const cw = state.collision
   const k = cw.selfCloths.indexOf(c)
   if (k >= 0) cw.selfCloths.splice(k, 1)
+  touchLayout()
   wakeClothState(state, c)
   if (c.collision) c.collision.self = null
   for (let q = 0; q < cw.selfCloths.length; q++) cw.selfCloths[q].collision.self!.blockCount = 0

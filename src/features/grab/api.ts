@@ -2,10 +2,11 @@ import type { vec3 } from 'gl-matrix'
 import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkPoint, checkPositive } from '../../core/errors'
 import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { grownArray } from '../../core/store'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import type { ClothGrabs, GrabWorld } from './types'
+import { newArray } from '../../core/shared'
 
 /**
  * Grabbing: a hand (or a mouse) holding one particle of a cloth and pulling it toward a point.
@@ -43,7 +44,7 @@ const G0 = 9.81
 
 /** Creates a cloth's (empty) grab list. */
 export function createClothGrabs(): ClothGrabs {
-  return { count: 0, id: new Int32Array(0), particle: new Int32Array(0), data: new Float64Array(0) }
+  return { count: 0, id: newArray(Int32Array, 0), particle: newArray(Int32Array, 0), data: newArray(Float64Array, 0) }
 }
 
 /** Creates the per-world grab state. */
@@ -69,7 +70,7 @@ export function grabParticle(
   target: Readonly<vec3> | ArrayLike<number>,
   options: GrabOptions = {},
 ): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkIndex('index', index, c.count)
   checkPoint('target', target)
@@ -94,7 +95,7 @@ export function grabParticle(
 
 /** Moves a grab's target to the world point `target` (it glides there over the next frame's steps). */
 export function moveGrab(world: object, grab: number, target: Readonly<vec3> | ArrayLike<number>): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = findGrab(state, grab)
   const g = indexOf(c.grab, grab)
   checkPoint('target', target)
@@ -109,7 +110,7 @@ export function moveGrab(world: object, grab: number, target: Readonly<vec3> | A
  * pointer-up without tracking what happened meanwhile.
  */
 export function releaseGrab(world: object, grab: number): boolean {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkHandle(grab)
   const c = locateGrab(state, grab)
   if (c === null) return false

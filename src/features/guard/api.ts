@@ -11,10 +11,11 @@ import { ClothError, checkInteger, checkPositive } from '../../core/errors'
 import { G_FINITE, G_REACH, G_SPEED2, GUARD_PARAM_COUNT, PIECE_STRIDE } from '../../kernels/guard'
 import type { ClothTopology } from '../../model/topology'
 import { grownArray } from '../../core/store'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState } from '../../world/state'
 import { restSize } from './size'
 import { EVENT_CAPACITY, REASONS, type ClothGuardOptions, type ClothGuardState, type ClothResetEvent, type GuardSettings, type GuardWorld } from './types'
+import { newArray, arrayOf } from '../../core/shared'
 
 export function defaultGuardSettings(maxSpeed: number): GuardSettings {
   return { enabled: true, finite: true, bounds: 2, speed: 0.5 * maxSpeed, snapshotInterval: 1 }
@@ -60,12 +61,12 @@ export function createGuardWorld(defaults: GuardSettings): GuardWorld {
 export function createClothGuard(topology: ClothTopology, pos: Float64Array, settings: GuardSettings): ClothGuardState {
   const g: ClothGuardState = {
     settings,
-    params: new Float64Array(GUARD_PARAM_COUNT),
+    params: newArray(Float64Array, GUARD_PARAM_COUNT),
     size: restSize(topology),
-    safe: Float64Array.from(pos),
+    safe: arrayOf(Float64Array, pos),
     safeCount: topology.particleCount,
-    rest: Float64Array.from(pos),
-    pieceBox: new Float64Array(topology.pieces === null ? 0 : PIECE_STRIDE * topology.pieceCount),
+    rest: arrayOf(Float64Array, pos),
+    pieceBox: newArray(Float64Array, topology.pieces === null ? 0 : PIECE_STRIDE * topology.pieceCount),
     sinceSafe: 0,
     failStreak: 0,
   }
@@ -81,7 +82,7 @@ export function reserveGuard(c: ClothState, P: number): void {
   const g = c.guard
   g.rest = grownArray(g.rest, 3 * P)
   g.safe = grownArray(g.safe, 3 * P)
-  if (g.pieceBox.length < PIECE_STRIDE * P) g.pieceBox = new Float64Array(PIECE_STRIDE * P)
+  if (g.pieceBox.length < PIECE_STRIDE * P) g.pieceBox = newArray(Float64Array, PIECE_STRIDE * P)
 }
 
 /**
@@ -165,7 +166,7 @@ export function forgetResetEvents(w: GuardWorld, cloth: number): void {
 
 /** Changes a cloth's guard settings (over its current ones); `false` turns its guard off. */
 export function setClothGuard(world: object, cloth: number, options: boolean | ClothGuardOptions): void {
-  const c = getCloth(getClothWorld(world), cloth)
+  const c = getCloth(getClothWorldForChange(world), cloth)
   if (typeof options !== 'boolean' && (typeof options !== 'object' || options === null)) {
     throw new ClothError('options', options, 'must be a boolean or guard options')
   }

@@ -3,6 +3,7 @@ import { ClothError } from '../../core/errors'
 import type { ClothState } from '../../world/state'
 import { applyGuardSettings } from './api'
 import type { GuardSettings } from './types'
+import { newArray } from '../../core/shared'
 
 /** The explosion guard's section of a snapshot. */
 export interface GuardSnapshot {
@@ -38,7 +39,7 @@ export function checkGuard(s: GuardSnapshot, arg: string): void {
 
 export function restoreGuard(c: ClothState, s: GuardSnapshot): void {
   const g = c.guard
-  if (g.safe.length < s.guardSafe.length) g.safe = new Float64Array(c.pos.length)
+  if (g.safe.length < s.guardSafe.length) g.safe = newArray(Float64Array, c.pos.length)
   g.safe.set(s.guardSafe)
   g.safeCount = s.guardCounters[0] | 0
   g.sinceSafe = s.guardCounters[1] | 0

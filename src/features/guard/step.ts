@@ -1,7 +1,9 @@
-import { HEALTH_NONFINITE, HEALTH_SPEED, checkClothHealth, checkPieceHealth } from '../../kernels/guard'
+import { HEALTH_NONFINITE, HEALTH_OK, HEALTH_SPEED, checkClothHealth, checkPieceHealth } from '../../kernels/guard'
+import { guardActive } from './api'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { placeRigidly } from './place'
 import { EVENT_CAPACITY, REASONS } from './types'
+import { newArray } from '../../core/shared'
 
 /**
  * The health check of one cloth (a HEALTH_* code): one pass over its particles. A tearable cloth
@@ -14,13 +16,26 @@ export function checkGuardHealth(c: ClothState): number {
   return checkClothHealth(c.pos, c.vel, c.invMass, c.count, c.guard.params, unused)
 }
 
+/**
+ * The guard's check of one cloth after a step (the guard phase, on whichever thread stepped it):
+ * −1 when nothing was checked (guard off, or the cloth sat the step out), else the HEALTH_* code;
+ * a healthy cloth's pose is kept as the next safe one.
+ */
+export function guardCheck(state: ClothWorldState, c: ClothState): number {
+  if (!guardActive(c.guard) || c.subIndex < 0) return -1 // off, or asleep this step (a cloth that fell asleep in it still counts)
+  state.stats.guardChecks++
+  const health = checkGuardHealth(c)
+  if (health === HEALTH_OK) keepSafePose(c)
+  return health
+}
+
 /** A good step: count it and copy the pose when the snapshot interval is due. */
 export function keepSafePose(c: ClothState): void {
   const g = c.guard
   g.failStreak = 0
   if (++g.sinceSafe < g.settings.snapshotInterval) return
   g.sinceSafe = 0
-  if (g.safe.length !== c.pos.length) g.safe = new Float64Array(c.pos.length) // the cloth grew (tearing)
+  if (g.safe.length !== c.pos.length) g.safe = newArray(Float64Array, c.pos.length) // the cloth grew (tearing)
   g.safe.set(c.pos)
   g.safeCount = c.count
 }

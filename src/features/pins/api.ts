@@ -2,13 +2,14 @@ import { addComponent, addEntity, entityExists, hasComponent, removeEntity } fro
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from '../../core/errors'
 import { normalizedQuat, rotateVec3 } from '../../core/math'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
 import { carryFrozen, moveClothRigidly } from '../../world/rigid'
 import type { ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
+import { touchLayout } from '../../core/shared'
 
 /** Options of `pinParticle`. */
 export interface PinOptions {
@@ -37,7 +38,7 @@ export function pinParticle(
   offset?: Readonly<vec3> | ArrayLike<number>,
   options: PinOptions = {},
 ): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkIndex('index', index, c.count)
   const tgt = target ?? 0
@@ -89,6 +90,7 @@ export function pinParticle(
 
   addComponent(world as never, pin, P)
   c.pins.list.push(pin)
+  touchLayout()
   wakeClothState(state, c)
   if (c.pinCount[index]++ === 0) {
     c.invMass[index] = 0
@@ -116,7 +118,7 @@ export function pinRow(world: object, cloth: number, row: number, target?: numbe
 
 /** Releases a pin (removes its entity). The particle keeps its current velocity: no pop. */
 export function unpin(world: object, pin: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   if (typeof pin !== 'number' || !entityExists(world as never, pin) || !hasComponent(world as never, pin, state.components.Pin)) {
     throw new ClothError('pin', pin, 'must be a pin entity of this world')
   }
@@ -137,6 +139,7 @@ export function releasePin(state: ClothWorldState, pin: number): void {
   const k = list.indexOf(pin)
   if (k < 0) return
   list.splice(k, 1)
+  touchLayout()
   wakeClothState(state, c)
   if (P.slot[pin] >= 0) untrackEntity(state, P.target[pin])
   P.slot[pin] = -1
@@ -188,7 +191,7 @@ export function teleportCloth(
   rotation?: Readonly<quat> | ArrayLike<number>,
   pivot?: Readonly<vec3> | ArrayLike<number>,
 ): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkPoint('translation', translation)
   const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))

@@ -1,7 +1,8 @@
 import { ClothError, checkNonNegative, checkPositive } from '../../core/errors'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothSleep, ClothSleepOptions, SleepSettings, SleepWorld } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
+import { newArray } from '../../core/shared'
 
 /**
  * Sleeping. A cloth whose particles all stayed slower than a threshold for a while (default
@@ -38,7 +39,7 @@ export function createSleepWorld(defaults: SleepSettings): SleepWorld {
 
 /** A cloth's sleep state from settings: awake. */
 export function createClothSleep(s: SleepSettings): ClothSleep {
-  const sleep: ClothSleep = { asleep: false, enabled: true, speed2: 0, delay: 0, still: 0, bounds: new Float64Array(6) }
+  const sleep: ClothSleep = { asleep: false, enabled: true, speed2: 0, delay: 0, still: 0, bounds: newArray(Float64Array, 6) }
   writeSettings(sleep, s)
   return sleep
 }
@@ -56,7 +57,7 @@ function writeSettings(sleep: ClothSleep, s: SleepSettings): void {
  * @example setClothSleep(world, flag, false) // a flag that must keep fluttering in still air
  */
 export function setClothSleep(world: object, cloth: number, options: boolean | ClothSleepOptions): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   const sleep = c.sleep
   const now: SleepSettings = { enabled: sleep.enabled, speed: Math.sqrt(sleep.speed2), delay: sleep.delay }
@@ -66,7 +67,7 @@ export function setClothSleep(world: object, cloth: number, options: boolean | C
 
 /** Wakes a sleeping cloth (call it after writing a cloth's arrays directly). */
 export function wakeCloth(world: object, cloth: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   wakeClothState(state, getCloth(state, cloth))
 }
 

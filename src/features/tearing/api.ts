@@ -1,11 +1,12 @@
 import { addComponent, hasComponent, observe, onRemove } from 'bitecs'
 import { ClothError, checkInteger, checkPositive } from '../../core/errors'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { MAX_MIN_PIECE, reserve } from './reserve'
 import { EV, type TearWorld } from './types'
+import { newArray } from '../../core/shared'
 
 /**
  * Tearing by vertex splitting, grown as cracks.
@@ -101,7 +102,7 @@ export function installTearing(world: object, state: ClothWorldState): void {
  * onClothTear(world, (e) => spawnDust(e.x, e.y, e.z))
  */
 export function makeTearable(world: object, cloth: number, options: TearableOptions = {}): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const strain = options.strain === undefined ? c.material.tearStrain : checkPositive('options.strain', options.strain)
@@ -114,8 +115,8 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
       throw new ClothError('options.capacity', options.capacity, 'cannot grow once the cloth is tearable')
     }
     if (2 * maxTears + 4 > c.tear.cand.length) {
-      c.tear.cand = new Int32Array(2 * maxTears + 4)
-      c.tear.candRatio = new Float64Array(2 * maxTears + 4)
+      c.tear.cand = newArray(Int32Array, 2 * maxTears + 4)
+      c.tear.candRatio = newArray(Float64Array, 2 * maxTears + 4)
     }
   } else {
     reserve(state, c, extra, maxTears)

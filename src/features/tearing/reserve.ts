@@ -9,6 +9,7 @@ import { labelPieces } from './step'
 import { tetherStore } from './tethers'
 import type { ClothTopology } from '../../model/topology'
 import type { HingeSet, LineSet, PairSet, TearTopology } from './types'
+import { newArray, arrayOf } from '../../core/shared'
 
 /**
  * Gives cloth `c` its own rest data with room for `extra` more particles and the constraints their
@@ -22,7 +23,7 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   const E = src.edgeCount + room, S = src.stretchCount + room, D = src.distCount + room, C = src.compCount + room
   const t = reserveTopology(src, c.count, P, E, S, D, C)
   const mesh = new MeshIndex(t.triangles, t.triangleCount)
-  const over = new Uint8Array(E)
+  const over = newArray(Uint8Array, E)
   const stretch = pairSet(t.stretchIds, 1, t.stretchCount, S, [t.stretchRest], [], null, mesh, t.restPositions)
   const edges = pairSet(t.edges, 1, t.edgeCount, E, [t.edgeRest], [over], over, mesh, t.restPositions)
   const dist = pairSet(t.distOffsets, 3, t.distCount, D, [t.distRest, t.distCompliance], [t.distKind], null, mesh, t.restPositions)
@@ -33,13 +34,13 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   t.hingeCount = hinges.count
 
   growClothParticles(c, P)
-  c.distLambda = new Float64Array(D)
-  c.compLambda = new Float64Array(C)
-  c.lineLambda = new Float64Array(Math.max(1, 3 * t.lineCount))
-  c.hingeLambda = new Float64Array(Math.max(1, t.hingeCount))
+  c.distLambda = newArray(Float64Array, D)
+  c.compLambda = newArray(Float64Array, C)
+  c.lineLambda = newArray(Float64Array, Math.max(1, 3 * t.lineCount))
+  c.hingeLambda = newArray(Float64Array, Math.max(1, t.hingeCount))
   c.render.indices = t.triangles
   c.topology = t
-  c.piece = new Int32Array(P)
+  c.piece = newArray(Int32Array, P)
   c.pieceCount = 1
 
   c.tear = {
@@ -54,33 +55,33 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
     hinges,
     over,
     ...vertexTriangles(t, P),
-    tip: new Uint8Array(P),
-    splitAt: new Int32Array(P),
+    tip: newArray(Uint8Array, P),
+    splitAt: newArray(Int32Array, P),
     stepCount: 0,
     grewAt: -2,
-    fan: new Int32Array(t.triangleCount),
-    fanCorner: new Uint8Array(t.triangleCount),
-    fanSide: new Uint8Array(t.triangleCount),
-    fanP: new Int32Array(t.triangleCount),
-    fanQ: new Int32Array(t.triangleCount),
+    fan: newArray(Int32Array, t.triangleCount),
+    fanCorner: newArray(Uint8Array, t.triangleCount),
+    fanSide: newArray(Uint8Array, t.triangleCount),
+    fanP: newArray(Int32Array, t.triangleCount),
+    fanQ: newArray(Int32Array, t.triangleCount),
     fanCount: 0,
-    walk: new Int32Array(t.triangleCount),
-    walkW: new Int32Array(t.triangleCount),
-    chains: new Int32Array(3 * t.triangleCount),
-    chainEntry: new Int32Array(t.triangleCount),
+    walk: newArray(Int32Array, t.triangleCount),
+    walkW: newArray(Int32Array, t.triangleCount),
+    chains: newArray(Int32Array, 3 * t.triangleCount),
+    chainEntry: newArray(Int32Array, t.triangleCount),
     chainCount: 0,
-    seam: new Int32Array(2),
-    vec: new Float64Array(12),
-    mat: new Float64Array(9),
-    triSide: new Uint8Array(t.triangleCount),
-    seen: new Int32Array(t.triangleCount),
+    seam: newArray(Int32Array, 2),
+    vec: newArray(Float64Array, 12),
+    mat: newArray(Float64Array, 9),
+    triSide: newArray(Uint8Array, t.triangleCount),
+    seen: newArray(Int32Array, t.triangleCount),
     stamp: 0,
-    queue: new Int32Array(MAX_MIN_PIECE + 1),
-    cand: new Int32Array(2 * maxTears + 4),
-    candRatio: new Float64Array(2 * maxTears + 4),
-    params: new Float64Array(3),
+    queue: newArray(Int32Array, MAX_MIN_PIECE + 1),
+    cand: newArray(Int32Array, 2 * maxTears + 4),
+    candRatio: newArray(Float64Array, 2 * maxTears + 4),
+    params: newArray(Float64Array, 3),
     ...tetherStore(P, E, c.tethers.perParticle),
-    pieceRoot: new Int32Array(P),
+    pieceRoot: newArray(Int32Array, P),
   }
   labelPieces(c, c.tear)
   c.tethers.dirty = true
@@ -96,7 +97,7 @@ export const MAX_MIN_PIECE = 4096
 
 /** Triangles around each of the mesh's particles, room for P particles (a split divides a slice). */
 function vertexTriangles(t: TearTopology, P: number): { vertStart: Int32Array; vertLen: Int32Array; vertTris: Int32Array } {
-  const vertStart = new Int32Array(P), vertLen = new Int32Array(P), vertTris = new Int32Array(3 * t.triangleCount)
+  const vertStart = newArray(Int32Array, P), vertLen = newArray(Int32Array, P), vertTris = newArray(Int32Array, 3 * t.triangleCount)
   const tris = t.triangles
   for (let k = 0; k < 3 * t.triangleCount; k++) vertLen[tris[k]]++
   for (let p = 1; p < t.particleCount; p++) vertStart[p] = vertStart[p - 1] + vertLen[p - 1]
@@ -118,7 +119,7 @@ function reserveTopology(src: ClothTopology, count: number, P: number, E: number
     restPositions: grownArray(src.restPositions, 3 * P),
     masses: grownArray(src.masses, P),
     unused: src.unused === null ? null : grownArray(src.unused, P), // (particles made by tears are used)
-    triangles: Uint32Array.from(src.triangles),
+    triangles: arrayOf(Uint32Array, src.triangles),
     edges: grownArray(src.edges.subarray(0, 2 * src.edgeCount), 2 * E),
     edgeRest: grownArray(src.edgeRest.subarray(0, src.edgeCount), E),
     stretchIds: grownArray(src.stretchIds.subarray(0, 2 * src.stretchCount), 2 * S),
@@ -130,12 +131,12 @@ function reserveTopology(src: ClothTopology, count: number, P: number, E: number
     compIds: grownArray(src.compIds.subarray(0, 2 * src.compCount), 2 * C),
     compRest: grownArray(src.compRest.subarray(0, src.compCount), C),
     compCompliance: grownArray(src.compCompliance.subarray(0, src.compCount), C),
-    lineIds: Int32Array.from(src.lineIds.subarray(0, 3 * src.lineCount)),
-    lineRest: Float64Array.from(src.lineRest.subarray(0, src.lineCount)),
-    lineCompliance: Float64Array.from(src.lineCompliance.subarray(0, src.lineCount)),
-    hingeIds: Int32Array.from(src.hingeIds.subarray(0, 4 * src.hingeCount)),
-    hingeRest: Float64Array.from(src.hingeRest.subarray(0, src.hingeCount)),
-    hingeCompliance: Float64Array.from(src.hingeCompliance.subarray(0, src.hingeCount)),
+    lineIds: arrayOf(Int32Array, src.lineIds.subarray(0, 3 * src.lineCount)),
+    lineRest: arrayOf(Float64Array, src.lineRest.subarray(0, src.lineCount)),
+    lineCompliance: arrayOf(Float64Array, src.lineCompliance.subarray(0, src.lineCount)),
+    hingeIds: arrayOf(Int32Array, src.hingeIds.subarray(0, 4 * src.hingeCount)),
+    hingeRest: arrayOf(Float64Array, src.hingeRest.subarray(0, src.hingeCount)),
+    hingeCompliance: arrayOf(Float64Array, src.hingeCompliance.subarray(0, src.hingeCount)),
   }
   return t
 }
@@ -203,12 +204,12 @@ function pairSet(
 ): PairSet {
   const s: PairSet = {
     ids, scale, f64, u8, over, count, cap,
-    endT: new Int32Array(2 * cap).fill(-1),
-    endC: new Uint8Array(2 * cap),
-    chkT: new Int32Array(4 * cap).fill(-1),
-    chkC: new Uint8Array(4 * cap),
-    twinT: new Int32Array(cap).fill(-1),
-    twinC: new Uint8Array(2 * cap),
+    endT: newArray(Int32Array, 2 * cap).fill(-1),
+    endC: newArray(Uint8Array, 2 * cap),
+    chkT: newArray(Int32Array, 4 * cap).fill(-1),
+    chkC: newArray(Uint8Array, 4 * cap),
+    twinT: newArray(Int32Array, cap).fill(-1),
+    twinC: newArray(Uint8Array, 2 * cap),
   }
   for (let k = 0; k < count; k++) {
     const a = ids[2 * k] / scale, b = ids[2 * k + 1] / scale
@@ -284,10 +285,10 @@ function lineSet(t: TearTopology, mesh: MeshIndex): LineSet {
     ids: t.lineIds,
     f64: [t.lineRest, t.lineCompliance],
     count: n,
-    endT: new Int32Array(2 * n),
-    endC: new Uint8Array(3 * n),
-    chkT: new Int32Array(2 * n),
-    chkC: new Uint8Array(2 * n),
+    endT: newArray(Int32Array, 2 * n),
+    endC: newArray(Uint8Array, 3 * n),
+    chkT: newArray(Int32Array, 2 * n),
+    chkC: newArray(Uint8Array, 2 * n),
   }
   let w = 0
   for (let k = 0; k < n; k++) {
@@ -324,10 +325,10 @@ function hingeSet(t: TearTopology, mesh: MeshIndex): HingeSet {
     ids: t.hingeIds,
     f64: [t.hingeRest, t.hingeCompliance],
     count: n,
-    endT: new Int32Array(2 * n),
-    endC: new Uint8Array(4 * n),
-    chkT: new Int32Array(4 * n),
-    chkC: new Uint8Array(4 * n),
+    endT: newArray(Int32Array, 2 * n),
+    endC: newArray(Uint8Array, 4 * n),
+    chkT: newArray(Int32Array, 4 * n),
+    chkC: newArray(Uint8Array, 4 * n),
   }
   let w = 0
   for (let k = 0; k < n; k++) {

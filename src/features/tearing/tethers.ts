@@ -1,6 +1,7 @@
 import { createAnchorScratch, loosenTethers, nearestAnchorsAlongMesh, type AnchorScratch, type TetherSet } from '../../model/tethers'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import type { ClothTear } from './types'
+import { newArray, touchLayout } from '../../core/shared'
 
 /**
  * Rebuilds a tearable cloth's tethers without allocating: each free particle is tied to the
@@ -23,6 +24,7 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
   let A = 0
   for (let i = 0; i < n; i++) if (c.pinCount[i] > 0) s.anchors[A++] = i
   out.count = 0
+  if (ct.set !== out) touchLayout()
   ct.set = out
   state.stats.tetherRebuilds++
   if (A === 0) return
@@ -63,7 +65,7 @@ function reserveTearTethers(T: ClothTear, perParticle: number): void {
 /** Tether arrays and their scratch for P particles, E mesh edges and K tethers per particle. */
 export function tetherStore(P: number, E: number, K: number): { tethers: TetherSet; scratch: AnchorScratch } {
   return {
-    tethers: { particle: new Int32Array(P * K), anchor: new Int32Array(P * K), rest: new Float64Array(P * K), count: 0 },
+    tethers: { particle: newArray(Int32Array, P * K), anchor: newArray(Int32Array, P * K), rest: newArray(Float64Array, P * K), count: 0 },
     scratch: createAnchorScratch(P, E, K),
   }
 }

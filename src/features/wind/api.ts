@@ -2,13 +2,14 @@ import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, on
 import type { quat, vec3 } from 'gl-matrix'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkVec3, isArrayLike } from '../../core/errors'
 import { NOISE_SCRATCH, ZONE_STRIDE, addZoneAir } from '../../kernels/wind'
-import { getClothWorld } from '../../world/access'
+import { getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothWorldState } from '../../world/state'
 import { setTransform } from '../../world/transform'
 import { compileZones, ensureClothWind } from './step'
 import type { WindShape, WindWorld } from './types'
+import { arrayOf, newArray, touchLayout } from '../../core/shared'
 
 /** Options of `createWindZone` (and, all optional, of `setWindZone`). */
 export interface WindZoneOptions {
@@ -56,9 +57,9 @@ export function createWindWorld(airDensity: number | undefined): WindWorld {
   const rho = airDensity === undefined ? 1.2 : checkAtMost('options.airDensity', checkNonNegative('options.airDensity', airDensity), MAX_AIR_DENSITY, ' kg/m³')
   return {
     zones: [],
-    airDensity: Float64Array.of(rho),
+    airDensity: arrayOf(Float64Array, [rho]),
     time: new Float64Array(1),
-    params: new Float64Array(4 * ZONE_STRIDE),
+    params: newArray(Float64Array, 4 * ZONE_STRIDE),
     active: new Int32Array(4),
     bounds: new Float64Array(6),
     scratch: new Float64Array(NOISE_SCRATCH),
@@ -80,6 +81,7 @@ export function installWind(world: object, state: ClothWorldState): void {
     const i = zones.indexOf(eid)
     if (i < 0) return
     zones.splice(i, 1)
+    touchLayout()
     untrackEntity(state, eid)
     state.wind.compiled = false
     if (zones.length === 0) for (const c of state.cloths) c.accel = null
@@ -97,7 +99,7 @@ export function installWind(world: object, state: ClothWorldState): void {
  * gustWind(world, breeze, { strength: 8, duration: 1.5 })
  */
 export function createWindZone(world: object, options: WindZoneOptions): number {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const shape = options.shape === undefined ? 'global' : checkOneOf('options.shape', options.shape, ['global', 'box', 'sphere'] as const)
   const position = options.position === undefined ? [0, 0, 0] : checkVec3('options.position', options.position)
@@ -126,8 +128,9 @@ export function createWindZone(world: object, options: WindZoneOptions): number 
 
   const wind = state.wind
   wind.zones.push(eid)
+  touchLayout()
   if (wind.params.length < wind.zones.length * ZONE_STRIDE) {
-    wind.params = new Float64Array(2 * wind.zones.length * ZONE_STRIDE)
+    wind.params = newArray(Float64Array, 2 * wind.zones.length * ZONE_STRIDE)
     wind.active = new Int32Array(2 * wind.zones.length)
   }
   wind.compiled = false
@@ -173,7 +176,7 @@ export function gustWind(world: object, zone: number, options: GustOptions): voi
 
 /** Removes a wind zone (as `removeEntity` does). */
 export function removeWindZone(world: object, zone: number): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkZone(world, state, zone)
   removeEntity(world as never, zone)
 }

@@ -4,6 +4,7 @@ import { Z_CX, Z_CY, Z_CZ, Z_DENSITY, Z_DRIFT_X, Z_DRIFT_Y, Z_DRIFT_Z, Z_FALLOFF
 import { quatToMatrix } from '../../core/math'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import type { ClothWind } from './types'
+import { newArray } from '../../core/shared'
 
 /**
  * Once per fixed step (sync phase): advances the wind time, the gusts and the drift of each zone's
@@ -250,11 +251,11 @@ export function ensureClothWind(c: ClothState): void {
   const particles = (c.pos.length / 3) | 0
   if (c.wind === null || c.wind.accel.length < 3 * particles) {
     c.wind = {
-      air: new Float64Array(4 * particles),
-      accel: new Float64Array(3 * particles),
-      normals: new Float64Array(3 * particles),
-      scratch: new Float64Array(3 * particles),
-      params: new Float64Array(AERO_PARAM_COUNT),
+      air: newArray(Float64Array, 4 * particles),
+      accel: newArray(Float64Array, 3 * particles),
+      normals: newArray(Float64Array, 3 * particles),
+      scratch: newArray(Float64Array, 3 * particles),
+      params: newArray(Float64Array, AERO_PARAM_COUNT),
       active: 0,
     }
     c.accel = null

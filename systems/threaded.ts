@@ -1,0 +1,168 @@
+import { HEALTH_OK } from '../src/kernels/guard'
+import type { ClothThreads, ClothWorldState } from '../src/world/state'
+import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guard/step'
+import { EV } from '../src/features/tearing/types'
+import { Q_MEASURED } from '../src/features/budget/types'
+import { refreshBindings } from '../src/threads/bind'
+import {
+  IO_HEALTH,
+  OUT_EVENTS,
+  OUT_MS,
+  OUT_SLEPT,
+  OUT_TEARS,
+  readClothHandoff,
+  writeClothHandoff,
+  writeWorldHandoff,
+} from '../src/threads/handoff'
+import { addStats, takeStats } from '../src/world/stats'
+import { clothFingerprint } from '../src/threads/layout'
+import type { WorkerWorld } from '../src/threads/mirror'
+import { partitionCloths } from '../src/threads/partition'
+import { startWorkers } from '../src/threads/pool'
+import { verifyWorker } from '../src/threads/verify'
+import { clothCollide } from './clothCollide'
+import { clothForces } from './clothForces'
+import { clothPredict } from './clothPredict'
+import { clothSolve } from './clothSolve'
+import { clothTear } from './clothTear'
+import { clothWriteback } from './clothWriteback'
+
+/**
+ * The fixed step of a threaded world, split between threads. The main thread runs the sync phase
+ * (transforms, kinematics, wakes, budget, substep count), then `dispatchClothStep` shares the cloths
+ * out and hands them to the workers; each worker runs the substeps of its cloths (forces, predict,
+ * solve, collide, tear, writeback) and the guard's check (`runWorkerStep`); `collectClothStep` takes
+ * the results back and, in creation order, puts failed cloths back into a safe pose and queues the
+ * tear events, as the single-threaded guard and tear phases would.
+ */
+
+/**
+ * Hands the step (after the sync phase) to the workers. Returns false when the step should run on
+ * this thread instead: no cloth runs this step, or (`blocking`) its predicted cost is below the
+ * handoff's (`ClothThreads.inlineNs`).
+ */
+export function dispatchClothStep(state: ClothWorldState, th: ClothThreads, blocking: boolean): boolean {
+  if (state.substepCount === 0) return false
+  refreshBindings(state, th)
+  const total = partitionCloths(state, th)
+  if (blocking && total < th.inlineNs) return false
+  writeWorldHandoff(state, th.worldIO)
+  const lists = th.lists
+  for (let w = 0; w < lists.length; w++) {
+    const list = lists[w]
+    for (let i = 1; i <= list[0]; i++) {
+      const b = th.slots[list[i]]!
+      writeClothHandoff(b.cloth, b.io)
+      b.io[IO_HEALTH] = -1
+      if (th.verify) th.verifyBefore.set(b.slot, clothFingerprint(b.cloth))
+    }
+  }
+  th.step++
+  startWorkers(th.pool, th.step, th.layoutSeq)
+  th.phase = 1
+  return true
+}
+
+/**
+ * After every worker finished: reads the cloths back, adds the workers' counters, then the guard's
+ * resets and the tear events in creation order (workers step their cloths in creation order, so
+ * their events merge by cloth).
+ */
+export function collectClothStep(state: ClothWorldState, th: ClothThreads): void {
+  th.phase = 0
+  const lists = th.lists, outputs = th.outputs
+  let slept = 0, ms = 0
+  for (let w = 0; w < lists.length; w++) {
+    const list = lists[w]
+    for (let i = 1; i <= list[0]; i++) {
+      const b = th.slots[list[i]]!
+      readClothHandoff(b.io, b.cloth)
+    }
+    if (th.verify) verifyWorker(th, w)
+    const out = outputs[w]
+    addStats(state.stats, out, 0)
+    slept += out[OUT_SLEPT]
+    if (out[OUT_MS] > ms) ms = out[OUT_MS]
+  }
+  if (slept > 0) {
+    state.sleep.count += slept
+    state.sleep.gravity.set(state.gravity)
+  }
+  if (state.budget.timeNext) state.budget.timing[Q_MEASURED] = ms
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    const health = th.bindings.get(c)!.io[IO_HEALTH]
+    if (health > HEALTH_OK) restoreSafePose(state, c, health)
+  }
+  deliverResets(state)
+  mergeTearEvents(state, th)
+}
+
+/** Appends the workers' tear events to the world's, ordered by cloth (creation order). */
+function mergeTearEvents(state: ClothWorldState, th: ClothThreads): void {
+  const outputs = th.outputs
+  const tw = state.tearing
+  const at = th.load // read position per worker (reused scratch: the partition is done)
+  let left = 0
+  for (let w = 0; w < outputs.length; w++) {
+    at[w] = 0
+    left += outputs[w][OUT_TEARS]
+  }
+  const Cloth = state.components.Cloth.state
+  while (left > 0) {
+    let best = -1, bestSeq = Infinity
+    for (let w = 0; w < outputs.length; w++) {
+      const out = outputs[w]
+      if (at[w] >= out[OUT_TEARS]) continue
+      const seq = Cloth[out[OUT_EVENTS + at[w] * EV]]!.seq
+      if (seq < bestSeq) {
+        bestSeq = seq
+        best = w
+      }
+    }
+    const out = outputs[best]
+    const from = OUT_EVENTS + at[best]++ * EV
+    left--
+    if ((tw.pendingCount + 1) * EV > tw.pending.length) continue
+    const to = tw.pendingCount++ * EV
+    for (let j = 0; j < EV; j++) tw.pending[to + j] = out[from + j]
+  }
+}
+
+/**
+ * Worker: runs the step for the cloths of `ww` (read in by `readStepInputs`): every substep's
+ * phases, then the guard's check of each cloth; writes the cloths' handoff blocks and the worker's
+ * output block (`out`).
+ */
+export function runWorkerStep(ww: WorkerWorld, list: Int32Array, out: Float64Array): void {
+  // the clock only for the budget's timed steps (performance.now allocates)
+  const timed = ww.state.budget.timeNext
+  const t0 = timed ? performance.now() : 0
+  const world = ww.world
+  const state = ww.state
+  state.sleep.count = 0
+  state.tearing.pendingCount = 0
+  for (let s = 0; s < state.substepCount; s++) {
+    state.substep = s
+    clothForces(world)
+    clothPredict(world)
+    clothSolve(world)
+    clothCollide(world)
+    clothTear(world)
+    clothWriteback(world)
+  }
+  const n = list[0]
+  for (let i = 1; i <= n; i++) {
+    const io = ww.ios[list[i]]!
+    io[IO_HEALTH] = guardCheck(state, ww.cloths[list[i]]!)
+  }
+  for (let i = 1; i <= n; i++) writeClothHandoff(ww.cloths[list[i]]!, ww.ios[list[i]]!)
+  takeStats(state.stats, out, 0)
+  out[OUT_SLEPT] = state.sleep.count
+  const tw = state.tearing
+  const events = Math.min(tw.pendingCount, ((out.length - OUT_EVENTS) / EV) | 0)
+  out[OUT_TEARS] = events
+  for (let i = 0; i < events * EV; i++) out[OUT_EVENTS + i] = tw.pending[i]
+  out[OUT_MS] = timed ? performance.now() - t0 : 0
+}

@@ -1,0 +1,227 @@
+import { addEntity, createWorld } from 'bitecs'
+import {
+  addCapsuleCollider,
+  beginClothStep,
+  createCloth,
+  disposeClothWorld,
+  endClothStep,
+  installClothPlugin,
+  pinRow,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
+import { getClothWorld } from '../../src/world/access'
+import { waitForWorkers } from '../../src/threads/pool'
+import { cpuMs, fmt, saveJson, table } from './harness'
+
+const DT = 1 / 60
+/** The cloth worker, bundled next to the benchmark bundle by run.mjs. */
+const WORKER = new URL('./worker.mjs', import.meta.url)
+
+/**
+ * `n` capes of `res`×`res` on characters running in circles, each with a torso and two leg
+ * capsules, tethers on, 8 substeps (the budget suite's crowd, without a budget), stepped on
+ * `threads` workers. `animate` writes the frame's Transforms (the game's work, not timed).
+ */
+function crowd(threads: number, n: number, res: number, minStepMs?: number) {
+  const world = installClothPlugin(createWorld(), { sleep: false, threads, workerUrl: WORKER, threadMinStepMs: minStepMs })
+  const heroes: { eid: number; x: number; z: number; phase: number }[] = []
+  for (let i = 0; i < n; i++) {
+    const x = (i % 8) * 3, z = Math.floor(i / 8) * 3
+    const phase = i * 0.7
+    const turn: [number, number, number, number] = [0, Math.sin(-phase / 2), 0, Math.cos(-phase / 2)]
+    const hx = x + Math.cos(phase), hz = z + Math.sin(phase)
+    const hero = addEntity(world)
+    setTransform(world, hero, [hx, 1.6, hz], turn)
+    addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0, -0.25, 0], radius: 0.17, halfHeight: 0.25 })
+    addCapsuleCollider(world, addEntity(world), { body: hero, offset: [-0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
+    addCapsuleCollider(world, addEntity(world), { body: hero, offset: [0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
+    const back = [0.2 * Math.sin(phase), 1.62, -0.2 * Math.cos(phase)]
+    const cape = createCloth(world, {
+      width: 0.6,
+      height: 1,
+      resolution: res,
+      position: [hx + back[0], back[1], hz + back[2]],
+      rotation: turn,
+      material: 'cotton',
+    })
+    pinRow(world, cape, 0, hero)
+    heroes.push({ eid: hero, x, z, phase })
+  }
+  let frame = 0
+  const animate = () => {
+    frame++
+    for (const h of heroes) {
+      const a = frame * DT * 3 + h.phase
+      setTransform(world, h.eid, [h.x + Math.cos(a), 1.6, h.z + Math.sin(a)], [0, Math.sin(-a / 2), 0, Math.cos(-a / 2)])
+    }
+  }
+  return { world, animate }
+}
+
+type Crowd = ReturnType<typeof crowd>
+
+/**
+ * One frame, timed: main-thread ms (beginClothStep, then endClothStep once the workers are done:
+ * what the calling thread spends) and wall ms (begin to end, waiting included). Without workers
+ * both are stepCloth's time.
+ */
+function frame(c: Crowd, out: { main: number; wall: number; cpu: number }): void {
+  c.animate()
+  const th = getClothWorld(c.world).threads
+  if (th === null) {
+    const c0 = cpuMs()
+    const t0 = performance.now()
+    stepCloth(c.world, DT)
+    out.main = out.wall = performance.now() - t0
+    out.cpu = cpuMs() - c0
+    return
+  }
+  const c0 = cpuMs()
+  const t0 = performance.now()
+  beginClothStep(c.world, DT)
+  const t1 = performance.now()
+  if (th.phase === 1) waitForWorkers(th.pool, th.step) // (blocking, not spinning: the workers need the cores)
+  const t2 = performance.now()
+  endClothStep(c.world)
+  const t3 = performance.now()
+  out.main = t1 - t0 + (t3 - t2)
+  out.wall = t3 - t0
+  out.cpu = cpuMs() - c0
+}
+
+const median = (a: number[]): number => [...a].sort((x, y) => x - y)[a.length >> 1]
+
+/** Interleaved rounds of `frames` frames per world; per world the median per round of main, wall and CPU ms. */
+function measure(worlds: Crowd[], rounds: number, frames: number): { main: number[]; wall: number[]; cpu: number[] }[] {
+  const out = worlds.map(() => ({ main: [] as number[], wall: [] as number[], cpu: [] as number[] }))
+  const t = { main: 0, wall: 0, cpu: 0 }
+  for (let r = 0; r < rounds; r++) {
+    for (let w = 0; w < worlds.length; w++) {
+      const main: number[] = [], wall: number[] = [], cpu: number[] = []
+      for (let f = 0; f < frames; f++) {
+        frame(worlds[w], t)
+        main.push(t.main)
+        wall.push(t.wall)
+        cpu.push(t.cpu)
+      }
+      out[w].main.push(median(main))
+      out[w].wall.push(median(wall))
+      out[w].cpu.push(median(cpu))
+    }
+  }
+  return out
+}
+
+const spread = (a: number[]): string => `${fmt(Math.min(...a), 2)}–${fmt(Math.max(...a), 2)}`
+
+/**
+ * The crowd of 64 capes (24×24, three capsules each, tethers, 8 substeps) with 0, 1 and 2 workers:
+ * main-thread and wall ms per 60 Hz frame (the wall clock: what a frame waits), and the CPU time
+ * of all the process's threads per frame (the work done, which waiting for a busy machine's cores
+ * does not inflate: with the work shared evenly, two free cores would take about half of it as wall
+ * time), one run, interleaved rounds; then one small cape, to show what the handoff costs.
+ */
+export async function threadsCost(): Promise<void> {
+  const free = await parallelism()
+  const counts = [0, 1, 2]
+  const worlds = counts.map((n) => crowd(n, 64, 24))
+  for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0, cpu: 0 })
+  const m = measure(worlds, 7, 20)
+  const wall0 = median(m[0].wall)
+  table(
+    '64 capes of 24×24, 3 capsules each, tethers, 8 substeps: ms per 60 Hz frame (median of 7 interleaved rounds of 20 frames; range of the round medians)',
+    counts.map((n, i) => ({
+      workers: n,
+      'main thread ms': fmt(median(m[i].main), 3),
+      'main range': spread(m[i].main),
+      'wall ms': fmt(median(m[i].wall), 2),
+      'wall range': spread(m[i].wall),
+      'wall / none': fmt(median(m[i].wall) / wall0, 2),
+      'CPU ms, all threads': fmt(median(m[i].cpu), 2),
+    })),
+  )
+  for (const w of worlds) disposeClothWorld(w.world)
+
+  // one small cape: the handoff (pack, wake a worker, wait, unpack) against the step itself
+  const smalls = [crowd(0, 1, 12), crowd(1, 1, 12, 0), crowd(1, 1, 12)]
+  for (const w of smalls) for (let f = 0; f < 200; f++) frame(w, { main: 0, wall: 0, cpu: 0 })
+  const blocking = (c: Crowd) => () => {
+    c.animate()
+    stepCloth(c.world, DT)
+  }
+  const s = measureBlocking(smalls.map(blocking), 9, 200)
+  table('One cape of 12×12 with 3 capsules, 8 substeps: stepCloth ms per frame (median of 9 interleaved rounds of 200 frames)', [
+    { mode: 'no workers', 'ms/frame': fmt(median(s[0]), 4), range: spread(s[0]), 'vs none': '1.00' },
+    {
+      mode: '1 worker, every step handed over (threadMinStepMs 0)',
+      'ms/frame': fmt(median(s[1]), 4),
+      range: spread(s[1]),
+      'vs none': fmt(median(s[1]) / median(s[0]), 2),
+    },
+    {
+      mode: '1 worker, default (small steps stay on the calling thread)',
+      'ms/frame': fmt(median(s[2]), 4),
+      range: spread(s[2]),
+      'vs none': fmt(median(s[2]) / median(s[0]), 2),
+    },
+  ])
+  for (const w of smalls) disposeClothWorld(w.world)
+  console.log(
+    `\n(The machine during this run: the same arithmetic split over 2 workers ran ${
+      fmt(free, 2)
+    }× as fast as on 1; 2.00 means two free cores.)`,
+  )
+  saveJson('threads', { crowd: counts.map((n, i) => ({ workers: n, ...m[i] })), small: s, parallelism: free })
+}
+
+/**
+ * How many cores the run really had: a fixed amount of arithmetic on 1 worker, then split over 2
+ * (median of 3 rounds): the ratio is the most any split of work could gain on this machine now.
+ */
+async function parallelism(): Promise<number> {
+  const wt = (globalThis as { process?: { getBuiltinModule?: (id: string) => unknown } }).process?.getBuiltinModule?.(
+    'node:worker_threads',
+  ) as
+    | {
+      Worker: new(
+        code: string,
+        o: { eval: true },
+      ) => { postMessage(m: unknown): void; once(e: 'message', f: () => void): void; terminate(): Promise<number> }
+    }
+    | undefined
+  if (!wt) return NaN
+  const code = `const { parentPort } = require('node:worker_threads')
+parentPort.on('message', (n) => { let x = 0; for (let i = 0; i < n; i++) x += Math.sqrt(i); parentPort.postMessage(x) })`
+  const run = async (k: number, n: number): Promise<number> => {
+    const ws = Array.from({ length: k }, () => new wt.Worker(code, { eval: true }))
+    const go = (m: number) =>
+      Promise.all(ws.map((w) =>
+        new Promise<void>((r) => {
+          w.once('message', r)
+          w.postMessage(m)
+        })
+      ))
+    await go(1e6)
+    const t0 = performance.now()
+    await go(n / k)
+    const t = performance.now() - t0
+    await Promise.all(ws.map((w) => w.terminate()))
+    return t
+  }
+  const ratios: number[] = []
+  for (let r = 0; r < 3; r++) ratios.push((await run(1, 2e8)) / (await run(2, 2e8)))
+  return median(ratios)
+}
+
+function measureBlocking(fns: (() => void)[], rounds: number, frames: number): number[][] {
+  const out = fns.map(() => [] as number[])
+  for (let r = 0; r < rounds; r++) {
+    for (let k = 0; k < fns.length; k++) {
+      const t0 = performance.now()
+      for (let f = 0; f < frames; f++) fns[k]()
+      out[k].push((performance.now() - t0) / frames)
+    }
+  }
+  return out
+}
