@@ -151,7 +151,7 @@ export function placeOnReference(pos: Float64Array, list: Int32Array | null, lis
  * outward speed; a speed above params[P_MAX_SPEED] is scaled down to it, the largest squared
  * speed before that goes to params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop
  * this repeats rather than calls: a second pass over the positions is what this kernel saves).
- * One function, whose length is the constraints written out in full: they run per particle and
+ * One long function on purpose: the constraints written out in full run per particle and
  * substep, where a call per particle would box its doubles.
  */
 export function constrainAndUpdateVelocities(
