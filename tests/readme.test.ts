@@ -140,3 +140,28 @@ describe('README snippets', () => {
     expect(bad.get(4)).toEqual([])
   })
 })
+
+describe('README API index', () => {
+  /** The backticked names of the index: the list items of the `## API reference` section. */
+  function indexNames(markdown: string): string[] {
+    const from = markdown.indexOf('\n## API reference')
+    const to = markdown.indexOf('\n## ', from + 1)
+    expect(from).toBeGreaterThan(0)
+    const items = markdown.slice(from, to < 0 ? undefined : to).split('\n').filter((l) => l.startsWith('- **'))
+    return items.flatMap((l) => [...l.matchAll(/`([A-Za-z_$][\w$]*)`/g)].map((m) => m[1]))
+  }
+
+  it('lists exactly the runtime exports of bitecs-cloth and bitecs-cloth/three, each once', async () => {
+    const exported = [...Object.keys(await import('../src/index')), ...Object.keys(await import('../src/three/index'))]
+    const listed = indexNames(readFileSync(join(root, 'README.md'), 'utf8'))
+    expect(listed.length).toBeGreaterThan(100)
+    expect(listed.filter((name, i) => listed.indexOf(name) !== i)).toEqual([]) // each once
+    expect(listed.filter((name) => !exported.includes(name))).toEqual([]) // nothing that is not exported
+    expect(exported.filter((name) => !listed.includes(name))).toEqual([]) // nothing exported left out
+  })
+
+  it('the check fails on a name that is not exported, and on an export left out', () => {
+    const names = indexNames('x\n## API reference\n- **Area**: `stepCloth`, `stepClothes`\n\n## Layout\n- **Not**: `other`\n')
+    expect(names).toEqual(['stepCloth', 'stepClothes'])
+  })
+})
