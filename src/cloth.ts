@@ -32,7 +32,13 @@ import { createClothGrabs } from './features/grab/api'
 import { rebuildTearTethers } from './features/tearing/tethers'
 import { arrayOf, newArray, touchLayout } from './core/shared'
 
-/** Long-range attachment settings. */
+/**
+ * Long-range attachment settings (Kim, Chentanez and Müller-Fischer 2012). Each free particle is
+ * tied to its `perParticle` nearest pinned particles by a one-sided constraint that acts only when
+ * the particle is farther than its rest distance × (1 + `slack`), so tension reaches the hem within
+ * one projection however few iterations run. Tethers never cross between separate pieces of a
+ * mesh; they are rebuilt when pins change (and, on a tearable cloth, after tears, along the mesh).
+ */
 export interface TetherOptions {
   /** Tie free particles to their nearest pinned particles. Default true. */
   enabled?: boolean
@@ -59,7 +65,7 @@ export interface ClothOptions {
   /**
    * 'xpbd' (default): compliance, so the converged stiffness is independent of the iteration count
    * and time step (one spring: within 0.5 % at 1 to 16 iterations); a whole cloth reaches it only
-   * with enough substeps × iterations (see README, Materials). 'pbd': classic, stiffness per
+   * with enough substeps × iterations (see README, Materials and accuracy). 'pbd': classic, stiffness per
    * iteration.
    */
   solver?: 'xpbd' | 'pbd'
@@ -145,8 +151,11 @@ export function createCloth(world: object, options: CreateClothOptions): number 
 }
 
 /**
- * Creates a cloth from any indexed triangle mesh. Edges, shear pairs (quad diagonals), bending
- * pairs and hinges are derived from the triangles. Returns the cloth entity.
+ * Creates a cloth from any indexed triangle mesh. Edges become stretch constraints; where two
+ * triangles form a quad, its diagonals become shear pairs; bending comes from nearly opposite edge
+ * pairs at each vertex ('line'), from the vertices opposite each interior edge ('distance') or from
+ * hinges on interior edges ('dihedral'). Vertices no triangle uses are no part of the cloth: they
+ * keep their place (inverse mass 0) and are left out of every bounds. Returns the cloth entity.
  */
 export function createClothFromMesh(world: object, options: CreateClothFromMeshOptions): number {
   const state = getClothWorldForChange(world)
@@ -329,7 +338,12 @@ export function rebuildTethers(state: ClothWorldState, c: ClothState): void {
   state.stats.tetherRebuilds++
 }
 
-/** The cloth's internal state (particle arrays, rest data, pins). Read freely; write with care. */
+/**
+ * The cloth's internal state: `pos`, `prev`, `vel` and `invMass` (Float64Array, xyz interleaved for
+ * the vectors), `count` live particles, `topology` (rest data, shared and read-only unless the
+ * cloth is tearable), pins and settings, and one sub-object per feature. Read freely; write with
+ * care, and call `wakeCloth` after writing a sleeping cloth's arrays.
+ */
 export function getClothState(world: object, cloth: number): ClothState {
   return getCloth(getClothWorld(world), cloth)
 }
@@ -381,7 +395,7 @@ export function getClothStretch(world: object, cloth: number, out = { mean: 0, m
   return measureStretch(c.pos, t.stretchIds, t.stretchRest, t.stretchCount, out)
 }
 
-/** Removes a cloth with its pins. */
+/** Removes a cloth with its pins, and ends its grabs (as does `removeEntity` on the cloth). */
 export function removeCloth(world: object, cloth: number): void {
   const state = getClothWorldForChange(world)
   getCloth(state, cloth)

@@ -148,7 +148,11 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
   })
 }
 
-/** The stores this world's plugin uses (Transform, Cloth, Pin, WindZone, Tearable), for queries and direct reads. */
+/**
+ * The stores this world's plugin uses (Transform, Cloth, Pin, WindZone, Tearable), for queries and
+ * direct reads. Read fields through the store each time (`Transform.px[eid]`), not through a saved
+ * array: the arrays are replaced when they grow.
+ */
 export function getClothComponents(world: object): ClothWorldState['components'] {
   return getClothWorld(world).components
 }

@@ -1,6 +1,13 @@
 /**
  * The one error the plugin throws for bad input. Every check runs at the API edge, before
  * anything reaches the solver, and the message names the argument and the value it got.
+ *
+ * Common limits: positions and offsets within ±1e9 m; rotations non-zero quaternions; scales
+ * finite, above 0 and at most 1e6; `iterations` and `substeps` 1…256; grid `resolution` 2…4096; a
+ * world must carry the plugin (`argument: 'world'`) and a cloth must be a cloth entity of it. A
+ * Transform written straight into the stores with NaN, ±∞, a position beyond ±1e9 m or a scale above
+ * 1e6 makes `stepCloth` throw with `argument: 'transform of entity N'` before it takes any of that
+ * frame's transforms.
  */
 export class ClothError extends Error {
   /** The argument (or option path) that was rejected, e.g. `options.resolution`. */

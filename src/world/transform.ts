@@ -13,6 +13,10 @@ type Writable = { [i: number]: number }
  * that do not write the stores themselves. The rotation is normalised; position and rotation must
  * be finite. With host transform stores (`installClothPlugin({ transforms })`), writes into those
  * (adding the host's component, with an identity transform, to an entity that lacks it).
+ *
+ * Hosts may write the stores directly instead. A scale there that is not finite and above 0 (a
+ * mirror scale) counts as 1 for pin and collider offsets; one above 1e6 is refused by the next
+ * step. A change of scale is interpolated across the step like motion, and wakes what it moves.
  */
 export function setTransform(
   world: object,
