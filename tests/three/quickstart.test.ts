@@ -47,7 +47,8 @@ describe('README: Quick start', () => {
   afterAll(() => vi.unstubAllGlobals())
 
   it('the program runs: 600 frames drawn, the geometry is the cloth, finite, behind the running character', async () => {
-    const code = `${quickStart()}\nexport { world, hero, cape, capeMesh, character }\nexport { getClothMesh, getTransform } from 'bitecs-cloth'\n`
+    const code =
+      `${quickStart()}\nexport { world, hero, cape, capeMesh, character }\nexport { getClothMesh, getTransform } from 'bitecs-cloth'\n`
     const stub = join(root, 'node_modules', '.cache', 'readme-quickstart', 'three-stub.mjs')
     mkdirSync(join(stub, '..'), { recursive: true })
     writeFileSync(stub, THREE_STUB)
