@@ -1,6 +1,7 @@
 import { HEALTH_OK } from '../src/kernels/guard'
 import type { ClothThreads, ClothWorldState } from '../src/world/state'
 import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guard/step'
+import { placeHeldAfterReset } from '../src/features/character/step'
 import { EV } from '../src/features/tearing/types'
 import { Q_MEASURED } from '../src/features/budget/types'
 import { refreshBindings } from '../src/threads/bind'
@@ -32,8 +33,8 @@ import { clothWriteback } from './clothWriteback'
  * (transforms, kinematics, wakes, budget, substep count), then `dispatchClothStep` shares the cloths
  * out and hands them to the workers; each worker runs the substeps of its cloths (forces, predict,
  * solve, collide, tear, writeback) and the guard's check (`runWorkerStep`); `collectClothStep` takes
- * the results back and, in creation order, puts failed cloths back into a safe pose and queues the
- * tear events, as the single-threaded guard and tear phases would.
+ * the results back and, in creation order, puts failed cloths back into a safe pose (a character
+ * cloth's held particles onto their reference) and queues the tear events, as the single-threaded guard and tear phases would.
  */
 
 /**
@@ -93,7 +94,10 @@ export function collectClothStep(state: ClothWorldState, th: ClothThreads): void
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const health = th.bindings.get(c)!.io[IO_HEALTH]
-    if (health > HEALTH_OK) restoreSafePose(state, c, health)
+    if (health > HEALTH_OK) {
+      restoreSafePose(state, c, health)
+      if (c.character !== null) placeHeldAfterReset(c)
+    }
   }
   deliverResets(state)
   mergeTearEvents(state, th)

@@ -6,6 +6,7 @@ import { GRAB_HANDOFF, readGrabHandoff, writeGrabHandoff } from '../features/gra
 import { WIND_HANDOFF, readWindHandoff, writeWindHandoff } from '../features/wind/handoff'
 import { COLLISION_HANDOFF, readCollisionHandoff, writeCollisionHandoff } from '../features/collision/handoff'
 import { GUARD_HANDOFF, readGuardHandoff, writeGuardHandoff } from '../features/guard/handoff'
+import { CHARACTER_HANDOFF, readCharacterHandoff, writeCharacterHandoff } from '../features/character/handoff'
 import { TEAR_HANDOFF, readTearHandoff, writeTearHandoff } from '../features/tearing/handoff'
 
 /**
@@ -25,7 +26,8 @@ const IO_GRAB = IO_SLEEP + SLEEP_HANDOFF
 const IO_WIND = IO_GRAB + GRAB_HANDOFF
 const IO_COLLISION = IO_WIND + WIND_HANDOFF
 const IO_GUARD = IO_COLLISION + COLLISION_HANDOFF
-const IO_TEAR = IO_GUARD + GUARD_HANDOFF
+const IO_CHARACTER = IO_GUARD + GUARD_HANDOFF
+const IO_TEAR = IO_CHARACTER + CHARACTER_HANDOFF
 /** Doubles per cloth block. */
 export const IO_SIZE = IO_TEAR + TEAR_HANDOFF
 
@@ -36,6 +38,7 @@ export function writeClothHandoff(c: ClothState, io: Float64Array): void {
   writeWindHandoff(c, io, IO_WIND)
   writeCollisionHandoff(c, io, IO_COLLISION)
   writeGuardHandoff(c, io, IO_GUARD)
+  writeCharacterHandoff(c, io, IO_CHARACTER)
   writeTearHandoff(c, io, IO_TEAR)
 }
 
@@ -46,6 +49,7 @@ export function readClothHandoff(io: Float64Array, c: ClothState): void {
   readWindHandoff(io, IO_WIND, c)
   readCollisionHandoff(io, IO_COLLISION, c)
   readGuardHandoff(io, IO_GUARD, c)
+  readCharacterHandoff(io, IO_CHARACTER, c)
   readTearHandoff(io, IO_TEAR, c)
 }
 

@@ -1,5 +1,6 @@
 import { hasComponent, observe, onRemove } from 'bitecs'
 import { ClothError, checkObject, checkOneOf, isArrayLike } from '../../core/errors'
+import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld } from '../../world/access'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
@@ -111,6 +112,7 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
     for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
     ch.constrained = false
     ch.drive = null
+    touchLayout()
     unconstrained(ch.lim)
     dropIfUnused(state, c)
     wakeClothState(state, c)
@@ -139,9 +141,12 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
     if (drive[i] > 0) anyDrive = true
   }
   if (anyDrive) {
-    ch.drive = ch.drive ?? new Float64Array(ch.held.length)
+    ch.drive = ch.drive ?? newArray(Float64Array, ch.held.length)
     for (let i = 0; i < n; i++) ch.drive[i] = driveFrequency(drive[i])
-  } else ch.drive = null
+  } else if (ch.drive !== null) {
+    ch.drive = null
+    touchLayout()
+  }
   ch.constrained = true
   for (let i = 0; i < n; i++) {
     const hold = maxDistance[i] === 0
@@ -168,6 +173,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     rebindRest(state, c, ch) // the reference stays where the skin put it, now carried by the frame
     releaseBones(state, ch)
     ch.skin = null
+    touchLayout()
     bindRigid(c, ch)
     dropIfUnused(state, c)
     wakeClothState(state, c)
@@ -347,6 +353,7 @@ export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
   if (ch.frameSlot >= 0) untrackEntity(state, ch.frame)
   ch.frameSlot = -1
   c.character = null
+  touchLayout()
 }
 
 /**
@@ -387,7 +394,7 @@ export function reserveCharacter(c: ClothState, P: number): void {
   ch.restNormal = grownArray(ch.restNormal, 3 * P)
   ch.ref = grownArray(ch.ref, BLEND * P)
   if (ch.lim.length < LIMITS * P) {
-    const lim = unconstrained(new Float32Array(LIMITS * P))
+    const lim = unconstrained(newArray(Float32Array, LIMITS * P))
     lim.set(ch.lim)
     ch.lim = lim
   }

@@ -1,5 +1,6 @@
 import { entityExists, hasComponent } from 'bitecs'
 import { fit32, fit64, fit8 } from '../../core/arrays'
+import { newArray, touchLayout } from '../../core/shared'
 import { ClothError } from '../../core/errors'
 import { BLEND, LIMITS, RIGID } from '../../kernels/motion'
 import { SLOT_DATA, restoreSlot, saveSlot, trackEntity, untrackEntity } from '../../world/kinematics'
@@ -153,6 +154,7 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
     if (c.character !== null) {
       untrackAll(state, c.character)
       c.character = null
+      touchLayout()
     }
     return
   }
@@ -185,9 +187,11 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
     ch.held[i] = s.characterHeld[i]
     if (ch.held[i] === 1) ch.heldList[ch.heldCount++] = i
   }
-  if (s.characterDrive.length === 0) ch.drive = null
-  else {
-    if (ch.drive === null) ch.drive = new Float64Array(ch.held.length)
+  if (s.characterDrive.length === 0) {
+    if (ch.drive !== null) touchLayout()
+    ch.drive = null
+  } else {
+    if (ch.drive === null) ch.drive = newArray(Float64Array, ch.held.length)
     for (let i = 0; i < n; i++) ch.drive[i] = s.characterDrive[i]
   }
   restoreSkin(state, ch, s, n)
@@ -201,6 +205,7 @@ function restoreSkin(state: ClothWorldState, ch: ClothCharacter, s: CharacterSna
   if (!same) {
     if (skin !== null) untrackBones(state, skin)
     skin = ch.skin = nb === 0 ? null : blankSkin(nb, ch.held.length)
+    touchLayout()
     if (skin !== null) {
       for (let b = 0; b < nb; b++) {
         const e = s.characterBones[b]

@@ -1,25 +1,30 @@
+import { newArray } from '../../core/shared'
 import { BLEND, FRAME_PARAMS, LIMITS, L_MAX, L_RADIUS, REF_PARAMS } from '../../kernels/motion'
 import { MOTION, SETTINGS, WORK, type ClothCharacter, type ClothSkin } from './types'
 
-/** Character state with zeroed settings and arrays for a capacity of P particles (the caller fills them). */
+/**
+ * Character state with zeroed settings and arrays for a capacity of P particles (the caller fills
+ * them). Its arrays are `newArray`s: in shared memory while a threaded world exists, and a new
+ * layout for the workers (see `src/core/shared.ts`).
+ */
 export function blankCharacter(P: number): ClothCharacter {
   return {
     frame: 0,
     frameSlot: -1,
     inertia: false,
-    settings: new Float64Array(SETTINGS),
-    motion: new Float64Array(MOTION),
-    work: new Float64Array(WORK),
-    frameParams: new Float64Array(FRAME_PARAMS),
-    rest: new Float64Array(3 * P),
-    restNormal: new Float64Array(3 * P),
-    ref: new Float32Array(BLEND * P),
-    lim: unconstrained(new Float32Array(LIMITS * P)),
-    refParams: new Float64Array(REF_PARAMS),
+    settings: newArray(Float64Array, SETTINGS),
+    motion: newArray(Float64Array, MOTION),
+    work: newArray(Float64Array, WORK),
+    frameParams: newArray(Float64Array, FRAME_PARAMS),
+    rest: newArray(Float64Array, 3 * P),
+    restNormal: newArray(Float64Array, 3 * P),
+    ref: newArray(Float32Array, BLEND * P),
+    lim: unconstrained(newArray(Float32Array, LIMITS * P)),
+    refParams: newArray(Float64Array, REF_PARAMS),
     constrained: false,
     drive: null,
-    held: new Uint8Array(P),
-    heldList: new Int32Array(P),
+    held: newArray(Uint8Array, P),
+    heldList: newArray(Int32Array, P),
     heldCount: 0,
     skin: null,
   }
@@ -28,13 +33,13 @@ export function blankCharacter(P: number): ClothCharacter {
 /** A skin of `nb` bones (untracked) with joints and weights for a capacity of P particles. */
 export function blankSkin(nb: number, P: number): ClothSkin {
   return {
-    bones: new Int32Array(nb),
-    slots: new Int32Array(nb).fill(-1),
-    bind: new Float64Array(10 * nb),
-    pose: new Float64Array(10 * nb),
-    matrices: new Float64Array(12 * nb),
-    joints: new Int32Array(4 * P),
-    weights: new Float64Array(4 * P),
+    bones: newArray(Int32Array, nb),
+    slots: newArray(Int32Array, nb).fill(-1),
+    bind: newArray(Float64Array, 10 * nb),
+    pose: newArray(Float64Array, 10 * nb),
+    matrices: newArray(Float64Array, 12 * nb),
+    joints: newArray(Int32Array, 4 * P),
+    weights: newArray(Float64Array, 4 * P),
   }
 }
 
