@@ -9,7 +9,7 @@ describe('allocation with workers', () => {
   // measured frames, early: a path run for the first time (interpreted, it boxes numbers), such as
   // a wait that timed out on a loaded machine. So the test allows one collection per heap.
   it(
-    'a threaded step allocates nothing, on the main thread or in the workers: at most one (first-time) garbage collection per heap in 20,000 frames with a 1 MB young generation',
+    'a threaded step allocates nothing, on the main thread or in the workers (character cloth included): at most one (first-time) garbage collection per heap in 20,000 frames with a 1 MB young generation',
     async () => {
       process.env.CLOTH_WORKER = workerUrl().href // (the child inherits the environment)
       const run = await runAllocationFixture(join(__dirname, '..', 'fixtures', 'allocation-threads.ts'))
@@ -23,6 +23,8 @@ describe('allocation with workers', () => {
       // the workers did the steps, and the sleeper slept and woke in the measured frames
       expect(Number(/HANDED (\d+)/.exec(run.lines.join('\n'))?.[1])).toBeGreaterThan(15_000)
       expect(Number(/WAKES (\d+)/.exec(run.lines.join('\n'))?.[1])).toBeGreaterThan(20)
+      // the dancer's cape was reset to its reference at each of its snaps
+      expect(Number(/TELEPORTS (\d+)/.exec(run.lines.join('\n'))?.[1])).toBeGreaterThan(90)
     },
     300_000,
   )
