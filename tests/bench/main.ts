@@ -10,7 +10,7 @@ import { demoScenes } from './demo'
 import { threeCost } from './three'
 import { proxyCost } from './render'
 import { characterCost } from './character'
-import { threadsCost } from './threads'
+import { threadsCharacterCost, threadsCost } from './threads'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -65,6 +65,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
   demo: { byDefault: false, run: () => demoScenes() },
   three: { byDefault: true, run: () => threeCost() },
   threads: { byDefault: false, run: () => threadsCost() },
+  'threads-character': { byDefault: false, run: () => threadsCharacterCost() },
 }
 
 const wanted = process.argv.slice(2)

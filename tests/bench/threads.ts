@@ -7,6 +7,9 @@ import {
   endClothStep,
   installClothPlugin,
   pinRow,
+  setClothInertia,
+  setClothMotionConstraints,
+  setClothSkinning,
   setTransform,
   stepCloth,
 } from '../../src/index'
@@ -22,10 +25,12 @@ const WORKER = new URL('./worker.mjs', import.meta.url)
  * `n` capes of `res`×`res` on characters running in circles, each with a torso and two leg
  * capsules, tethers on, 8 substeps (the budget suite's crowd, without a budget), stepped on
  * `threads` workers. `animate` writes the frame's Transforms (the game's work, not timed).
+ * `configure` may give each cape character-cloth settings, and return what it animates per frame.
  */
-function crowd(threads: number, n: number, res: number, minStepMs?: number) {
+function crowd(threads: number, n: number, res: number, minStepMs?: number, configure?: Configure) {
   const world = installClothPlugin(createWorld(), { sleep: false, threads, workerUrl: WORKER, threadMinStepMs: minStepMs })
   const heroes: { eid: number; x: number; z: number; phase: number }[] = []
+  const moves: ((frame: number) => void)[] = []
   for (let i = 0; i < n; i++) {
     const x = (i % 8) * 3, z = Math.floor(i / 8) * 3
     const phase = i * 0.7
@@ -46,6 +51,8 @@ function crowd(threads: number, n: number, res: number, minStepMs?: number) {
       material: 'cotton',
     })
     pinRow(world, cape, 0, hero)
+    const move = configure?.(world, hero, cape, res)
+    if (move) moves.push(move)
     heroes.push({ eid: hero, x, z, phase })
   }
   let frame = 0
@@ -55,11 +62,13 @@ function crowd(threads: number, n: number, res: number, minStepMs?: number) {
       const a = frame * DT * 3 + h.phase
       setTransform(world, h.eid, [h.x + Math.cos(a), 1.6, h.z + Math.sin(a)], [0, Math.sin(-a / 2), 0, Math.cos(-a / 2)])
     }
+    for (const m of moves) m(frame)
   }
   return { world, animate }
 }
 
 type Crowd = ReturnType<typeof crowd>
+type Configure = (world: object, hero: number, cape: number, res: number) => ((frame: number) => void) | void
 
 /**
  * One frame, timed: main-thread ms (beginClothStep, then endClothStep once the workers are done:
@@ -224,4 +233,72 @@ function measureBlocking(fns: (() => void)[], rounds: number, frames: number): n
     }
   }
   return out
+}
+
+/** Max distance 0 at the collar, 0.9·u² m below, free at the hem (u: the row, 0..1), with a backstop: the demo cape's painting. */
+function painted(res: number) {
+  const maxDistance = Array.from({ length: res * res }, (_, i) => {
+    const u = Math.floor(i / res) / (res - 1)
+    return u >= 1 ? Infinity : 0.9 * u * u
+  })
+  return { maxDistance, backstop: { distance: 0.02, radius: 0.5 } }
+}
+
+/** Each cape in its character's frame (inertia shares 0.5, a teleport angle), held by painted max distance and a backstop. */
+const framed: Configure = (world, hero, cape, res) => {
+  setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { angle: Math.PI / 2 } })
+  setClothMotionConstraints(world, cape, painted(res))
+}
+
+/** As `framed`, with the reference skinned by the character and a hip bone that sways (blended by row). */
+const skinned: Configure = (world, hero, cape, res) => {
+  const hip = addEntity(world)
+  const place = (frame: number) => {
+    const p = getClothWorld(world).transforms
+    const a = 0.4 * Math.sin(frame * 0.1)
+    setTransform(world, hip, [p.px[hero], 1.0, p.pz[hero]], [Math.sin(a / 2), 0, 0, Math.cos(a / 2)])
+  }
+  place(0)
+  const joints: number[] = [], weights: number[] = []
+  for (let i = 0; i < res * res; i++) {
+    const u = Math.floor(i / res) / (res - 1)
+    joints.push(0, 1, 0, 0)
+    weights.push(1 - u, u, 0, 0)
+  }
+  setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { angle: Math.PI / 2 } })
+  setClothSkinning(world, cape, { bones: [hero, hip], joints, weights })
+  setClothMotionConstraints(world, cape, painted(res))
+  return place
+}
+
+/**
+ * Character cloth in the threaded mode: the crowd of 64 capes (24×24) plain, in their characters'
+ * frames with painted motion constraints, and with skinned references, on 2 workers and on none.
+ * The sync phase (the frame's motion; a skinned reference's blend, per particle) runs on the main
+ * thread; the predict in the frame and the constraints run on the workers.
+ */
+export async function threadsCharacterCost(): Promise<void> {
+  const free = await parallelism()
+  const kinds: [string, Configure | undefined][] = [['plain capes', undefined], ['inertia + motion constraints', framed], [
+    'skinned (2 bones) + constraints',
+    skinned,
+  ]]
+  const worlds = kinds.flatMap(([, configure]) => [crowd(0, 64, 24, undefined, configure), crowd(2, 64, 24, undefined, configure)])
+  for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0, cpu: 0 })
+  const m = measure(worlds, 7, 20)
+  table(
+    '64 capes of 24×24 on 0 and 2 workers, plain and character cloth: ms per 60 Hz frame (median of 7 interleaved rounds of 20 frames)',
+    worlds.map((_, i) => ({
+      capes: kinds[i >> 1][0],
+      workers: i % 2 === 0 ? 0 : 2,
+      'main thread ms': fmt(median(m[i].main), 3),
+      'main range': spread(m[i].main),
+      'wall ms': fmt(median(m[i].wall), 2),
+      'wall / none': fmt(median(m[i].wall) / median(m[i & ~1].wall), 2),
+      'CPU ms, all threads': fmt(median(m[i].cpu), 2),
+    })),
+  )
+  for (const w of worlds) disposeClothWorld(w.world)
+  console.log(`\n(The machine during this run: the same arithmetic split over 2 workers ran ${fmt(free, 2)}× as fast as on 1.)`)
+  saveJson('threads-character', { kinds: kinds.map((k) => k[0]), runs: m, parallelism: free })
 }

@@ -3,7 +3,21 @@ import { skinReference } from '../../kernels/skin'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { BLEND, RIGID, W_A, W_A0, W_MODE, W_N, W_T, W_T0 } from '../../kernels/motion'
 import { P_STEP_FRACTION, P_STEP_START } from '../../kernels/params'
-import { M_BIND, M_POSE, M_REF_VALID, W_FROM, W_RT, W_TF, W_TO, W_TT, type ClothCharacter, type ClothSkin } from './types'
+import {
+  BLEND_BOTH,
+  BLEND_END,
+  M_BIND,
+  M_POSE,
+  M_REF_VALID,
+  W_BLEND,
+  W_FROM,
+  W_RT,
+  W_TF,
+  W_TO,
+  W_TT,
+  type ClothCharacter,
+  type ClothSkin,
+} from './types'
 
 /**
  * The reference pose of a character cloth: its rest positions carried by the frame's transform
@@ -103,20 +117,17 @@ export function reserveBoneScratch(bones: number): void {
   if (boneScratch.length < 10 * bones) boneScratch = new Float64Array(10 * bones)
 }
 
-/** The skinned reference at the bones' poses `bonePoses` (stride 10), positions less the anchor at work[wo..], into out[o + stride·i], normals into out[no + stride·i]. */
-function skinnedAt(
-  c: ClothState, ch: ClothCharacter, skin: ClothSkin, bonePoses: Float64Array, work: Float64Array, wo: number,
-  out: Float32Array, o: number, no: number, stride: number,
-): void {
-  for (let b = 0; b < skin.bones.length; b++) poseMatrix(bonePoses, 10 * b, skin.bind, 10 * b, skin.matrices, 12 * b)
-  skinReference(skin.matrices, skin.joints, skin.weights, ch.rest, ch.restNormal, work, wo, out, o, no, stride, c.count)
+/** The bones' skinning matrices at the poses `bonePoses` (stride 10) into `mats` (stride 12). */
+function boneMatrices(skin: ClothSkin, bonePoses: Float64Array, mats: Float64Array): void {
+  for (let b = 0; b < skin.bones.length; b++) poseMatrix(bonePoses, 10 * b, skin.bind, 10 * b, mats, 12 * b)
 }
 
 /**
  * Sync phase, for a cloth with motion constraints: the frame's part of this step's reference. A
  * rigid reference needs only the frame's transforms at the step's start and end (and its rotation
  * at the end, for normals). A skinned one is blended per particle (`ref`, BLEND values, offsets
- * from the frame's origin at the step's start and end): the start is last step's end while the
+ * from the frame's origin at the step's start and end) by `blendReference` at the step's first
+ * substep, from the bones' matrices computed here: the start is last step's end while the
  * reference is continuous (the same origin); otherwise it is blended from the poses at the step's
  * start (the bones' last poses). Bones then remember their poses at the step's end.
  */
@@ -130,20 +141,36 @@ export function updateReference(state: ClothWorldState, c: ClothState, ch: Cloth
     return
   }
   const m = ch.motion
+  if (m[M_REF_VALID] === 1) w[W_BLEND] = BLEND_END
+  else {
+    boneMatrices(skin, skin.pose, skin.matricesFrom)
+    w[W_BLEND] = BLEND_BOTH
+    m[M_REF_VALID] = 1
+  }
+  bonePosesAtEnd(state, skin, boneScratch)
+  boneMatrices(skin, boneScratch, skin.matrices)
+  for (let j = 0; j < skin.pose.length; j++) skin.pose[j] = boneScratch[j]
+}
+
+/**
+ * Predict phase, at the cloth's first substep (or the sync phase, before a reset puts the cloth on
+ * its reference): the per-particle blend of a skinned reference that `updateReference` set up.
+ */
+export function blendReference(c: ClothState, ch: ClothCharacter): void {
+  const w = ch.work
+  const mode = w[W_BLEND]
+  if (mode === 0) return
+  w[W_BLEND] = 0
+  const skin = ch.skin!
   const ref = ch.ref
-  if (m[M_REF_VALID] === 1) {
+  if (mode === BLEND_END) {
     for (let o = 0; o < BLEND * c.count; o += BLEND) {
       ref[o] = ref[o + 3]
       ref[o + 1] = ref[o + 4]
       ref[o + 2] = ref[o + 5]
     }
-  } else {
-    skinnedAt(c, ch, skin, skin.pose, w, W_FROM, ref, 0, 6, BLEND)
-    m[M_REF_VALID] = 1
-  }
-  bonePosesAtEnd(state, skin, boneScratch)
-  skinnedAt(c, ch, skin, boneScratch, w, W_TO, ref, 3, 6, BLEND)
-  for (let j = 0; j < skin.pose.length; j++) skin.pose[j] = boneScratch[j]
+  } else skinReference(skin.matricesFrom, skin.joints, skin.weights, ch.rest, ch.restNormal, w, W_FROM, ref, 0, 6, BLEND, c.count)
+  skinReference(skin.matrices, skin.joints, skin.weights, ch.rest, ch.restNormal, w, W_TO, ref, 3, 6, BLEND, c.count)
 }
 
 /**
@@ -197,12 +224,15 @@ function referencePositions(c: ClothState, ch: ClothCharacter, pose: Float64Arra
     poseTransform(pose, 0, t, 0)
     for (let i = 0; i < c.count; i++) {
       const o = RIGID * i
-      for (let a = 0; a < 3; a++) out[3 * i + a] = t[3 * a] * ch.ref[o] + t[3 * a + 1] * ch.ref[o + 1] + t[3 * a + 2] * ch.ref[o + 2] + t[9 + a]
+      for (let a = 0; a < 3; a++)
+        out[3 * i + a] = t[3 * a] * ch.ref[o] + t[3 * a + 1] * ch.ref[o + 1] + t[3 * a + 2] * ch.ref[o + 2] + t[9 + a]
     }
     return
   }
   const both = new Float32Array(6 * c.count) // positions (offsets from the frame's origin) and normals
-  skinnedAt(c, ch, skin, bones, pose, 0, both, 0, 3, 6)
+  const mats = new Float64Array(12 * skin.bones.length) // (not the step's: a query may come between its phases)
+  boneMatrices(skin, bones, mats)
+  skinReference(mats, skin.joints, skin.weights, ch.rest, ch.restNormal, pose, 0, both, 0, 3, 6, c.count)
   for (let i = 0; i < c.count; i++) for (let d = 0; d < 3; d++) out[3 * i + d] = pose[d] + both[6 * i + d]
 }
 

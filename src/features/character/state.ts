@@ -38,6 +38,7 @@ export function blankSkin(nb: number, P: number): ClothSkin {
     bind: newArray(Float64Array, 10 * nb),
     pose: newArray(Float64Array, 10 * nb),
     matrices: newArray(Float64Array, 12 * nb),
+    matricesFrom: newArray(Float64Array, 12 * nb),
     joints: newArray(Int32Array, 4 * P),
     weights: newArray(Float64Array, 4 * P),
   }

@@ -5,9 +5,22 @@ import { moveClothRigidly } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
-import { referenceSubstep, trackedStartPose, updateReference } from './reference'
+import { blendReference, referenceSubstep, trackedStartPose, updateReference } from './reference'
 import {
-  M_GAP, M_POSE, M_PRIMED, M_REF_VALID, M_V, M_VC, M_W, M_WC, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE, W_FROM, W_V, W_W,
+  M_GAP,
+  M_POSE,
+  M_PRIMED,
+  M_REF_VALID,
+  M_V,
+  M_VC,
+  M_W,
+  M_WC,
+  S_TELEPORT_ANGLE,
+  S_TELEPORT_DISTANCE,
+  S_TELEPORT_MODE,
+  W_FROM,
+  W_V,
+  W_W,
   type ClothCharacter,
 } from './types'
 
@@ -41,7 +54,7 @@ export function markFrameTeleports(state: ClothWorldState): void {
     if (!c.pins.skipTeleport && !(ex * ex + ey * ey + ez * ez > limit * limit) && !(turned > ch.settings[S_TELEPORT_ANGLE])) continue
     k.forceJump[slot] = 1
     const skin = ch.skin
-    if (skin !== null) for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) k.forceJump[skin.slots[b]] = 1
+    if (skin !== null) { for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) k.forceJump[skin.slots[b]] = 1 }
   }
 }
 
@@ -59,7 +72,7 @@ export function wakeMovedCharacters(state: ClothWorldState): void {
     if (ch === null || !c.sleep.asleep) continue
     let wake = ch.frameSlot >= 0 && moved[ch.frameSlot] === 1
     const skin = ch.skin
-    if (skin !== null) for (let b = 0; b < skin.slots.length && !wake; b++) wake = skin.slots[b] >= 0 && moved[skin.slots[b]] === 1
+    if (skin !== null) { for (let b = 0; b < skin.slots.length && !wake; b++) wake = skin.slots[b] >= 0 && moved[skin.slots[b]] === 1 }
     if (wake) wakeClothState(state, c)
   }
 }
@@ -140,6 +153,7 @@ function resyncJumpedBones(state: ClothWorldState, ch: ClothCharacter): void {
 
 /** Teleport 'reset': every particle on its reference at the step's start, at rest in the frame. */
 function resetToReference(c: ClothState, ch: ClothCharacter): void {
+  blendReference(c, ch)
   referenceSubstep(c, ch, -1, c.substeps) // (the reference at the step's start)
   placeOnReference(c.pos, null, c.count, ch.ref, ch.refParams, c.params)
   const w = ch.work
@@ -160,13 +174,15 @@ function resetToReference(c: ClothState, ch: ClothCharacter): void {
 }
 
 /**
- * Predict phase, for a cloth with character state: the reference for this substep (when motion
- * constraints use it), then the predict in the frame (inertia shares, frame-relative damping) when
- * inertia is on, then held particles onto their reference. Returns false when the world-space
- * predict must run instead (it runs before the held particles are placed: see `placeHeld`).
+ * Predict phase, for a cloth with character state: a skinned reference's blend at the first
+ * substep, the reference for this substep (when motion constraints use it), then the predict in
+ * the frame (inertia shares, frame-relative damping) when inertia is on, then held particles onto
+ * their reference. Returns false when the world-space predict must run instead (it runs before
+ * the held particles are placed: see `placeHeld`).
  */
 export function predictCharacter(c: ClothState, k: number): boolean {
   const ch = c.character!
+  if (k === 0) blendReference(c, ch)
   if (ch.constrained) referenceSubstep(c, ch, k, c.substeps)
   const inFrame = ch.inertia
   if (inFrame) {

@@ -94,8 +94,13 @@ export interface ClothSkin {
   bind: Float64Array
   /** Per bone: pose at the cloth's last step end (stride 10); a removed bone keeps its last one. */
   pose: Float64Array
-  /** Per bone: skinning matrix (pose · bind⁻¹) as a row-major 3×4 (stride 12); scratch of a step. */
+  /**
+   * Per bone: skinning matrix (pose · bind⁻¹) as a row-major 3×4 (stride 12) at the end of the
+   * current step, and at its start when the reference is blended anew; scratch of a step, set by
+   * the sync phase for the blend in the predict phase (`work[W_BLEND]`).
+   */
   matrices: Float64Array
+  matricesFrom: Float64Array
   /** 4 bone indices and 4 weights per particle (room for the cloth's capacity). */
   joints: Int32Array
   weights: Float64Array
@@ -196,4 +201,13 @@ export const W_P = W_N + 9
 export const W_TF = W_P + 9
 export const W_TT = W_TF + 12
 export const W_RT = W_TT + 12
-export const WORK = W_RT + 9
+/**
+ * The per-particle blend of a skinned reference the sync phase left to the step's first substep
+ * (BLEND_*), so that it runs where the cloth steps (a worker, in a threaded world). 0 between steps.
+ */
+export const W_BLEND = W_RT + 9
+export const WORK = W_BLEND + 1
+/** `work[W_BLEND]`: the end of last step becomes the start, then the end is blended. */
+export const BLEND_END = 1
+/** `work[W_BLEND]`: start and end are blended (the reference was not continuous). */
+export const BLEND_BOTH = 2
