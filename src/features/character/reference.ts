@@ -131,7 +131,7 @@ function boneMatrices(skin: ClothSkin, bonePoses: Float64Array, mats: Float64Arr
  * reference is continuous (the same origin); otherwise it is blended from the poses at the step's
  * start (the bones' last poses). Bones then remember their poses at the step's end.
  */
-export function updateReference(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
+export function updateReference(state: ClothWorldState, ch: ClothCharacter): void {
   const w = ch.work
   const skin = ch.skin
   if (skin === null) {

@@ -122,7 +122,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
     state.stats.teleports++
   }
   beginFrameStep(state, c, ch)
-  if (ch.constrained || reset) updateReference(state, c, ch)
+  if (ch.constrained || reset) updateReference(state, ch)
   if (reset) {
     resetToReference(c, ch)
     if (pinJump === JUMP_NONE) state.stats.teleports++ // (else the pins counted it, carrying the cloth first)
