@@ -1,10 +1,25 @@
 // Character cloth in the threaded step: the same bytes as the single-threaded step (positions,
 // velocities, stats, events, snapshots) with the workers' copies checked against the main
 // thread's every step (verify mode), and snapshots that restore across modes.
+import { addEntity, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import { disposeClothWorld, getClothState, getClothStats } from '../../src/index'
+import {
+  beginClothStep,
+  createCloth,
+  disposeClothWorld,
+  endClothStep,
+  getClothState,
+  getClothStats,
+  pinRow,
+  setClothInertia,
+  setClothMotionConstraints,
+  setClothSkinning,
+  setTransform,
+} from '../../src/index'
+import { hashBytes } from '../helpers'
 import { getClothWorld } from '../../src/world/access'
 import { buildCharacterRun } from './characterScene'
+import { threadedWorld } from './scene'
 
 const FRAMES = 400
 
@@ -80,4 +95,57 @@ describe('threaded step with character cloth', () => {
       }
     },
   )
+
+  it('a frame or bone entity removed between beginClothStep and endClothStep is let go of as without workers (the cloths keep its last pose)', () => {
+    const scene = (threads: number) => {
+      const world = threadedWorld(threads)
+      const hero = addEntity(world), torso = addEntity(world), arm = addEntity(world)
+      const place = (f: number) => {
+        const a = 0.05 * f
+        setTransform(world, hero, [Math.cos(a), 1.6, Math.sin(a)], [0, Math.sin(-a / 2), 0, Math.cos(-a / 2)])
+        if (f > 30) return // (removed)
+        setTransform(world, torso, [Math.cos(a), 1.3, Math.sin(a)], [0, Math.sin(-a / 2), 0, Math.cos(-a / 2)])
+        setTransform(world, arm, [Math.cos(a), 1.3, Math.sin(a) + 0.3], [Math.sin(a), 0, 0, Math.cos(a)])
+      }
+      place(0)
+      const capes = [0, 1].map((k) => {
+        const cape = createCloth(world, { width: 0.5, height: 0.6, resolution: [6, 7], position: [1 + 0.6 * k, 1.5, -0.15] })
+        pinRow(world, cape, 0, hero)
+        return cape
+      })
+      setClothInertia(world, capes[0], { frame: torso, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+      setClothMotionConstraints(world, capes[0], { maxDistance: 0.2 })
+      const n = getClothState(world, capes[1]).count
+      setClothSkinning(world, capes[1], {
+        bones: [torso, arm],
+        joints: new Array(4 * n).fill(0).map((_, k) => (k % 4 === 1 ? 1 : 0)),
+        weights: Array.from({ length: 4 * n }, (_, k) => (k % 4 === 0 ? 0.5 : k % 4 === 1 ? 0.5 : 0)),
+      })
+      setClothMotionConstraints(world, capes[1], { maxDistance: 0.1, drive: 0.3 })
+      const hash = () => capes.map((e) => hashBytes(getClothState(world, e).pos) + hashBytes(getClothState(world, e).vel)).join('')
+      return { world, torso, arm, capes, place, hash }
+    }
+    const runs = [scene(0), scene(2)]
+    try {
+      for (let f = 1; f < 90; f++) {
+        for (const s of runs) {
+          s.place(f)
+          beginClothStep(s.world, 1 / 60)
+          if (f === 30) {
+            removeEntity(s.world, s.torso) // the first cape's frame, a bone of the second
+            removeEntity(s.world, s.arm)
+          }
+          endClothStep(s.world)
+        }
+        expect(runs[1].hash(), `frame ${f}`).toBe(runs[0].hash())
+      }
+      for (const s of runs) {
+        const ch = getClothState(s.world, s.capes[0]).character!
+        expect([ch.frame, ch.frameSlot]).toEqual([0, -1])
+        expect(Array.from(getClothState(s.world, s.capes[1]).character!.skin!.slots)).toEqual([-1, -1])
+      }
+    } finally {
+      for (const s of runs) disposeClothWorld(s.world)
+    }
+  })
 })

@@ -18,7 +18,10 @@ import {
   pinParticle,
   pinRow,
   removeCloth,
+  setClothInertia,
+  setClothMotionConstraints,
   setClothQuality,
+  setClothSkinning,
   setTransform,
   stepCloth,
   unpin,
@@ -112,6 +115,15 @@ describe('beginClothStep / endClothStep', () => {
         expect(() => createCloth(s.world, { width: 1, height: 1, resolution: 4 })).toThrow(ClothError)
         expect(() => pinParticle(s.world, s.capes[0], 10)).toThrow(ClothError)
         expect(() => setClothQuality(s.world, s.capes[0], { substeps: 2 })).toThrow(ClothError)
+        expect(() => setClothInertia(s.world, s.capes[0], { frame: s.hero, linear: 0.5 })).toThrow(ClothError)
+        expect(() => setClothMotionConstraints(s.world, s.capes[0], { maxDistance: 0.2 })).toThrow(ClothError)
+        const n = getClothState(s.world, s.capes[0]).count
+        const skinning = {
+          bones: [s.hero],
+          joints: new Array(4 * n).fill(0),
+          weights: Array.from({ length: 4 * n }, (_, k) => (k % 4 === 0 ? 1 : 0)),
+        }
+        expect(() => setClothSkinning(s.world, s.capes[0], skinning)).toThrow(ClothError)
         expect(() => removeCloth(s.world, s.sheet)).toThrow(ClothError)
         expect(() => stepCloth(s.world, 1 / 60)).toThrow(ClothError)
         expect(() => beginClothStep(s.world, 1 / 60)).toThrow(ClothError)

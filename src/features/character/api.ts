@@ -2,7 +2,7 @@ import { hasComponent, observe, onRemove } from 'bitecs'
 import { ClothError, checkObject, checkOneOf, isArrayLike } from '../../core/errors'
 import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
-import { getCloth, getClothWorld } from '../../world/access'
+import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
@@ -37,7 +37,7 @@ import {
  * setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { mode: 'reset', angle: Math.PI / 2 } })
  */
 export function setClothInertia(world: object, cloth: number, options: ClothInertiaOptions | null): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (options === null) {
     if (c.character === null) return
@@ -104,7 +104,7 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
  * setClothMotionConstraints(world, cape, { maxDistance: rows.map((r) => 0.3 * r), backstop: { distance: 0.02, radius: 0.5 } })
  */
 export function setClothMotionConstraints(world: object, cloth: number, constraints: ClothMotionConstraints | null): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (constraints === null) {
     const ch = c.character
@@ -165,7 +165,7 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
  * reference carried by the frame, from where the skinned pose leaves it.
  */
 export function setClothSkinning(world: object, cloth: number, skinning: ClothSkinningOptions | null): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (skinning === null) {
     const ch = c.character

@@ -1,13 +1,15 @@
 import type { ClothState } from '../../world/state'
 
 /**
- * The character section of a cloth's per-step handoff (see `src/threads/handoff.ts`): its plain
- * numbers. Its arrays (settings, the frame's motion and this step's poses computed by the sync
- * phase, the reference pose, limits, drive, held particles, skin) are in shared memory; which of
- * them the cloth holds (none without character state, a skin, a drive) is its layout. A tear on a
- * worker can hold a split particle (`heldCount`); the API changes the rest between steps.
+ * The character section of a cloth's per-step handoff (see `src/threads/handoff.ts`): the plain
+ * numbers the step reads. Its arrays (settings, the frame's motion and this step's poses and bone
+ * matrices computed by the sync phase, the reference pose, limits, drive, held particles, skin) are
+ * in shared memory; which of them the cloth holds (none without character state, a skin, a drive)
+ * is its layout. A tear on a worker can hold a split particle (`heldCount`); the API changes the
+ * rest between steps. The frame entity and its slot stay on the main thread (only the sync phase
+ * reads them, and a removed entity clears them while the workers may be stepping).
  */
-export const CHARACTER_HANDOFF = 5
+export const CHARACTER_HANDOFF = 3
 
 export function writeCharacterHandoff(c: ClothState, io: Float64Array, o: number): void {
   const ch = c.character
@@ -15,8 +17,6 @@ export function writeCharacterHandoff(c: ClothState, io: Float64Array, o: number
   io[o] = ch.inertia ? 1 : 0
   io[o + 1] = ch.constrained ? 1 : 0
   io[o + 2] = ch.heldCount
-  io[o + 3] = ch.frame
-  io[o + 4] = ch.frameSlot
 }
 
 export function readCharacterHandoff(io: Float64Array, o: number, c: ClothState): void {
@@ -25,6 +25,4 @@ export function readCharacterHandoff(io: Float64Array, o: number, c: ClothState)
   ch.inertia = io[o] === 1
   ch.constrained = io[o + 1] === 1
   ch.heldCount = io[o + 2]
-  ch.frame = io[o + 3]
-  ch.frameSlot = io[o + 4]
 }
