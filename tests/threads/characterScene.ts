@@ -187,6 +187,7 @@ export function buildCharacterRun(threads: number, seed = 11): CharacterRun {
     setTransform(world, hands[0], [-6.5 - spread, 2.5, 2])
     setTransform(world, hands[1], [-5.5 + spread, 2.5, 2 + 0.05 * Math.sin(7 * f)])
     // character options set, changed and cleared between steps
+    if (f === 50) makeTearable(world, capes[0], { strain: 0.4, maxTearsPerStep: 2 }) // (grows its character arrays)
     if (f === 90) setClothInertia(world, capes[2], { frame: heroes[2], ...INERTIA, maxLinearSpeed: 1 })
     if (f === 110) setClothMotionConstraints(world, capes[2], painted(world, capes[2], 7, 0.1))
     if (f === 130) setClothMotionConstraints(world, capes[0], { maxDistance: 0.3, drive: 0 })
