@@ -3,6 +3,7 @@ import { describe, expect, it } from 'vitest'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE } from '../../components/Collider'
 import { ClothError } from '../../src/core/errors'
 import { buildConvexHull } from '../../src/model/hull'
+import { collideBox, collideCapsule, collideHull, collidePlane, collideSphere } from '../../src/kernels/collide'
 import {
   COLLIDE_SCRATCH,
   FRAME_SIZE,
@@ -22,13 +23,8 @@ import {
   F_SW,
   F_SWR,
   closestPoint,
-  collideBox,
-  collideCapsule,
-  collideHull,
-  collidePlane,
-  collideSphere,
   segmentHits,
-} from '../../src/kernels/collide'
+} from '../../src/kernels/colliderFrame'
 
 /** A frame for a collider with identity rotation moving from `from` to `to` during the substep. */
 function frame(size: number[], r: number, from = [0, 0, 0], to = from, muS = 0, muK = 0, lim2 = Infinity, bound = 10) {

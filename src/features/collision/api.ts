@@ -2,7 +2,7 @@ import { hasComponent, observe, onAdd, onRemove, removeComponent, entityExists }
 import { createColliderStore, type ColliderStore } from '../../../components/Collider'
 import { createSelfCollisionStore, type SelfCollisionStore } from '../../../components/SelfCollision'
 import { checkAtMost, checkInteger, checkNonNegative, ClothError, MAX_COORDINATE } from '../../core/errors'
-import { COLLIDE_SCRATCH, FRAME_SIZE } from '../../kernels/collide'
+import { COLLIDE_SCRATCH, FRAME_SIZE } from '../../kernels/colliderFrame'
 import { SELF_PARAM_COUNT } from '../../kernels/selfCollide'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'

@@ -4,7 +4,7 @@ import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, type C
 import { clearActiveColliders, reserveActiveColliders, wakeAroundCollider } from './reach'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkFinite, checkInteger, checkNonNegative, checkPoint, checkPositive, checkQuat, checkVec3 } from '../../core/errors'
 import { buildConvexHull } from '../../model/hull'
-import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, F_SW, F_SWR } from '../../kernels/collide'
+import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, F_SW, F_SWR } from '../../kernels/colliderFrame'
 import { interpolatePose, interpolateScale, readPoseInto, readScaleInto, trackEntity, untrackEntity } from '../../world/kinematics'
 import { getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'

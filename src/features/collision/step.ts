@@ -1,5 +1,6 @@
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_SPHERE } from '../../core/shapes'
-import { F_MU_K, F_MU_S, F_RADIUS, collideBox, collideCapsule, collideHull, collidePlane, collideSphere, measureCloth } from '../../kernels/collide'
+import { collideBox, collideCapsule, collideHull, collidePlane, collideSphere, measureCloth } from '../../kernels/collide'
+import { F_MU_K, F_MU_S, F_RADIUS } from '../../kernels/colliderFrame'
 import type { ClothWorldState } from '../../world/state'
 import { fillColliderFrame, sweepColliderBounds } from './colliders'
 import { colliderLayersMatch, colliderReaches } from './reach'

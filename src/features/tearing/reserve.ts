@@ -240,36 +240,41 @@ function pairSet(
       setCheck(s.chkT, s.chkC, 4 * k + 2, tA, mesh.corner(tA, e1), tB, mesh.corner(tB, e1))
       continue
     }
-    // skip-one: a – m – b along two edges that must keep meeting at the same m
-    const na = mesh.neighbours.get(a), nb = mesh.neighbours.get(b)
-    if (!na || !nb) continue
-    let m = -1, best = Infinity
-    for (const x of na) {
-      if (!nb.has(x)) continue
-      let d = 0
-      for (let j = 0; j < 3; j++) {
-        const mid = 0.5 * (rest[3 * a + j] + rest[3 * b + j]) - rest[3 * x + j]
-        d += mid * mid
-      }
-      if (d < best) {
-        best = d
-        m = x
-      }
-    }
-    if (m < 0) continue
-    const ta = mesh.edgeTris.get(pairKey(a, m))!, tb = mesh.edgeTris.get(pairKey(m, b))!
-    // take both triangles from the same side of the line a – m – b (same winding direction)
-    let tA = ta[0], tB = -1
-    const forward = mesh.runs(tA, a, m)
-    for (const x of tb) if (mesh.runs(x, m, b) === forward) tB = x
-    if (tB < 0) tB = tb[0]
-    s.endT[2 * k] = tA
-    s.endT[2 * k + 1] = tB
-    s.endC[2 * k] = mesh.corner(tA, a)
-    s.endC[2 * k + 1] = mesh.corner(tB, b)
-    setCheck(s.chkT, s.chkC, 4 * k, tA, mesh.corner(tA, m), tB, mesh.corner(tB, m))
+    skipOneEnds(s, k, a, b, mesh, rest)
   }
   return s
+}
+
+/** A skip-one pair a – m – b: read from the two triangles along its edges, on the same side of the line. */
+function skipOneEnds(s: PairSet, k: number, a: number, b: number, mesh: MeshIndex, rest: Float64Array): void {
+  // skip-one: a – m – b along two edges that must keep meeting at the same m
+  const na = mesh.neighbours.get(a), nb = mesh.neighbours.get(b)
+  if (!na || !nb) return
+  let m = -1, best = Infinity
+  for (const x of na) {
+    if (!nb.has(x)) continue
+    let d = 0
+    for (let j = 0; j < 3; j++) {
+      const mid = 0.5 * (rest[3 * a + j] + rest[3 * b + j]) - rest[3 * x + j]
+      d += mid * mid
+    }
+    if (d < best) {
+      best = d
+      m = x
+    }
+  }
+  if (m < 0) return
+  const ta = mesh.edgeTris.get(pairKey(a, m))!, tb = mesh.edgeTris.get(pairKey(m, b))!
+  // take both triangles from the same side of the line a – m – b (same winding direction)
+  let tA = ta[0], tB = -1
+  const forward = mesh.runs(tA, a, m)
+  for (const x of tb) if (mesh.runs(x, m, b) === forward) tB = x
+  if (tB < 0) tB = tb[0]
+  s.endT[2 * k] = tA
+  s.endT[2 * k + 1] = tB
+  s.endC[2 * k] = mesh.corner(tA, a)
+  s.endC[2 * k + 1] = mesh.corner(tB, b)
+  setCheck(s.chkT, s.chkC, 4 * k, tA, mesh.corner(tA, m), tB, mesh.corner(tB, m))
 }
 
 function setCheck(chkT: Int32Array, chkC: Uint8Array, o: number, ta: number, ca: number, tb: number, cb: number): void {
