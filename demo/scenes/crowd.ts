@@ -2,18 +2,17 @@ import { addEntity } from 'bitecs'
 import * as THREE from 'three'
 import {
   beginClothStep,
-  createCloth,
   endClothStepAsync,
   getClothBudgetStats,
   getClothLod,
   getClothStretch,
-  pinRow,
   setClothBudget,
   setClothVisible,
   setTransform,
   stepCloth,
   type ClothPluginOptions,
 } from '../../src/index'
+import { createCape } from '../capeShape'
 import { Character, CrowdFigures, Track, type Gait } from '../character'
 import { simpleCotton } from '../fabrics'
 import { addSegmented, addToggle, type DemoScene } from '../scene'
@@ -45,6 +44,9 @@ function crowdWorld(): ClothPluginOptions {
   return threads > 0 ? { threads, workerUrl: new URL('./worker.js', import.meta.url).href } : {}
 }
 
+/** Rows (collar to hem) and columns of each cape: the cape scene's shaped cape. */
+const CAPE_ROWS = 24, CAPE_COLS = 15
+
 /** The budget's distances from the camera: full quality within NEAR, one substep beyond FAR, m. */
 const NEAR = 6, FAR = 25
 
@@ -61,8 +63,9 @@ const LANES: { radius: number; count: number; gait: Gait; pace: number; directio
 ]
 
 /**
- * A crowd: 64 characters walking and running round a square, each with a 24×24 cape on a torso
- * capsule and two leg capsules. The world budget (`setClothBudget`) measures distance from the
+ * A crowd: 64 characters walking and running round a square, each with the cape scene's shaped
+ * cape (24 × 15 particles, pinned along its collar, half the chest's motion, painted max distance
+ * and a backstop: `createCape`) on a torso capsule and two leg capsules. The world budget (`setClothBudget`) measures distance from the
  * camera (an entity whose Transform follows it): capes within 6 m keep 8 substeps, farther ones
  * get fewer, down to one at 25 m, and a time budget per fixed step (4, 8 or 16 ms, or none) lowers
  * levels further until the predicted cost fits; capes outside the view are marked invisible
@@ -106,18 +109,8 @@ export const crowdScene: DemoScene = {
           pace: lane.pace,
           cadence: 0.93 + 0.14 * ((n * 0.618) % 1),
         })
-        const cape = createCloth(world, {
-          width: 0.55,
-          height: 1,
-          resolution: 24,
-          position: hero.chestPoint(0, 0.49, -0.2).toArray(),
-          rotation: hero.chestRotation(),
-          material: settings.material,
-          substeps: settings.substeps,
-          iterations: settings.iterations,
-          tethers: settings.tethers,
-        })
-        pinRow(world, cape, 0, hero.chest)
+        // the hero's cape and character-cloth settings (demo/capeShape.ts)
+        const { cape } = createCape(world, hero, { rows: CAPE_ROWS, cols: CAPE_COLS, ...settings })
         characters.push(hero)
         capes.push(cape)
         meshes.push(showCloth(cape, fabrics[n % fabrics.length]))

@@ -8,7 +8,7 @@ import { serveDemo } from '../../demo/serve.mjs'
 import { CHROMIUM_ARGS } from '../../demo/screenshots.mjs'
 
 /**
- * The demo's crowd (64 capes of 24×24, three capsules each, the budget's levels by distance) with
+ * The demo's crowd (64 shaped capes of 24 × 15 particles with character-cloth settings, three capsules each, the budget's levels by distance) with
  * its Workers switch on, in real Chromium: the page is cross-origin isolated, the crowd's world
  * runs on two Web Workers, the live loop draws frames (beginClothStep, then endClothStepAsync) with
  * no page error, and after 120 fixed steps the capes hold the same positions, bit for bit, as the
