@@ -623,13 +623,14 @@ function screenPoint(p: ArrayLike<number>): [number, number] {
 
 /**
  * Simulates `seconds` at a fixed 60 Hz without drawing (the loop stays paused), then draws one
- * frame: the same picture whatever the machine's speed (the screenshot script uses it).
+ * frame (unless `show` is false: tests that sample every frame): the same picture whatever the
+ * machine's speed (the screenshot script uses it).
  */
-function simulate(seconds: number): void {
+function simulate(seconds: number, show = true): void {
   setPaused(true)
   const n = Math.round(seconds * 60)
   for (let i = 0; i < n; i++) advance(1 / 60)
-  draw()
+  if (show) draw()
 }
 
 ;(window as unknown as { __demo: unknown }).__demo = {
