@@ -2,7 +2,7 @@
 // Chromium, into demo/screenshots/<scene>-<moment>.jpg (the README's pictures). Each picture is
 // taken after simulating a fixed number of 60 Hz frames, so it does not depend on the machine's
 // speed. Options: --out <dir> (default demo/screenshots), --scenes a,b (default all), --all (also
-// the extra moments, e.g. the cape walking, sprinting, turning and jumping),
+// the extra moments, e.g. the cape walking, sprinting and jumping),
 // --width/--height (default 960×540).
 import { existsSync, mkdirSync } from 'node:fs'
 import { join, resolve } from 'node:path'

@@ -24,10 +24,10 @@ export const capeScene: DemoScene = {
   sun: [-0.75, 0.7, -0.3],
   moments: [
     { name: 'rest', seconds: 3, action: 'stand' },
-    { name: 'motion', seconds: 3.2, action: 'run' },
+    { name: 'run', seconds: 3.2, action: 'run' },
+    { name: 'turn', seconds: 2.9, action: 'turn', actionAt: 2 },
     { name: 'walk', seconds: 3, action: 'walk', extra: true },
     { name: 'sprint', seconds: 3.5, action: 'sprint', extra: true },
-    { name: 'turn', seconds: 2.9, action: 'turn', actionAt: 2, extra: true },
     { name: 'jump', seconds: 3.05, action: 'jump', actionAt: 2.5, extra: true },
   ],
   create({ world, settings, ui, root, showCloth }) {
