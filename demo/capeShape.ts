@@ -96,10 +96,14 @@ export const CAPE_SETTINGS: CapeSettings = { inertia: 0.5, reach: 0.75, backstop
 /** The old behaviour, for comparison: world space, no limits. */
 export const WORLD_SPACE_CAPE: CapeSettings = { inertia: 1, reach: false, backstop: false }
 
-/** Max distance of row `r` of `rows`, m, : 0 at the collar, 0.9 v² × reach down the back, free at the hem. */
+/**
+ * Max distance of row `r` of `rows`, m: 0 at the collar, 0.9 v² × reach down the back (v: 0 at the
+ * collar, 1 at the hem), free over the last tenth, so a hand grabbing the hem pulls on several
+ * free rows rather than on one row of edges against a held one.
+ */
 function paintedMaxDistance(r: number, rows: number, reach: number): number {
   const v = r / (rows - 1)
-  return v === 1 ? Infinity : reach * 0.9 * v * v
+  return v > 0.9 ? Infinity : reach * 0.9 * v * v
 }
 
 /** Applies `settings` to a cape made by `createCape` (inertia in the chest frame, motion constraints). */
