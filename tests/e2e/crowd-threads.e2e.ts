@@ -2,6 +2,7 @@ import { existsSync, mkdirSync } from 'node:fs'
 import { join } from 'node:path'
 import { chromium, type Browser, type Page } from 'playwright-core'
 import { afterAll, beforeAll, describe, expect, it } from 'vitest'
+import { C_STATE } from '../../src/threads/pool'
 // @ts-expect-error plain ESM helpers without types
 import { serveDemo } from '../../demo/serve.mjs'
 // @ts-expect-error plain ESM helpers without types
@@ -91,6 +92,13 @@ describe.skipIf(!hasChromium)('the crowd scene on workers in Chromium', () => {
       .toBeNull()
 
     await crowd(2)
+    // the workers load their script through the page's event loop: wait until both say they are
+    // ready before `simulate` blocks the page in stepCloth (otherwise the first step spins until
+    // the pool reports them stuck, and only then do they start)
+    await page.waitForFunction((at) => {
+      const t = (__demo.world as { [k: symbol]: { threads: { pool: { control: Int32Array; workers: unknown[] } } | null } })[Symbol.for('bitecs-cloth')].threads
+      return t !== null && t.pool.workers.every((_, w) => Atomics.load(t.pool.control, at + w) === 1)
+    }, C_STATE, { timeout: 120_000 })
     expect(await page.evaluate(() => crossOriginIsolated)).toBe(true)
     const threads = () =>
       page.evaluate(() => {
