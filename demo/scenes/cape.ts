@@ -1,4 +1,4 @@
-import { createWindZone, removeWindZone } from '../../src/index'
+import { createWindZone, removeWindZone, setClothCollision } from '../../src/index'
 import { applyCapeSettings, CAPE_SETTINGS, capeHemAngle, capeShape, capeTorsoDepth, createCape, placeCape, type CapeSettings } from '../capeShape'
 import { Character, CharacterFigure, type Move } from '../character'
 import { capeFabric } from '../fabrics'
@@ -70,6 +70,9 @@ export const capeScene: DemoScene = {
       cape0.backstop = v
       apply()
     }, 'backstop')
+    // the body's colliders on or off for the cape: with them off, the backstop alone keeps it out of the body
+    const collide = (on: boolean) => setClothCollision(world, cape, { mask: on ? 0xffffffff : 0 })
+    const collidersBox = addToggle(ui, 'Body colliders', true, collide, 'colliders')
     // still air: a calm global wind zone, so the cape meets the air as the character runs and
     // streams behind it (per-triangle drag and lift)
     let air: number | null = null
@@ -112,8 +115,9 @@ export const capeScene: DemoScene = {
         /** How deep the deepest cape particle is inside the torso collider, m (≤ 0: none). */
         torsoDepth: () => capeTorsoDepth(world, cape, hero),
         heading: () => hero.heading,
-        /** Inertia share, motion limits, reach and backstop at once (the panel follows). */
-        setCape: (o: { inertia?: number; limits?: boolean; backstop?: boolean; reach?: number }) => {
+        /** Inertia share, motion limits, reach, backstop and body colliders at once (the panel follows). */
+        setCape: (o: { inertia?: number; limits?: boolean; backstop?: boolean; reach?: number; colliders?: boolean }) => {
+          if (o.colliders !== undefined) collide((collidersBox.checked = o.colliders))
           if (o.reach !== undefined) reach = reachSlider.valueAsNumber = o.reach
           if (o.inertia !== undefined) cape0.inertia = inertiaSlider.valueAsNumber = o.inertia
           if (o.limits !== undefined) limits = limitsBox.checked = o.limits

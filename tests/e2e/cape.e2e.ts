@@ -38,7 +38,7 @@ interface CapeRun {
   depth: number
 }
 
-type Setup = { inertia: number; limits: boolean; backstop: boolean }
+type Setup = { inertia: number; limits: boolean; backstop: boolean; colliders?: boolean }
 const CHARACTER: Setup = { inertia: 0.5, limits: true, backstop: true }
 const WORLD_SPACE: Setup = { inertia: 1, limits: false, backstop: false }
 
@@ -125,6 +125,17 @@ describe.skipIf(!hasChromium)('the demo cape in Chromium', () => {
       console.log(`cape ${move}: hem ${r.mean.toFixed(1)}° (${r.min.toFixed(1)}..${r.max.toFixed(1)}), torso depth ${(100 * r.depth).toFixed(1)} cm`)
       expect(r.depth, `${move}: deepest cape particle in the torso, m`).toBeLessThan(0.02)
       expect(Math.abs(r.mean), `${move}: the cape stays behind, degrees`).toBeLessThan(45)
+    }
+    expect(errors).toEqual([])
+  })
+
+  it('with the body colliders off the backstop alone keeps the cape out of the torso; without it the cape enters', async () => {
+    for (const move of ['stand', 'turn', 'jump']) {
+      const backstop = await measure({ ...CHARACTER, colliders: false }, move, 2)
+      const none = await measure({ ...CHARACTER, colliders: false, backstop: false }, move, 2)
+      console.log(`cape ${move}, no colliders: torso depth ${(100 * backstop.depth).toFixed(1)} cm with the backstop, ${(100 * none.depth).toFixed(1)} cm without`)
+      expect(backstop.depth, `${move}: deepest cape particle in the torso, backstop only, m`).toBeLessThan(0.02)
+      if (move !== 'stand') expect(none.depth, `${move}: without colliders or backstop the cape enters the torso, m`).toBeGreaterThan(0.02)
     }
     expect(errors).toEqual([])
   })
