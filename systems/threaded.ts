@@ -19,7 +19,7 @@ import { addStats, takeStats } from '../src/world/stats'
 import { clothFingerprint } from '../src/threads/layout'
 import type { WorkerWorld } from '../src/threads/mirror'
 import { partitionCloths } from '../src/threads/partition'
-import { startWorkers } from '../src/threads/pool'
+import { startWorkers, workersReady } from '../src/threads/pool'
 import { verifyWorker } from '../src/threads/verify'
 import { clothCollide } from './clothCollide'
 import { clothForces } from './clothForces'
@@ -40,13 +40,15 @@ import { clothWriteback } from './clothWriteback'
 /**
  * Hands the step (after the sync phase) to the workers. Returns false when the step should run on
  * this thread instead: no cloth runs this step, or (`blocking`) its predicted cost is below the
- * handoff's (`ClothThreads.inlineNs`).
+ * handoff's (`ClothThreads.inlineNs`), or (`blocking`, on a thread that may not block: a page's
+ * main thread) the workers have not started yet: a page's dedicated workers load their script
+ * through the page's event loop, which a spinning wait would keep from running.
  */
 export function dispatchClothStep(state: ClothWorldState, th: ClothThreads, blocking: boolean): boolean {
   if (state.substepCount === 0) return false
   refreshBindings(state, th)
   const total = partitionCloths(state, th)
-  if (blocking && total < th.inlineNs) return false
+  if (blocking && (total < th.inlineNs || (!th.pool.block && !workersReady(th.pool)))) return false
   writeWorldHandoff(state, th.worldIO)
   const lists = th.lists
   for (let w = 0; w < lists.length; w++) {

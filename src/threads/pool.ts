@@ -135,6 +135,12 @@ export function workersDone(pool: WorkerPool, step: number): boolean {
   return true
 }
 
+/** Whether every worker has started (loaded its script and taken its control words). */
+export function workersReady(pool: WorkerPool): boolean {
+  for (let w = 0; w < pool.workers.length; w++) if (Atomics.load(pool.control, C_STATE + w) !== 1) return false
+  return true
+}
+
 /** How long a wait gives the workers before it reports them stuck: this many 50 ms waits. */
 const STUCK_WAITS = 1200
 

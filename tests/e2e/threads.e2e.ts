@@ -88,6 +88,22 @@ describe.skipIf(!hasChromium)('threaded cloth in Chromium', () => {
     expect(await page.evaluate(() => (globalThis as unknown as { requireThreads(): string | null }).requireThreads())).toBeNull()
   })
 
+  it('stepCloth right after the world is made runs on the page until the workers are up, then on them (no stall)', async () => {
+    const { url, server } = await serve(true)
+    servers.push(server)
+    const page = await browser.newPage()
+    const errors: string[] = []
+    page.on('pageerror', (e) => errors.push(e.message))
+    await page.goto(url)
+    await page.waitForFunction(() => (globalThis as { pageReady?: boolean }).pageReady === true)
+    const r = await page.evaluate(() => (globalThis as unknown as { stepAtOnce(): Promise<Record<string, number | boolean>> }).stepAtOnce())
+    console.log(`stepCloth at once: 20 frames in ${(r.syncMs as number).toFixed(0)} ms, ${r.handedAtOnce} handed over; workers took steps from frame ${r.frames as number - 10}`)
+    expect(errors).toEqual([])
+    expect(r.syncMs).toBeLessThan(20000) // a spinning wait for workers that cannot start ran into the pool's one-minute stuck report
+    expect(r.handed).toBeGreaterThan(r.handedAtOnce as number)
+    expect(r.same).toBe(true)
+  })
+
   it('not isolated: no SharedArrayBuffer, a warning and the main thread (or a ClothError with requireThreads)', async () => {
     const { url, server } = await serve(false)
     servers.push(server)

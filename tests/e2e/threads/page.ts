@@ -91,6 +91,50 @@ async function run(steps: number): Promise<unknown> {
   return result
 }
 
+/**
+ * stepCloth right after a threaded world is made, before its workers could load their script
+ * (which a page's workers do through the page's event loop, blocked while this runs): the steps
+ * run on this thread until the workers are up, then on them, the same bytes as without workers.
+ */
+async function stepAtOnce(): Promise<unknown> {
+  const workerUrl = new URL('./worker.js', import.meta.url).href
+  const one = scene(0, workerUrl), two = scene(2, workerUrl)
+  const threads = getClothWorld(two.world).threads!
+  const t0 = performance.now()
+  for (let f = 0; f < 20; f++) {
+    for (const s of [one, two]) {
+      s.animate(f)
+      stepCloth(s.world, 1 / 60)
+    }
+  }
+  const syncMs = performance.now() - t0
+  const handedAtOnce = threads.step
+  // then frames with the event loop running between them, until the workers take steps
+  let f = 20
+  for (; f < 400 && threads.step === handedAtOnce; f++) {
+    await new Promise((resolve) => setTimeout(resolve, 20))
+    for (const s of [one, two]) {
+      s.animate(f)
+      stepCloth(s.world, 1 / 60)
+    }
+  }
+  for (const end = f + 10; f < end; f++) {
+    for (const s of [one, two]) {
+      s.animate(f)
+      stepCloth(s.world, 1 / 60)
+    }
+  }
+  let same = true
+  const a = getClothWorld(one.world).cloths, b = getClothWorld(two.world).cloths
+  for (let i = 0; i < a.length; i++) {
+    const pa = getClothState(one.world, a[i].eid).pos, pb = getClothState(two.world, b[i].eid).pos
+    for (let j = 0; j < 3 * a[i].count; j++) if (!Object.is(pa[j], pb[j])) same = false
+  }
+  const result = { syncMs, handedAtOnce, handed: threads.step, frames: f, same }
+  disposeClothWorld(two.world)
+  return result
+}
+
 /** The error `requireThreads` gives on this page (null when it gives none). */
 function requireThreads(): string | null {
   try {
@@ -105,4 +149,5 @@ function requireThreads(): string | null {
 
 ;(globalThis as { runThreads?: typeof run }).runThreads = run
 ;(globalThis as { requireThreads?: typeof requireThreads }).requireThreads = requireThreads
+;(globalThis as { stepAtOnce?: typeof stepAtOnce }).stepAtOnce = stepAtOnce
 ;(globalThis as { pageReady?: boolean }).pageReady = true
