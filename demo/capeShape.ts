@@ -1,6 +1,12 @@
 import * as THREE from 'three'
 import {
-  createClothFromMesh, getClothState, pinParticle, setClothInertia, setClothMotionConstraints, type ClothInertiaOptions, type ClothMotionConstraints,
+  createClothFromMesh,
+  getClothState,
+  pinParticle,
+  setClothInertia,
+  setClothMotionConstraints,
+  type ClothInertiaOptions,
+  type ClothMotionConstraints,
 } from '../src/index'
 import type { Character } from './character'
 
@@ -110,14 +116,23 @@ function paintedMaxDistance(r: number, rows: number, reach: number): number {
 export function applyCapeSettings(world: object, cape: number, hero: Character, mesh: CapeMesh, settings: CapeSettings): void {
   const share = settings.inertia
   // a snap round of more than 90° in one frame resets the cape onto the body
-  const inertia: ClothInertiaOptions = { frame: hero.chest, linear: share, angular: share, centrifugal: share, teleport: { angle: Math.PI / 2 } }
+  const inertia: ClothInertiaOptions = {
+    frame: hero.chest,
+    linear: share,
+    angular: share,
+    centrifugal: share,
+    teleport: { angle: Math.PI / 2 },
+  }
   setClothInertia(world, cape, inertia)
   if (settings.reach === false) {
     setClothMotionConstraints(world, cape, null)
     return
   }
   const reach = settings.reach
-  const maxDistance = Array.from({ length: mesh.rows * mesh.cols }, (_, i) => paintedMaxDistance(Math.floor(i / mesh.cols), mesh.rows, reach))
+  const maxDistance = Array.from(
+    { length: mesh.rows * mesh.cols },
+    (_, i) => paintedMaxDistance(Math.floor(i / mesh.cols), mesh.rows, reach),
+  )
   const limits: ClothMotionConstraints = { maxDistance, backstop: settings.backstop ? { distance: 0.03, radius: 0.4 } : null }
   setClothMotionConstraints(world, cape, limits)
 }
@@ -157,7 +172,8 @@ const _a = new THREE.Vector3(), _b = new THREE.Vector3(), _p = new THREE.Vector3
 /** Mean position of row `row` of a cape's particles. */
 function rowMiddle(pos: Float64Array | Float32Array, row: number, cols: number, out: THREE.Vector3): THREE.Vector3 {
   out.set(0, 0, 0)
-  for (let k = 0; k < cols; k++) out.x += pos[3 * (row * cols + k)], out.y += pos[3 * (row * cols + k) + 1], out.z += pos[3 * (row * cols + k) + 2]
+  for (let k = 0; k < cols; k++)
+    out.x += pos[3 * (row * cols + k)], out.y += pos[3 * (row * cols + k) + 1], out.z += pos[3 * (row * cols + k) + 2]
   return out.multiplyScalar(1 / cols)
 }
 

@@ -11,8 +11,22 @@ export type Move = Gait | 'turn' | 'jump' | 'teleport'
 
 /** The auto-pilot's programme: gaits held for a while, and one-off moves between them. */
 const PROGRAMME: [Move, number][] = [
-  ['stand', 2.5], ['walk', 4], ['run', 4], ['sprint', 3], ['run', 1.5], ['walk', 2.5], ['stand', 2],
-  ['turn', 0], ['stand', 1.2], ['walk', 2], ['jump', 0], ['walk', 1.5], ['run', 2.5], ['jump', 0], ['run', 1.5], ['walk', 2],
+  ['stand', 2.5],
+  ['walk', 4],
+  ['run', 4],
+  ['sprint', 3],
+  ['run', 1.5],
+  ['walk', 2.5],
+  ['stand', 2],
+  ['turn', 0],
+  ['stand', 1.2],
+  ['walk', 2],
+  ['jump', 0],
+  ['walk', 1.5],
+  ['run', 2.5],
+  ['jump', 0],
+  ['run', 1.5],
+  ['walk', 2],
 ]
 
 /** The track characters follow: two straights along z joined by half circles (a stadium). */
@@ -49,8 +63,26 @@ export class Track {
 
 /** Body parts, in drawing order; their shapes are in PART_SHAPES. */
 export const PARTS = [
-  'torso', 'shoulders', 'pelvis', 'neck', 'head', 'hair', 'eyeL', 'eyeR',
-  'thighL', 'thighR', 'shinL', 'shinR', 'footL', 'footR', 'upperArmL', 'upperArmR', 'forearmL', 'forearmR', 'handL', 'handR',
+  'torso',
+  'shoulders',
+  'pelvis',
+  'neck',
+  'head',
+  'hair',
+  'eyeL',
+  'eyeR',
+  'thighL',
+  'thighR',
+  'shinL',
+  'shinR',
+  'footL',
+  'footR',
+  'upperArmL',
+  'upperArmR',
+  'forearmL',
+  'forearmR',
+  'handL',
+  'handR',
 ] as const
 export type PartName = (typeof PARTS)[number]
 
@@ -63,8 +95,16 @@ export interface PartPose {
 const L_THIGH = 0.44, L_SHIN = 0.43, ANKLE = 0.085
 const _v = new THREE.Vector3(), _w = new THREE.Vector3(), _q = new THREE.Quaternion(), _e = new THREE.Euler()
 // joints and directions of the pose being built (one character at a time)
-const hipP = new THREE.Vector3(), kneeP = new THREE.Vector3(), ankleP = new THREE.Vector3(), thighD = new THREE.Vector3(), shinD = new THREE.Vector3()
-const shoulderP = new THREE.Vector3(), elbowP = new THREE.Vector3(), wristP = new THREE.Vector3(), upperD = new THREE.Vector3(), foreD = new THREE.Vector3()
+const hipP = new THREE.Vector3(),
+  kneeP = new THREE.Vector3(),
+  ankleP = new THREE.Vector3(),
+  thighD = new THREE.Vector3(),
+  shinD = new THREE.Vector3()
+const shoulderP = new THREE.Vector3(),
+  elbowP = new THREE.Vector3(),
+  wristP = new THREE.Vector3(),
+  upperD = new THREE.Vector3(),
+  foreD = new THREE.Vector3()
 const hairQ = new THREE.Quaternion(), pelvisQ = new THREE.Quaternion(), footQ = new THREE.Quaternion(), bendOut = new THREE.Quaternion()
 const UP = new THREE.Vector3(0, 1, 0)
 const tmp3 = [0, 0, 0], tmp4 = [0, 0, 0, 1]
@@ -222,7 +262,8 @@ export class Character {
     if (this.jumpT >= 0) this.jumpT += dt
     this.place(dt)
     this.pose()
-    this.doing = this.jumpT >= 0 ? 'jump' : this.turnLeft > 0 ? 'turn on the spot' : this.speed < 0.05 ? 'stand' : this.speed < 2.4 ? 'walk' : this.speed < 5 ? 'run' : 'sprint'
+    this.doing = this.jumpT >= 0 ? 'jump'
+      : this.turnLeft > 0 ? 'turn on the spot' : this.speed < 0.05 ? 'stand' : this.speed < 2.4 ? 'walk' : this.speed < 5 ? 'run' : 'sprint'
   }
 
   /** Root position and heading from the track. */
@@ -402,10 +443,14 @@ export class Character {
     addSphereCollider(w, head, { body: this.chest, offset: [0, 0.7, 0.01], radius: 0.13 })
     this.colliders.push(head)
     const limbs: [PartName, number, number][] = [
-      ['thighL', 0.085, L_THIGH / 2 - 0.085], ['thighR', 0.085, L_THIGH / 2 - 0.085],
-      ['shinL', 0.07, L_SHIN / 2 - 0.05], ['shinR', 0.07, L_SHIN / 2 - 0.05],
-      ['upperArmL', 0.058, 0.1], ['upperArmR', 0.058, 0.1],
-      ['forearmL', 0.048, 0.1], ['forearmR', 0.048, 0.1],
+      ['thighL', 0.085, L_THIGH / 2 - 0.085],
+      ['thighR', 0.085, L_THIGH / 2 - 0.085],
+      ['shinL', 0.07, L_SHIN / 2 - 0.05],
+      ['shinR', 0.07, L_SHIN / 2 - 0.05],
+      ['upperArmL', 0.058, 0.1],
+      ['upperArmR', 0.058, 0.1],
+      ['forearmL', 0.048, 0.1],
+      ['forearmR', 0.048, 0.1],
     ]
     for (const [name, radius, halfHeight] of limbs) {
       const bone = addEntity(w as never)
@@ -443,7 +488,8 @@ const PART_SHAPES: Record<PartName, { slot: Slot; geometry: () => THREE.BufferGe
     if (axis === 'z') g.rotateX(Math.PI / 2)
     return g
   }
-  const sphere = (r: number, w = 20, h = 14) => () => new THREE.SphereGeometry(r, Math.max(8, Math.round(w * detail)), Math.max(6, Math.round(h * detail)))
+  const sphere = (r: number, w = 20, h = 14) => () =>
+    new THREE.SphereGeometry(r, Math.max(8, Math.round(w * detail)), Math.max(6, Math.round(h * detail)))
   return {
     torso: { slot: 'shirt', geometry: () => capsule(0.18, 0.2, 'y', 16)().scale(1.04, 1, 0.92) },
     shoulders: { slot: 'shirt', geometry: capsule(0.088, 0.15, 'x') },
@@ -527,7 +573,7 @@ export class CrowdFigures {
       const shape = PART_SHAPES[name]
       const mesh = new THREE.InstancedMesh(shape.geometry(), mats[shape.slot], characters.length)
       mesh.frustumCulled = false
-      if (shape.slot === 'shirt') for (let i = 0; i < characters.length; i++) mesh.setColorAt(i, c.set(shirts[i % shirts.length]))
+      if (shape.slot === 'shirt') { for (let i = 0; i < characters.length; i++) mesh.setColorAt(i, c.set(shirts[i % shirts.length])) }
       this.meshes.set(name, mesh)
       this.group.add(mesh)
     }

@@ -103,22 +103,26 @@ function change(f: () => void): void {
 
 setInputDeferral(change) // the scenes' own controls too
 sceneSelect.addEventListener('change', () => change(() => loadScene(sceneSelect.value)))
-materialSelect.addEventListener('change', () => change(() => {
-  settings.material = materialSelect.value
-  loadScene(scene.id, false)
-}))
-substeps.addEventListener('input', () => change(() => {
-  settings.substeps = Number(substeps.value)
-  applySettings()
-}))
-iterations.addEventListener('input', () => change(() => {
-  settings.iterations = Number(iterations.value)
-  applySettings()
-}))
-tethers.addEventListener('change', () => change(() => {
-  settings.tethers = tethers.checked
-  applySettings()
-}))
+materialSelect.addEventListener('change', () =>
+  change(() => {
+    settings.material = materialSelect.value
+    loadScene(scene.id, false)
+  }))
+substeps.addEventListener('input', () =>
+  change(() => {
+    settings.substeps = Number(substeps.value)
+    applySettings()
+  }))
+iterations.addEventListener('input', () =>
+  change(() => {
+    settings.iterations = Number(iterations.value)
+    applySettings()
+  }))
+tethers.addEventListener('change', () =>
+  change(() => {
+    settings.tethers = tethers.checked
+    applySettings()
+  }))
 tintBox.addEventListener('change', () => setTint(tintBox.checked))
 $('pause').addEventListener('click', () => setPaused(!paused))
 $('step').addEventListener('click', () => stepOnce++)
@@ -250,7 +254,16 @@ function loadScene(id: string, useDefaults = true): void {
   view.shadowRadius = scene.shadowRadius ?? 4
   view.setSun(scene.sun ?? [-0.45, 0.8, 0.4], scene.shadowMapSize ?? 2048)
   lastOrbit = -Infinity
-  instance = scene.create({ world, settings, ui, refresh: applySettings, root: view.root, showCloth, camera: view.camera, reload: () => loadScene(scene.id, false) })
+  instance = scene.create({
+    world,
+    settings,
+    ui,
+    refresh: applySettings,
+    root: view.root,
+    showCloth,
+    camera: view.camera,
+    reload: () => loadScene(scene.id, false),
+  })
   simTime = 0
   setTint(tint)
   view.update()
@@ -464,7 +477,13 @@ function countFrame(now: number): void {
     costs.renderMs = acc.renderMs / n
     costs.frameMs = acc.frameMs / n
     msPerStep = stepsInWindow > 0 ? acc.stepMs / stepsInWindow : msPerStep
-    acc.sceneMs = acc.stepMs = acc.waitMs = acc.geometryMs = acc.renderMs = acc.frameMs = 0
+    acc.sceneMs =
+      acc.stepMs =
+      acc.waitMs =
+      acc.geometryMs =
+      acc.renderMs =
+      acc.frameMs =
+        0
     acc.frames = 0
     acc.start = now
     stepsInWindow = 0
@@ -660,7 +679,16 @@ function simulate(seconds: number, show = true): void {
   },
   /** Frame rate (frames drawn in the last second) and main-thread ms per frame, averaged over a second. */
   get stats() {
-    return { ...lastStats, ...costs, lastGeometryMs, fps, msPerStep, outsideStepMs: costs.geometryMs + costs.renderMs, tint, pixelRatio: view.renderer.getPixelRatio() }
+    return {
+      ...lastStats,
+      ...costs,
+      lastGeometryMs,
+      fps,
+      msPerStep,
+      outsideStepMs: costs.geometryMs + costs.renderMs,
+      tint,
+      pixelRatio: view.renderer.getPixelRatio(),
+    }
   },
   get world() {
     return world

@@ -140,7 +140,14 @@ export function addButton(ui: HTMLElement, label: string, onClick: () => void, i
 }
 
 /** Adds a row of buttons of which one is active (a segmented switch); returns a setter. */
-export function addSegmented<T extends string>(ui: HTMLElement, label: string, options: readonly [T, string][], value: T, onPick: (v: T) => void, idPrefix: string): (v: T) => void {
+export function addSegmented<T extends string>(
+  ui: HTMLElement,
+  label: string,
+  options: readonly [T, string][],
+  value: T,
+  onPick: (v: T) => void,
+  idPrefix: string,
+): (v: T) => void {
   const row = document.createElement('div')
   row.className = 'segmented'
   if (label) row.append(label + ' ')

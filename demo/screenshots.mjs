@@ -11,10 +11,28 @@ import { chromium } from 'playwright-core'
 import { serveDemo } from './serve.mjs'
 
 /** The launch options the browser tests use too: software WebGL2 and a quiet browser. */
-export const CHROMIUM_ARGS = ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run']
+export const CHROMIUM_ARGS = [
+  '--no-sandbox',
+  '--use-angle=swiftshader',
+  '--enable-unsafe-swiftshader',
+  '--disable-background-networking',
+  '--disable-component-update',
+  '--disable-sync',
+  '--no-first-run',
+]
 
 /** Loads every scene (or `only`) and saves one PNG per moment into `out`; returns the files. */
-export async function photograph({ out, only, all = false, width = 960, height = 540, executablePath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium', log = console.log }) {
+export async function photograph(
+  {
+    out,
+    only,
+    all = false,
+    width = 960,
+    height = 540,
+    executablePath = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
+    log = console.log,
+  },
+) {
   mkdirSync(out, { recursive: true })
   const { url, server } = await serveDemo(0)
   const browser = await chromium.launch({ executablePath, args: CHROMIUM_ARGS })
@@ -60,7 +78,15 @@ export async function photograph({ out, only, all = false, width = 960, height =
 }
 
 if (process.argv[1] && resolve(process.argv[1]) === resolve(new URL(import.meta.url).pathname)) {
-  const { values } = parseArgs({ options: { all: { type: 'boolean' }, out: { type: 'string' }, scenes: { type: 'string' }, width: { type: 'string' }, height: { type: 'string' } } })
+  const { values } = parseArgs({
+    options: {
+      all: { type: 'boolean' },
+      out: { type: 'string' },
+      scenes: { type: 'string' },
+      width: { type: 'string' },
+      height: { type: 'string' },
+    },
+  })
   const exe = process.env.CHROMIUM_PATH ?? '/usr/bin/chromium'
   if (!existsSync(exe)) {
     console.error(`no Chromium at ${exe}: install Debian's chromium package or set CHROMIUM_PATH`)
@@ -68,5 +94,11 @@ if (process.argv[1] && resolve(process.argv[1]) === resolve(new URL(import.meta.
   }
   const out = values.out ?? join(new URL('.', import.meta.url).pathname, 'screenshots')
   console.log(`photographing the demo into ${out}`)
-  await photograph({ out, only: values.scenes?.split(','), all: values.all, width: Number(values.width ?? 960), height: Number(values.height ?? 540) })
+  await photograph({
+    out,
+    only: values.scenes?.split(','),
+    all: values.all,
+    width: Number(values.width ?? 960),
+    height: Number(values.height ?? 540),
+  })
 }

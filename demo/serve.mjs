@@ -14,7 +14,14 @@ export const ISOLATION_HEADERS = {
   'cross-origin-embedder-policy': 'require-corp',
   'cross-origin-resource-policy': 'same-origin',
 }
-const types = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.map': 'application/json', '.css': 'text/css', '.png': 'image/png', '.svg': 'image/svg+xml' }
+const types = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript',
+  '.map': 'application/json',
+  '.css': 'text/css',
+  '.png': 'image/png',
+  '.svg': 'image/svg+xml',
+}
 
 /** Starts the server on `port` (0 = any free port) and resolves to its URL. */
 export async function serveDemo(port = Number(process.env.PORT ?? 8080)) {
@@ -28,7 +35,11 @@ export async function serveDemo(port = Number(process.env.PORT ?? 8080)) {
     }
     try {
       const body = await readFile(file)
-      res.writeHead(200, { ...ISOLATION_HEADERS, 'content-type': types[extname(file)] ?? 'application/octet-stream', 'cache-control': 'no-store' })
+      res.writeHead(200, {
+        ...ISOLATION_HEADERS,
+        'content-type': types[extname(file)] ?? 'application/octet-stream',
+        'cache-control': 'no-store',
+      })
       res.end(body)
     } catch {
       res.writeHead(404, ISOLATION_HEADERS).end('not found')

@@ -10,7 +10,7 @@ const cache = new Map<string, THREE.Texture>()
 
 function cached(key: string, make: () => THREE.Texture): THREE.Texture {
   let t = cache.get(key)
-  if (!t) cache.set(key, (t = make()))
+  if (!t) cache.set(key, t = make())
   return t
 }
 

@@ -26,7 +26,8 @@ export class View {
   readonly sunDir = new THREE.Vector3(-0.45, 0.8, 0.4).normalize()
 
   constructor(readonly canvas: HTMLCanvasElement, options: { antialias?: boolean } = {}) {
-    const r = (this.renderer = new THREE.WebGLRenderer({ canvas, antialias: options.antialias ?? true, powerPreference: 'high-performance' }))
+    const r =
+      (this.renderer = new THREE.WebGLRenderer({ canvas, antialias: options.antialias ?? true, powerPreference: 'high-performance' }))
     r.shadowMap.enabled = true
     r.shadowMap.type = THREE.PCFShadowMap
     r.toneMapping = THREE.ACESFilmicToneMapping
@@ -55,7 +56,10 @@ export class View {
     groundNormal.repeat.set(100, 100)
     // Lambert: the ground is matte stone, and it fills most of the picture (a third of the cost
     // of a standard material per pixel in software WebGL)
-    this.ground = new THREE.Mesh(g, new THREE.MeshLambertMaterial({ map: groundMap, normalMap: groundNormal, normalScale: new THREE.Vector2(0.6, 0.6) }))
+    this.ground = new THREE.Mesh(
+      g,
+      new THREE.MeshLambertMaterial({ map: groundMap, normalMap: groundNormal, normalScale: new THREE.Vector2(0.6, 0.6) }),
+    )
     this.ground.receiveShadow = true
     this.scene.add(this.ground, this.root)
   }

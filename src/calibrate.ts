@@ -1,7 +1,13 @@
 import { addEntity, createWorld } from 'bitecs'
 import { createCloth, getClothState } from './cloth'
 import { addSphereCollider } from './features/collision/colliders'
-import { configureBudget, configureQualityTarget, type ClothBudgetOptions, type ClothCostCalibration, type ClothQualityTarget } from './features/budget/api'
+import {
+  configureBudget,
+  configureQualityTarget,
+  type ClothBudgetOptions,
+  type ClothCostCalibration,
+  type ClothQualityTarget,
+} from './features/budget/api'
 import { pinRow } from './features/pins/api'
 import { installClothPlugin } from './plugin'
 import { setTransform } from './world/transform'
@@ -54,7 +60,11 @@ export function setClothBudget(world: object, options: ClothBudgetOptions | null
 
 function measureCalibration(): Float64Array {
   const api = { installClothPlugin, createWorld, createCloth, pinRow, addEntity, setTransform, addSphereCollider, stepCloth }
-  const time = (res: number, iterations: number, colliders: boolean): { ms: number; particles: number; projections: number; tethers: number } => {
+  const time = (
+    res: number,
+    iterations: number,
+    colliders: boolean,
+  ): { ms: number; particles: number; projections: number; tethers: number } => {
     const world = api.installClothPlugin(api.createWorld(), { sleep: false, guard: false })
     const cloth = api.createCloth(world, { width: 1, height: 1, resolution: res, position: [0, 2, 0], substeps: 4, iterations })
     api.pinRow(world, cloth, 0)

@@ -23,11 +23,7 @@ import { solveTethers as solveTethersKernel } from './kernels/tether'
 import { resolveMaterial, type ClothMaterialSpec } from './model/materials'
 import { buildTethers as buildTethersKernel, type TetherMode, type TetherSet } from './model/tethers'
 import { buildGridTopology as buildGridKernel, buildMeshTopology as buildMeshKernel, gridMesh } from './model/builders'
-import {
-  dihedralAngle as dihedralAngleKernel,
-  type ClothTopology,
-  type TopologyOptions,
-} from './model/topology'
+import { dihedralAngle as dihedralAngleKernel, type ClothTopology, type TopologyOptions } from './model/topology'
 import { checkGridOptions, checkMeshInput, checkTopologyOptions, type GridOptions } from './model/options'
 import { gridUvs } from './model/uvs'
 
@@ -37,7 +33,9 @@ import { gridUvs } from './model/uvs'
 function f64(arg: string, v: unknown, len: number, finite = true): Float64Array {
   if (!(v instanceof Float64Array)) throw new ClothError(arg, v, 'must be a Float64Array')
   if (v.length < len) throw new ClothError(arg, v, `must hold at least ${len} numbers`)
-  if (finite) for (let i = 0; i < len; i++) if (!Number.isFinite(v[i])) throw new ClothError(`${arg}[${i}]`, v[i], 'must be a finite number')
+  if (finite) {
+    for (let i = 0; i < len; i++) if (!Number.isFinite(v[i])) throw new ClothError(`${arg}[${i}]`, v[i], 'must be a finite number')
+  }
   return v
 }
 
@@ -48,7 +46,8 @@ function nonNegative(arg: string, v: Float64Array, len: number): void {
 function ids(arg: string, v: unknown, len: number, n: number, Type: typeof Int32Array | typeof Uint32Array = Int32Array): void {
   if (!(v instanceof Type)) throw new ClothError(arg, v, `must be an ${Type.name}`)
   if (v.length < len) throw new ClothError(arg, v, `must hold at least ${len} indices`)
-  for (let i = 0; i < len; i++) if (!(v[i] >= 0 && v[i] < n)) throw new ClothError(`${arg}[${i}]`, v[i], `must be a particle index in [0, ${n - 1}]`)
+  for (let i = 0; i < len; i++)
+    if (!(v[i] >= 0 && v[i] < n)) throw new ClothError(`${arg}[${i}]`, v[i], `must be a particle index in [0, ${n - 1}]`)
 }
 
 function params(arg: string, p: unknown): Float64Array {
@@ -83,8 +82,13 @@ function positionsFor(arg: string, pos: unknown, n: number): Float64Array {
 
 /** Checked `predictPositions` (see `src/kernels/integrate.ts`). */
 export function predictPositions(
-  pos: Float64Array, prev: Float64Array, vel: Float64Array, invMass: Float64Array,
-  accel: Float64Array | null, p: Float64Array, n: number,
+  pos: Float64Array,
+  prev: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  accel: Float64Array | null,
+  p: Float64Array,
+  n: number,
 ): void {
   count('count', n)
   masses('invMass', invMass, n)
@@ -125,7 +129,15 @@ function pairs(pos: unknown, invMass: unknown, idArr: unknown, rest: unknown, co
 }
 
 /** The distance loops' arguments: positions, inverse masses at position offsets, offset pairs. */
-function offsetPairs(pos: unknown, invMass3: unknown, offsets: unknown, rest: unknown, compliance: unknown, start: unknown, end: unknown): void {
+function offsetPairs(
+  pos: unknown,
+  invMass3: unknown,
+  offsets: unknown,
+  rest: unknown,
+  compliance: unknown,
+  start: unknown,
+  end: unknown,
+): void {
   if (!(invMass3 instanceof Float64Array)) throw new ClothError('invMass3', invMass3, 'must be a Float64Array')
   const n = Math.floor(invMass3.length / 3)
   for (let i = 0; i < n; i++) {
@@ -138,7 +150,8 @@ function offsetPairs(pos: unknown, invMass3: unknown, offsets: unknown, rest: un
   if (offsets.length < 2 * e) throw new ClothError('offsets', offsets, `must hold at least ${2 * e} offsets`)
   for (let i = 0; i < 2 * e; i++) {
     const o = offsets[i]
-    if (!(o >= 0 && o <= 3 * (n - 1) && o % 3 === 0)) throw new ClothError(`offsets[${i}]`, o, `must be a position offset (particle index × 3) in [0, ${3 * (n - 1)}]`)
+    if (!(o >= 0 && o <= 3 * (n - 1) && o % 3 === 0))
+      throw new ClothError(`offsets[${i}]`, o, `must be a position offset (particle index × 3) in [0, ${3 * (n - 1)}]`)
   }
 }
 
@@ -147,8 +160,14 @@ function offsetPairs(pos: unknown, invMass3: unknown, offsets: unknown, rest: un
  * `distOffsets`) and `invMass3[3i]` holds particle i's inverse mass (`spreadInverseMasses`).
  */
 export function solveDistances(
-  pos: Float64Array, invMass3: Float64Array, offsets: Int32Array, rest: Float64Array, compliance: Float64Array,
-  p: Float64Array, start: number, end: number,
+  pos: Float64Array,
+  invMass3: Float64Array,
+  offsets: Int32Array,
+  rest: Float64Array,
+  compliance: Float64Array,
+  p: Float64Array,
+  start: number,
+  end: number,
 ): void {
   offsetPairs(pos, invMass3, offsets, rest, compliance, start, end)
   params('params', p)
@@ -157,8 +176,15 @@ export function solveDistances(
 
 /** Checked `solveDistancesXpbd` (arguments as `solveDistances`, plus the multipliers). */
 export function solveDistancesXpbd(
-  pos: Float64Array, invMass3: Float64Array, offsets: Int32Array, rest: Float64Array, compliance: Float64Array,
-  lambda: Float64Array, p: Float64Array, start: number, end: number,
+  pos: Float64Array,
+  invMass3: Float64Array,
+  offsets: Int32Array,
+  rest: Float64Array,
+  compliance: Float64Array,
+  lambda: Float64Array,
+  p: Float64Array,
+  start: number,
+  end: number,
 ): void {
   offsetPairs(pos, invMass3, offsets, rest, compliance, start, end)
   f64('lambda', lambda, end)
@@ -176,8 +202,15 @@ export function spreadInverseMasses(invMass: Float64Array, invMass3: Float64Arra
 
 /** Checked `solveCompression`. */
 export function solveCompression(
-  pos: Float64Array, invMass: Float64Array, idArr: Int32Array, rest: Float64Array, compliance: Float64Array,
-  lambda: Float64Array | null, p: Float64Array, start: number, end: number,
+  pos: Float64Array,
+  invMass: Float64Array,
+  idArr: Int32Array,
+  rest: Float64Array,
+  compliance: Float64Array,
+  lambda: Float64Array | null,
+  p: Float64Array,
+  start: number,
+  end: number,
 ): void {
   pairs(pos, invMass, idArr, rest, compliance, start, end)
   if (lambda !== null) f64('lambda', lambda, end)
@@ -187,7 +220,12 @@ export function solveCompression(
 
 /** Checked `dampPairs`. */
 export function dampPairs(
-  pos: Float64Array, vel: Float64Array, invMass: Float64Array, idArr: Int32Array, m: number, p: Float64Array,
+  pos: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  idArr: Int32Array,
+  m: number,
+  p: Float64Array,
 ): void {
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
@@ -200,8 +238,15 @@ export function dampPairs(
 
 /** Checked `solveLineBending`. */
 export function solveLineBending(
-  pos: Float64Array, invMass: Float64Array, idArr: Int32Array, rest: Float64Array, compliance: Float64Array,
-  lambda: Float64Array | null, p: Float64Array, start: number, end: number,
+  pos: Float64Array,
+  invMass: Float64Array,
+  idArr: Int32Array,
+  rest: Float64Array,
+  compliance: Float64Array,
+  lambda: Float64Array | null,
+  p: Float64Array,
+  start: number,
+  end: number,
 ): void {
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
@@ -213,8 +258,16 @@ export function solveLineBending(
 
 /** Checked `solveDihedrals`. */
 export function solveDihedrals(
-  pos: Float64Array, invMass: Float64Array, idArr: Int32Array, restAngle: Float64Array, compliance: Float64Array,
-  lambda: Float64Array | null, side: number, p: Float64Array, start: number, end: number,
+  pos: Float64Array,
+  invMass: Float64Array,
+  idArr: Int32Array,
+  restAngle: Float64Array,
+  compliance: Float64Array,
+  lambda: Float64Array | null,
+  side: number,
+  p: Float64Array,
+  start: number,
+  end: number,
 ): void {
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
@@ -232,7 +285,12 @@ export function solveDihedrals(
 
 /** Checked `solveTethers`. */
 export function solveTethers(
-  pos: Float64Array, invMass: Float64Array, particle: Int32Array, anchor: Int32Array, rest: Float64Array, m: number,
+  pos: Float64Array,
+  invMass: Float64Array,
+  particle: Int32Array,
+  anchor: Int32Array,
+  rest: Float64Array,
+  m: number,
 ): void {
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
@@ -246,20 +304,30 @@ export function solveTethers(
 
 /** Checked `writeRenderMesh`. */
 export function writeRenderMesh(
-  pos: Float64Array, n: number, tris: Uint32Array, triCount: number, outPos: Float32Array, outNormal: Float32Array,
+  pos: Float64Array,
+  n: number,
+  tris: Uint32Array,
+  triCount: number,
+  outPos: Float32Array,
+  outNormal: Float32Array,
 ): void {
   count('count', n)
   positionsFor('pos', pos, n)
   count('triCount', triCount)
   ids('tris', tris, 3 * triCount, n, Uint32Array)
-  if (!(outPos instanceof Float32Array) || outPos.length < 3 * n) throw new ClothError('outPos', outPos, `must be a Float32Array of at least ${3 * n} numbers`)
-  if (!(outNormal instanceof Float32Array) || outNormal.length < 3 * n) throw new ClothError('outNormal', outNormal, `must be a Float32Array of at least ${3 * n} numbers`)
+  if (!(outPos instanceof Float32Array) || outPos.length < 3 * n)
+    throw new ClothError('outPos', outPos, `must be a Float32Array of at least ${3 * n} numbers`)
+  if (!(outNormal instanceof Float32Array) || outNormal.length < 3 * n)
+    throw new ClothError('outNormal', outNormal, `must be a Float32Array of at least ${3 * n} numbers`)
   writeRenderMeshKernel(pos, n, tris, triCount, outPos, outNormal)
 }
 
 /** Checked `measureStretch`. */
 export function measureStretch(
-  pos: ArrayLike<number>, edges: Int32Array, edgeRest: Float64Array, edgeCount: number,
+  pos: ArrayLike<number>,
+  edges: Int32Array,
+  edgeRest: Float64Array,
+  edgeCount: number,
   out: { mean: number; max: number } = { mean: 0, max: 0 },
 ): { mean: number; max: number } {
   if (!isArrayLike(pos) || pos.length % 3 !== 0) throw new ClothError('pos', pos, 'must be an array of xyz positions')
@@ -275,13 +343,21 @@ export function measureStretch(
  * Checked `checkClothHealth` (see `src/kernels/guard.ts`); non-finite positions are its subject, so
  * they pass. `skip` (optional, one byte per particle): particles marked 1 are left out.
  */
-export function checkClothHealth(pos: Float64Array, vel: Float64Array, invMass: Float64Array, n: number, g: Float64Array, skip: Uint8Array | null = null): number {
+export function checkClothHealth(
+  pos: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  n: number,
+  g: Float64Array,
+  skip: Uint8Array | null = null,
+): number {
   count('count', n)
   masses('invMass', invMass, n)
   f64('pos', pos, 3 * n, false)
   f64('vel', vel, 3 * n, false)
   f64('guard', g, GUARD_PARAM_COUNT)
-  if (skip !== null && (!(skip instanceof Uint8Array) || skip.length < n)) throw new ClothError('skip', skip, `must be null or a Uint8Array of at least ${n} entries`)
+  if (skip !== null && (!(skip instanceof Uint8Array) || skip.length < n))
+    throw new ClothError('skip', skip, `must be null or a Uint8Array of at least ${n} entries`)
   return checkClothHealthKernel(pos, vel, invMass, n, g, skip)
 }
 
@@ -290,16 +366,30 @@ export function checkClothHealth(pos: Float64Array, vel: Float64Array, invMass: 
 
 /** Checked `buildGridTopology` (rest data of a rectangular sheet, no world needed). */
 export function buildGridTopology(
-  width: number, height: number, columns: number, rows: number,
-  material: ClothMaterialSpec | string, topology: 'quad' | 'triangle' = 'quad', options?: TopologyOptions,
+  width: number,
+  height: number,
+  columns: number,
+  rows: number,
+  material: ClothMaterialSpec | string,
+  topology: 'quad' | 'triangle' = 'quad',
+  options?: TopologyOptions,
 ): ClothTopology {
   checkPositive('width', width)
   checkPositive('height', height)
-  if (width > MAX_COORDINATE || height > MAX_COORDINATE) throw new ClothError(width > MAX_COORDINATE ? 'width' : 'height', Math.max(width, height), `must be at most ${MAX_COORDINATE} m`)
+  if (width > MAX_COORDINATE || height > MAX_COORDINATE)
+    throw new ClothError(width > MAX_COORDINATE ? 'width' : 'height', Math.max(width, height), `must be at most ${MAX_COORDINATE} m`)
   checkInteger('columns', columns, 2, 4096)
   checkInteger('rows', rows, 2, 4096)
   checkOneOf('topology', topology, ['quad', 'triangle'] as const)
-  return buildGridKernel(width, height, columns, rows, resolveMaterial(material, 'material'), topology, checkTopologyOptions(options, columns * rows))
+  return buildGridKernel(
+    width,
+    height,
+    columns,
+    rows,
+    resolveMaterial(material, 'material'),
+    topology,
+    checkTopologyOptions(options, columns * rows),
+  )
 }
 
 /**
@@ -315,7 +405,10 @@ export function buildGridMesh(options: GridOptions): { positions: Float64Array; 
 
 /** Checked `buildMeshTopology` (rest data of an indexed triangle mesh). */
 export function buildMeshTopology(
-  positions: ArrayLike<number>, indices: ArrayLike<number>, material: ClothMaterialSpec | string, options?: TopologyOptions,
+  positions: ArrayLike<number>,
+  indices: ArrayLike<number>,
+  material: ClothMaterialSpec | string,
+  options?: TopologyOptions,
 ): ClothTopology {
   const n = checkMeshInput(positions, indices)
   return buildMeshKernel(positions, indices, resolveMaterial(material, 'material'), checkTopologyOptions(options, n))
@@ -330,15 +423,22 @@ export function dihedralAngle(p: ArrayLike<number>, e0: number, e1: number, w0: 
   checkIndex('w0', w0, n)
   checkIndex('w1', w1, n)
   for (const i of [e0, e1, w0, w1]) {
-    for (let k = 0; k < 3; k++) if (!Number.isFinite(p[3 * i + k])) throw new ClothError(`p[${3 * i + k}]`, p[3 * i + k], 'must be a finite number')
+    for (let k = 0; k < 3; k++)
+      if (!Number.isFinite(p[3 * i + k])) throw new ClothError(`p[${3 * i + k}]`, p[3 * i + k], 'must be a finite number')
   }
   return dihedralAngleKernel(p, e0, e1, w0, w1)
 }
 
 /** Checked `buildTethers` (long-range attachments from rest positions, edges and anchors). */
 export function buildTethers(
-  rest: ArrayLike<number>, n: number, edges: ArrayLike<number>, edgeCount: number, anchors: ArrayLike<number>,
-  mode: TetherMode, perParticle: number, slack: number,
+  rest: ArrayLike<number>,
+  n: number,
+  edges: ArrayLike<number>,
+  edgeCount: number,
+  anchors: ArrayLike<number>,
+  mode: TetherMode,
+  perParticle: number,
+  slack: number,
 ): TetherSet {
   count('count', n)
   if (!isArrayLike(rest) || rest.length < 3 * n) throw new ClothError('rest', rest, `must hold xyz positions of ${n} particles`)

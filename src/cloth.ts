@@ -173,7 +173,11 @@ export function createClothFromMesh(world: object, options: CreateClothFromMeshO
   const topology = buildMeshTopology(positions, indices, common.material, common.topologyOptions)
   // (a vertex no triangle uses is no part of the cloth: its mass is not read, and may be 0)
   const unused = topology.unused
-  if (masses) for (let i = 0; i < n; i++) if (!(masses[i] > 0) && (unused === null || unused[i] === 0 || masses[i] < 0)) throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
+  if (masses) {
+    for (let i = 0; i < n; i++)
+      if (!(masses[i] > 0) && (unused === null || unused[i] === 0 || masses[i] < 0))
+        throw new ClothError(`options.masses[${i}]`, masses[i], 'must be > 0')
+  }
   const uv = uvs === undefined ? planarUvs(topology.restPositions, n, topology.triangles, topology.triangleCount) : Float32Array.from(uvs)
   return spawnCloth(world, state, topology, arrayOf(Float64Array, positions), common, masses, uv)
 }
@@ -197,10 +201,22 @@ function checkCommon(o: ClothOptions, n: number, state: ClothWorldState): Common
   const substeps = o.substeps === undefined ? 8 : checkInteger('options.substeps', o.substeps, 1, 256)
   const solver = o.solver === undefined ? 'xpbd' : checkOneOf('options.solver', o.solver, ['xpbd', 'pbd'] as const)
   const damping = o.damping === undefined ? material.damping : checkNonNegative('options.damping', o.damping)
-  const stretchDamping = o.stretchDamping === undefined ? material.stretchDamping : checkNonNegative('options.stretchDamping', o.stretchDamping)
+  const stretchDamping = o.stretchDamping === undefined ? material.stretchDamping
+    : checkNonNegative('options.stretchDamping', o.stretchDamping)
   const mass = o.mass === undefined ? undefined : checkPositive('options.mass', o.mass)
   const guard = resolveGuardOptions(o.guard, state.guard.defaults, 'options.guard')
-  return { material, iterations, substeps, solver, damping, stretchDamping, mass, tethers: checkTetherOptions(o.tethers, 'options.tethers'), topologyOptions: checkTopologyOptions(o, n), guard }
+  return {
+    material,
+    iterations,
+    substeps,
+    solver,
+    damping,
+    stretchDamping,
+    mass,
+    tethers: checkTetherOptions(o.tethers, 'options.tethers'),
+    topologyOptions: checkTopologyOptions(o, n),
+    guard,
+  }
 }
 
 function checkTetherOptions(t: boolean | TetherOptions | undefined, arg: string): Required<TetherOptions> {
@@ -241,7 +257,11 @@ function inverseMasses(topology: ClothTopology, o: CommonOptions, masses: ArrayL
     if (!(invMass[i] <= MAX_INV_MASS)) {
       const m = masses ? masses[i] : topology.masses[i] * scale
       const arg = masses ? `options.masses[${i}]` : o.mass !== undefined ? 'options.mass' : 'options.material.density'
-      throw new ClothError(arg, masses ? m : o.mass ?? o.material.density, `gives particle ${i} a mass of ${m} kg; particles need at least ${1 / MAX_INV_MASS} kg`)
+      throw new ClothError(
+        arg,
+        masses ? m : o.mass ?? o.material.density,
+        `gives particle ${i} a mass of ${m} kg; particles need at least ${1 / MAX_INV_MASS} kg`,
+      )
     }
   }
   return invMass
@@ -290,7 +310,15 @@ function spawnCloth(
     lineLambda: newArray(Float64Array, 3 * topology.lineCount),
     hingeLambda: newArray(Float64Array, topology.hingeCount),
     version: 0,
-    tethers: { set: EMPTY_TETHERS, enabled: o.tethers.enabled, mode: o.tethers.mode, slack: o.tethers.slack, perParticle: o.tethers.perParticle, dirty: false, loosen: false },
+    tethers: {
+      set: EMPTY_TETHERS,
+      enabled: o.tethers.enabled,
+      mode: o.tethers.mode,
+      slack: o.tethers.slack,
+      perParticle: o.tethers.perParticle,
+      dirty: false,
+      loosen: false,
+    },
     render: {
       positions: new Float32Array(3 * n),
       normals: new Float32Array(3 * n),
@@ -362,7 +390,8 @@ export function setClothQuality(world: object, cloth: number, quality: { substep
   const c = getCloth(state, cloth)
   checkObject('quality', quality)
   const substeps = quality.substeps === undefined ? c.budget.wantSubsteps : checkInteger('quality.substeps', quality.substeps, 1, 256)
-  const iterations = quality.iterations === undefined ? c.budget.wantIterations : checkInteger('quality.iterations', quality.iterations, 1, 256)
+  const iterations = quality.iterations === undefined ? c.budget.wantIterations
+    : checkInteger('quality.iterations', quality.iterations, 1, 256)
   setWantedQuality(state, c, substeps, iterations)
   wakeClothState(state, c)
 }
@@ -399,7 +428,8 @@ export function getClothStretch(world: object, cloth: number, out = { mean: 0, m
 export function removeCloth(world: object, cloth: number): void {
   const state = getClothWorldForChange(world)
   getCloth(state, cloth)
-  if (entityExists(world as never, cloth) && hasComponent(world as never, cloth, state.components.Cloth)) removeEntity(world as never, cloth)
+  if (entityExists(world as never, cloth) && hasComponent(world as never, cloth, state.components.Cloth))
+    removeEntity(world as never, cloth)
 }
 
 const ORIGIN = [0, 0, 0]

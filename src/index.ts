@@ -32,7 +32,16 @@ export {
   type TetherOptions,
 } from './cloth'
 export { pinParticle, pinRow, unpin, getPins, teleportCloth, type PinOptions } from './features/pins/api'
-export { grabParticle, moveGrab, releaseGrab, isGrabActive, getGrabs, getGrabParticle, getGrabForce, type GrabOptions } from './features/grab/api'
+export {
+  grabParticle,
+  moveGrab,
+  releaseGrab,
+  isGrabActive,
+  getGrabs,
+  getGrabParticle,
+  getGrabForce,
+  type GrabOptions,
+} from './features/grab/api'
 export { setTransform, getTransform } from './world/transform'
 export { ClothMaterial, defineMaterial, resolveMaterial, type ClothMaterialSpec, type ClothMaterialName } from './model/materials'
 export { ClothError } from './core/errors'
@@ -51,7 +60,15 @@ export type { WindShape } from './features/wind/types'
 export { makeTearable, getClothTearCount, type TearableOptions } from './features/tearing/api'
 export { onClothTear, drainClothTears } from './features/tearing/events'
 export type { ClothTearEvent, ClothTearListener } from './features/tearing/types'
-export type { ClothMesh, ClothPluginOptions, ClothSleepOptions, ClothState, ClothStats, ClothWorldState, TransformSource } from './world/state'
+export type {
+  ClothMesh,
+  ClothPluginOptions,
+  ClothSleepOptions,
+  ClothState,
+  ClothStats,
+  ClothWorldState,
+  TransformSource,
+} from './world/state'
 export type { ClothTopology, BendingModel, BendSide, ShearModel } from './model/topology'
 export type { TetherMode } from './model/tethers'
 
@@ -138,5 +155,13 @@ export {
 export { setClothCollision, getCollisionComponents, type ClothCollisionOptions } from './features/collision/api'
 export { enableSelfCollision, disableSelfCollision, hasSelfCollision, type SelfCollisionOptions } from './features/collision/selfCollision'
 export { buildConvexHull, MAX_HULL_PLANES } from './model/hull'
-export { SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_BOX, SHAPE_HULL, SHAPE_PLANE, type ColliderStore, type ConvexHull } from '../components/Collider'
+export {
+  SHAPE_SPHERE,
+  SHAPE_CAPSULE,
+  SHAPE_BOX,
+  SHAPE_HULL,
+  SHAPE_PLANE,
+  type ColliderStore,
+  type ConvexHull,
+} from '../components/Collider'
 export type { SelfCollisionStore } from '../components/SelfCollision'

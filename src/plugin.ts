@@ -42,8 +42,10 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   const fixedTimeStep = options.fixedTimeStep === undefined ? 1 / 60 : checkPositive('options.fixedTimeStep', options.fixedTimeStep)
   // 1/h² of a step shorter than a microsecond split into 256 substeps still fits a double; a step
   // longer than a second is not real time
-  if (fixedTimeStep < 1e-6 || fixedTimeStep > 1) throw new ClothError('options.fixedTimeStep', fixedTimeStep, 'must be between 1e-6 and 1 s')
-  const maxStepsPerFrame = options.maxStepsPerFrame === undefined ? 4 : checkInteger('options.maxStepsPerFrame', options.maxStepsPerFrame, 1, 1000)
+  if (fixedTimeStep < 1e-6 || fixedTimeStep > 1)
+    throw new ClothError('options.fixedTimeStep', fixedTimeStep, 'must be between 1e-6 and 1 s')
+  const maxStepsPerFrame = options.maxStepsPerFrame === undefined ? 4
+    : checkInteger('options.maxStepsPerFrame', options.maxStepsPerFrame, 1, 1000)
   const teleportDistance = options.teleportDistance === undefined ? 2 : checkPositive('options.teleportDistance', options.teleportDistance)
   const maxSpeed = options.maxSpeed === undefined ? 250 : checkPositive('options.maxSpeed', options.maxSpeed)
   const capacity = options.capacity === undefined ? 1024 : checkInteger('options.capacity', options.capacity, 1, 1 << 26)

@@ -26,7 +26,17 @@ import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
 import { ClothError } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorldForChange } from './world/access'
-import { K_SINCE_SAMPLE, K_STEP_FRACTION, SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from './world/kinematics'
+import {
+  K_SINCE_SAMPLE,
+  K_STEP_FRACTION,
+  SLOT_DATA,
+  SLOT_SCALE_DATA,
+  restoreSlot,
+  restoreSlotScale,
+  saveSlot,
+  saveSlotScale,
+  transformGeneration,
+} from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot } from './features/pins/snapshot'
 import { checkGrabs, restoreGrabs, saveGrabs, type GrabSnapshot } from './features/grab/snapshot'
@@ -44,7 +54,18 @@ import { touchLayout } from './core/shared'
  * Each feature writes its own section (`src/features/<feature>/snapshot.ts`); this file keeps the
  * header, the particles and settings, the world's step timing, the order and the checks.
  */
-export interface ClothSnapshot extends PinsSnapshot, GrabSnapshot, WindSnapshot, CollisionSnapshot, BudgetSnapshot, SleepSnapshot, GuardSnapshot, CharacterSnapshot, TearSnapshot {
+export interface ClothSnapshot
+  extends
+    PinsSnapshot,
+    GrabSnapshot,
+    WindSnapshot,
+    CollisionSnapshot,
+    BudgetSnapshot,
+    SleepSnapshot,
+    GuardSnapshot,
+    CharacterSnapshot,
+    TearSnapshot
+{
   readonly format: 'bitecs-cloth-state/1'
   /** Shape of the cloth it came from: particles, distance constraints, hinges, triangles. */
   readonly shape: Int32Array
@@ -130,7 +151,9 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   checkCharacter(world, state, s, arg, n)
   checkTearing(s, arg, n)
   checkTearingFits(state, c, s, arg)
-  if (n !== c.count || s.shape[1] !== c.topology.distCount || s.shape[2] !== c.topology.hingeCount || s.shape[3] !== c.topology.triangleCount) {
+  if (
+    n !== c.count || s.shape[1] !== c.topology.distCount || s.shape[2] !== c.topology.hingeCount || s.shape[3] !== c.topology.triangleCount
+  ) {
     throw new ClothError(arg, s, `was saved from a cloth of a different mesh (${n} particles, this one has ${c.count})`)
   }
   restorePinEntities(world, state, c, s)
@@ -188,29 +211,39 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
 
 function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
   const x = s as ClothSnapshot
-  if (typeof s !== 'object' || s === null || x.format !== 'bitecs-cloth-state/1' || !(x.shape instanceof Int32Array) || !(x.pos instanceof Float64Array)) {
+  if (
+    typeof s !== 'object' || s === null || x.format !== 'bitecs-cloth-state/1' || !(x.shape instanceof Int32Array) ||
+    !(x.pos instanceof Float64Array)
+  ) {
     throw new ClothError(arg, s, 'must be a snapshot returned by saveClothState')
   }
   const n = x.shape[0]
   if (
-    x.pos.length !== 3 * n || !(x.prev instanceof Float64Array) || x.prev.length !== 3 * n || !(x.vel instanceof Float64Array) || x.vel.length !== 3 * n ||
+    x.pos.length !== 3 * n || !(x.prev instanceof Float64Array) || x.prev.length !== 3 * n || !(x.vel instanceof Float64Array) ||
+    x.vel.length !== 3 * n ||
     !(x.invMass instanceof Float64Array) || x.invMass.length !== n || !(x.settings instanceof Float64Array) || x.settings.length !== 10 ||
     !(x.world instanceof Float64Array) || x.world.length !== 5
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
-  if (!allFinite(x.pos) || !allFinite(x.prev) || !allFinite(x.vel) || !allFinite(x.invMass) || !allFinite(x.settings) || !allFinite(x.world)) {
+  if (
+    !allFinite(x.pos) || !allFinite(x.prev) || !allFinite(x.vel) || !allFinite(x.invMass) || !allFinite(x.settings) || !allFinite(x.world)
+  ) {
     throw new ClothError(arg, s, 'holds a non-finite number')
   }
   for (let i = 0; i < n; i++) if (!(x.invMass[i] >= 0)) throw new ClothError(`${arg}.invMass[${i}]`, x.invMass[i], 'must be ≥ 0')
   const v = x.settings
-  if (!(Number.isInteger(v[0]) && v[0] >= 1 && Number.isInteger(v[1]) && v[1] >= 1 && v[2] > 0 && v[3] >= 0 && v[4] >= 0 && v[6] >= 0 && Number.isInteger(v[7]) && v[7] >= 1)) {
+  if (
+    !(Number.isInteger(v[0]) && v[0] >= 1 && Number.isInteger(v[1]) && v[1] >= 1 && v[2] > 0 && v[3] >= 0 && v[4] >= 0 && v[6] >= 0 &&
+      Number.isInteger(v[7]) && v[7] >= 1)
+  ) {
     throw new ClothError(`${arg}.settings`, v, 'must be the settings saved by saveClothState (substeps, iterations ≥ 1, h > 0, ...)')
   }
   const t = x.tethers
   if (
     (x.tetherMode !== 'euclidean' && x.tetherMode !== 'geodesic') ||
-    typeof t !== 'object' || t === null || !(t.particle instanceof Int32Array) || !(t.anchor instanceof Int32Array) || !(t.rest instanceof Float64Array) ||
+    typeof t !== 'object' || t === null || !(t.particle instanceof Int32Array) || !(t.anchor instanceof Int32Array) ||
+    !(t.rest instanceof Float64Array) ||
     !Number.isInteger(t.count) || t.count < 0 || t.count > t.particle.length || t.count > t.anchor.length || t.count > t.rest.length
   ) {
     throw new ClothError(`${arg}.tethers`, t, 'must be the tethers saved by saveClothState')
@@ -285,12 +318,14 @@ function checkBodies(s: ClothSnapshot, arg: string): void {
     throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
   }
   if (
-    (s.bodyScales !== undefined && (!(s.bodyScales instanceof Float64Array) || s.bodyScales.length !== SLOT_SCALE_DATA * s.bodies.length)) ||
+    (s.bodyScales !== undefined &&
+      (!(s.bodyScales instanceof Float64Array) || s.bodyScales.length !== SLOT_SCALE_DATA * s.bodies.length)) ||
     (s.bodyGenerations !== undefined && (!(s.bodyGenerations instanceof Uint32Array) || s.bodyGenerations.length !== s.bodies.length))
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
   }
-  if (!allFinite(s.bodyData) || (s.bodyScales !== undefined && !allFinite(s.bodyScales))) throw new ClothError(arg, s, 'holds a non-finite number')
+  if (!allFinite(s.bodyData) || (s.bodyScales !== undefined && !allFinite(s.bodyScales)))
+    throw new ClothError(arg, s, 'holds a non-finite number')
 }
 
 /**

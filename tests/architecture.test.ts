@@ -32,9 +32,12 @@ export function placeOf(file: string): Place | null {
     return { layer: 6, name: 'features', feature: order }
   }
   if (f.startsWith('src/world/')) return { layer: 5, name: 'world' }
-  if (['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts'].includes(f) || f.startsWith('src/threads/')) return { layer: 7, name: 'composition' }
+  if (['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts'].includes(f) || f.startsWith('src/threads/'))
+    return { layer: 7, name: 'composition' }
   if (f.startsWith('systems/')) return { layer: 8, name: 'systems' }
-  if (['src/index.ts', 'src/simulation.ts', 'src/checked.ts', 'src/calibrate.ts', 'src/worker.ts'].includes(f) || f.startsWith('src/three/')) {
+  if (
+    ['src/index.ts', 'src/simulation.ts', 'src/checked.ts', 'src/calibrate.ts', 'src/worker.ts'].includes(f) || f.startsWith('src/three/')
+  ) {
     return { layer: 9, name: 'public entry' }
   }
   return null
@@ -161,7 +164,8 @@ describe('architecture', () => {
         if (ts.isFunctionLike(n) && 'body' in n && n.body) {
           const lines = src.getLineAndCharacterOfPosition(n.getEnd()).line - src.getLineAndCharacterOfPosition(n.getStart()).line + 1
           const doc = text.slice(n.getFullStart(), n.getStart())
-          if (lines > 80 && !/One long function on purpose/.test(doc)) long.push(`${file}:${src.getLineAndCharacterOfPosition(n.getStart()).line + 1} (${lines} lines)`)
+          if (lines > 80 && !/One long function on purpose/.test(doc))
+            long.push(`${file}:${src.getLineAndCharacterOfPosition(n.getStart()).line + 1} (${lines} lines)`)
         }
         ts.forEachChild(n, visit)
       }

@@ -29,7 +29,14 @@ const CAL: ClothCostCalibration = { nsPerParticle: 20, nsPerProjection: 12, nsPe
 
 /** A 1 m sheet of n×n hanging from its two top corners at x (or pinned along the top row to `anchor`). */
 function sheet(world: object, x: number, n = 12, options: { substeps?: number; iterations?: number; anchor?: number } = {}) {
-  const cloth = createCloth(world, { width: 1, height: 1, resolution: n, position: [x, 2, 0], substeps: options.substeps, iterations: options.iterations })
+  const cloth = createCloth(world, {
+    width: 1,
+    height: 1,
+    resolution: n,
+    position: [x, 2, 0],
+    substeps: options.substeps,
+    iterations: options.iterations,
+  })
   if (options.anchor !== undefined) pinRow(world, cloth, 0, options.anchor)
   else {
     pinParticle(world, cloth, 0)
@@ -93,7 +100,9 @@ describe('quality targets', () => {
     expect(() => setClothQualityTarget(world, cloth, { maxStretch: -0.1 })).toThrow(/target\.maxStretch/)
     expect(() => setClothQualityTarget(world, cloth, { msPerStep: NaN })).toThrow(/target\.msPerStep/)
     expect(() => setClothQualityTarget(world, cloth, { maxStretch: 0.01, minSubsteps: 8, maxSubsteps: 4 })).toThrow(/target\.maxSubsteps/)
-    expect(() => setClothQualityTarget(world, cloth, { msPerStep: 1, calibration: { ...CAL, nsPerProjection: 0 } })).toThrow(/nsPerProjection/)
+    expect(() => setClothQualityTarget(world, cloth, { msPerStep: 1, calibration: { ...CAL, nsPerProjection: 0 } })).toThrow(
+      /nsPerProjection/,
+    )
     expect(() => setClothQualityTarget(world, 12345, { maxStretch: 0.01 })).toThrow(ClothError)
   })
 })
@@ -158,7 +167,9 @@ describe('world budget and level of detail', () => {
     // a clock that runs with the work done (20 ps per particle integration and per projection), so
     // the test sees the same measurements however loaded the machine is
     const stats = getClothStats(world)
-    const clock = vi.spyOn(performance, 'now').mockImplementation(() => (stats.particlesIntegrated + stats.distanceProjections + stats.lineProjections) * 2e-5)
+    const clock = vi.spyOn(performance, 'now').mockImplementation(() =>
+      (stats.particlesIntegrated + stats.distanceProjections + stats.lineProjections) * 2e-5
+    )
     onTestFinished(() => clock.mockRestore())
     const cloths = [0, 2, 4, 6].map((x) => sheet(world, x, 16, { substeps: 16 }))
     // a model 100 times too cheap: everything seems to fit at first
@@ -207,7 +218,10 @@ describe('world budget and level of detail', () => {
         stepCloth(world, DT)
         levels.add(getClothLod(world, cape).substeps)
         for (let i = 0; i < c.count && f > 30; i++) {
-          worst = Math.max(worst, Math.hypot(c.vel[3 * i] - prev[3 * i], c.vel[3 * i + 1] - prev[3 * i + 1], c.vel[3 * i + 2] - prev[3 * i + 2]))
+          worst = Math.max(
+            worst,
+            Math.hypot(c.vel[3 * i] - prev[3 * i], c.vel[3 * i + 1] - prev[3 * i + 1], c.vel[3 * i + 2] - prev[3 * i + 2]),
+          )
         }
         prev = Float64Array.from(c.vel)
       }

@@ -61,7 +61,11 @@ describe('bad input is rejected at the API edge with ClothError', () => {
   it('meshes: NaN positions, bad or repeated indices, negative masses', () => {
     const world = makeWorld()
     const positions = [0, 0, 0, 1, 0, 0, 0, 1, 0]
-    rejects(() => createClothFromMesh(world, { positions: [0, 0, NaN, 1, 0, 0, 0, 1, 0], indices: [0, 1, 2] }), 'options.positions[2]', 'NaN')
+    rejects(
+      () => createClothFromMesh(world, { positions: [0, 0, NaN, 1, 0, 0, 0, 1, 0], indices: [0, 1, 2] }),
+      'options.positions[2]',
+      'NaN',
+    )
     rejects(() => createClothFromMesh(world, { positions: [0, 0, 0, 1], indices: [0, 1, 2] }), 'options.positions')
     rejects(() => createClothFromMesh(world, { positions, indices: [0, 1, 3] }), 'options.indices[2]', '3')
     rejects(() => createClothFromMesh(world, { positions, indices: [0, 1, -1] }), 'options.indices[2]', '-1')

@@ -16,10 +16,17 @@ export async function runAllocationFixture(fixture: string): Promise<{ status: n
   const out = join(dir, 'scene.mjs')
   try {
     await build({ entryPoints: [fixture], bundle: true, platform: 'node', format: 'esm', outfile: out, logLevel: 'error' })
-    const run = spawnSync(process.execPath, ['--trace-gc', '--max-semi-space-size=1', '--no-concurrent-recompilation', '--no-memory-reducer', out], { encoding: 'utf8' })
+    const run = spawnSync(process.execPath, [
+      '--trace-gc',
+      '--max-semi-space-size=1',
+      '--no-concurrent-recompilation',
+      '--no-memory-reducer',
+      out,
+    ], { encoding: 'utf8' })
     const lines = run.stdout.split('\n')
     const start = lines.indexOf('START'), end = lines.indexOf('END')
-    const collections = start >= 0 && end > start ? lines.slice(start + 1, end).filter((l) => /Scavenge|Mark-Compact|Mark-sweep/.test(l)) : ['START/END missing']
+    const collections = start >= 0 && end > start ? lines.slice(start + 1, end).filter((l) => /Scavenge|Mark-Compact|Mark-sweep/.test(l))
+      : ['START/END missing']
     return { status: run.status, lines, collections }
   } finally {
     rmSync(dir, { recursive: true, force: true })

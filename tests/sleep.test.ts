@@ -151,7 +151,13 @@ describe('sleeping', () => {
     const box = addEntity(world)
     setTransform(world, box, [0, 0, 0])
     addBoxCollider(world, box, { halfExtents: [1, 0.1, 1] })
-    const cloth = createCloth(world, { width: 0.6, height: 0.6, resolution: 8, position: [0, 0.3, 0], rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2] })
+    const cloth = createCloth(world, {
+      width: 0.6,
+      height: 0.6,
+      resolution: 8,
+      position: [0, 0.3, 0],
+      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+    })
     stepUntilAsleep(world, cloth)
     const rest = lowestY(world, cloth)
     expect(rest).toBeGreaterThan(0.1)

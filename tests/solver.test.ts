@@ -20,12 +20,28 @@ import { createKernelParams, setSubstepParams } from '../src/kernels/params'
  * tests measure the solver alone, and the guard would put back into shape what they check (a 1 × 1
  * sheet of 32 rows without tethers hangs stably at up to 4× its length, past the guard's bounds).
  */
-function hangingSheet(opts: { substeps: number; iterations: number; tethers?: boolean; solver?: 'xpbd' | 'pbd'; material?: any; resolution?: number; corners?: boolean }) {
+function hangingSheet(
+  opts: {
+    substeps: number
+    iterations: number
+    tethers?: boolean
+    solver?: 'xpbd' | 'pbd'
+    material?: any
+    resolution?: number
+    corners?: boolean
+  },
+) {
   const world = makeWorld({ guard: false })
   const n = opts.resolution ?? 24
   const cloth = createCloth(world, {
-    width: 1, height: 1, resolution: n, substeps: opts.substeps, iterations: opts.iterations,
-    tethers: opts.tethers ?? false, solver: opts.solver, material: opts.material ?? 'cotton',
+    width: 1,
+    height: 1,
+    resolution: n,
+    substeps: opts.substeps,
+    iterations: opts.iterations,
+    tethers: opts.tethers ?? false,
+    solver: opts.solver,
+    material: opts.material ?? 'cotton',
   })
   if (opts.corners) {
     pinParticle(world, cloth, 0)
@@ -71,7 +87,10 @@ describe('integrator', () => {
       let x = 0, y = 0, z = 0, m = 0
       for (let i = 0; i < c.count; i++) {
         const mi = 1 / c.invMass[i]
-        x += mi * c.pos[3 * i]; y += mi * c.pos[3 * i + 1]; z += mi * c.pos[3 * i + 2]; m += mi
+        x += mi * c.pos[3 * i]
+        y += mi * c.pos[3 * i + 1]
+        z += mi * c.pos[3 * i + 2]
+        m += mi
       }
       return [x / m, y / m, z / m]
     }
@@ -180,7 +199,16 @@ describe('what compliance promises (XPBD)', () => {
     // times the weight it carries; the lowest point sags by the sum down a column (0.05 mm)
     const sag = (substeps: number, iterations: number) => {
       const world = makeWorld({ guard: false })
-      const cloth = createCloth(world, { width: 1, height: 1, resolution: 11, position: [0, 0, 0], material: 'silk', substeps, iterations, tethers: false })
+      const cloth = createCloth(world, {
+        width: 1,
+        height: 1,
+        resolution: 11,
+        position: [0, 0, 0],
+        material: 'silk',
+        substeps,
+        iterations,
+        tethers: false,
+      })
       pinRow(world, cloth, 0)
       for (let f = 0; f < 600; f++) stepCloth(world, 1 / 60)
       return -lowestY(world, cloth) - 1
@@ -216,8 +244,16 @@ describe('energy of an undamped swinging sheet', () => {
     const n = opts.resolution ?? 24
     const world = makeWorld({ sleep: false })
     const cloth = createCloth(world, {
-      width: 1, height: 1, resolution: n, position: [0, 2, 0], rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-      material: 'cotton', damping: 0, stretchDamping: 0, substeps: opts.substeps, iterations: opts.iterations,
+      width: 1,
+      height: 1,
+      resolution: n,
+      position: [0, 2, 0],
+      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+      material: 'cotton',
+      damping: 0,
+      stretchDamping: 0,
+      substeps: opts.substeps,
+      iterations: opts.iterations,
     })
     pinParticle(world, cloth, 0)
     pinParticle(world, cloth, n - 1)
@@ -276,7 +312,8 @@ describe('energy of an undamped swinging sheet', () => {
       setSubstepParams(p, 1 / 480, 0, [0, -9.81, 0], 1000)
       const energy = () => {
         let e = 0
-        for (let i = 1; i < n; i++) e += (0.5 * (vel[3 * i] ** 2 + vel[3 * i + 1] ** 2 + vel[3 * i + 2] ** 2) + 9.81 * pos[3 * i + 1]) / links
+        for (let i = 1; i < n; i++)
+          e += (0.5 * (vel[3 * i] ** 2 + vel[3 * i + 1] ** 2 + vel[3 * i + 2] ** 2) + 9.81 * pos[3 * i + 1]) / links
         return e
       }
       let last = energy(), largest = 0, stretch = 0
@@ -289,7 +326,8 @@ describe('energy of an undamped swinging sheet', () => {
         const e = energy()
         largest = Math.max(largest, (e - last) / 9.81)
         last = e
-        for (let k = 0; k < links; k++) stretch = Math.max(stretch, Math.hypot(pos[3 * k + 3] - pos[3 * k], pos[3 * k + 4] - pos[3 * k + 1]) / L - 1)
+        for (let k = 0; k < links; k++)
+          stretch = Math.max(stretch, Math.hypot(pos[3 * k + 3] - pos[3 * k], pos[3 * k + 4] - pos[3 * k + 1]) / L - 1)
       }
       return { largest, stretch }
     }

@@ -55,18 +55,39 @@ export const accuracyScene: DemoScene = {
     // A breeze whose eddies (20 m) are much larger than the scene, so both sides feel the same
     // air at the same time: the comparison is of the solver, not of the weather.
     let breeze = 0.8
-    const wind = createWindZone(world, { direction: [0.3, 0, -1], strength: breeze, turbulence: 0.35, turbulenceScale: 20, turbulencePeriod: 1.5, seed: 3 })
+    const wind = createWindZone(world, {
+      direction: [0.3, 0, -1],
+      strength: breeze,
+      turbulence: 0.35,
+      turbulenceScale: 20,
+      turbulencePeriod: 1.5,
+      seed: 3,
+    })
 
     const make = (side: -1 | 1) => {
       const x = side * SIDE_X
       const common = { material: settings.material, tethers: settings.tethers, substeps: 1, iterations: 1 }
       // the patch: rows and columns (warp and weft) as distance constraints, diagonals resist
       // only compression (they keep it from folding up, never from shearing)
-      const patch = createCloth(world, { ...common, width: 1, height: 1, resolution: PATCH_N, position: [x + 0.25, TOP, 0], shear: 'compression' })
+      const patch = createCloth(world, {
+        ...common,
+        width: 1,
+        height: 1,
+        resolution: PATCH_N,
+        position: [x + 0.25, TOP, 0],
+        shear: 'compression',
+      })
       for (let c = 0; c < PATCH_N; c++) pinParticle(world, patch, c)
       // the chain: a strip two particles wide, held by its top two particles; chain mail is
       // heavy (6 kg/m²), so the breeze hardly moves it
-      const chain = createCloth(world, { ...common, material: 'chainmail', width: 0.06, height: 1.2, resolution: [2, CHAIN_LINKS], position: [x - 0.6, TOP, 0] })
+      const chain = createCloth(world, {
+        ...common,
+        material: 'chainmail',
+        width: 0.06,
+        height: 1.2,
+        resolution: [2, CHAIN_LINKS],
+        position: [x - 0.6, TOP, 0],
+      })
       pinParticle(world, chain, 0)
       pinParticle(world, chain, 1)
       showCloth(patch, gridFabric(side < 0 ? '#e9e2d2' : '#d6e0ea'))

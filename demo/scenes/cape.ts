@@ -1,5 +1,14 @@
 import { createWindZone, removeWindZone, setClothCollision } from '../../src/index'
-import { applyCapeSettings, CAPE_SETTINGS, capeHemAngle, capeShape, capeTorsoDepth, createCape, placeCape, type CapeSettings } from '../capeShape'
+import {
+  applyCapeSettings,
+  CAPE_SETTINGS,
+  capeHemAngle,
+  capeShape,
+  capeTorsoDepth,
+  createCape,
+  placeCape,
+  type CapeSettings,
+} from '../capeShape'
 import { Character, CharacterFigure, type Move } from '../character'
 import { capeFabric } from '../fabrics'
 import { addButton, addSegmented, addSlider, addToggle, type DemoScene } from '../scene'
@@ -96,7 +105,11 @@ export const capeScene: DemoScene = {
         hero.update(dt)
       },
       sync: () => figure.sync(),
-      stats: () => [`speed       ${hero.speed.toFixed(1)} m/s`, `doing       ${hero.doing}${hero.auto ? ' (auto)' : ''}`, `hem angle   ${capeHemAngle(world, cape, hero, mesh).toFixed(0)}°`],
+      stats: () => [
+        `speed       ${hero.speed.toFixed(1)} m/s`,
+        `doing       ${hero.doing}${hero.auto ? ' (auto)' : ''}`,
+        `hem angle   ${capeHemAngle(world, cape, hero, mesh).toFixed(0)}°`,
+      ],
       follow: () => hero.chestPoint(0, 0.12, 0).toArray(),
       followYaw: () => hero.heading + Math.PI + 0.8, // behind the character and to its right: the cape in three-quarter view
       api: {
@@ -117,7 +130,7 @@ export const capeScene: DemoScene = {
         heading: () => hero.heading,
         /** Inertia share, motion limits, reach, backstop and body colliders at once (the panel follows). */
         setCape: (o: { inertia?: number; limits?: boolean; backstop?: boolean; reach?: number; colliders?: boolean }) => {
-          if (o.colliders !== undefined) collide((collidersBox.checked = o.colliders))
+          if (o.colliders !== undefined) collide(collidersBox.checked = o.colliders)
           if (o.reach !== undefined) reach = reachSlider.valueAsNumber = o.reach
           if (o.inertia !== undefined) cape0.inertia = inertiaSlider.valueAsNumber = o.inertia
           if (o.limits !== undefined) limits = limitsBox.checked = o.limits

@@ -27,7 +27,11 @@ let selfCollision = true
 /** A lumpy rock: an icosahedron with jittered radii (its convex hull has 20 faces). */
 function rockPoints(size: number): number[] {
   const t = (1 + Math.sqrt(5)) / 2
-  const ico = [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]]
+  const ico = [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [
+    -t,
+    0,
+    -1,
+  ], [-t, 0, 1]]
   const out: number[] = []
   ico.forEach((v, k) => {
     const r = (size * (0.85 + 0.3 * ((k * 0.618) % 1))) / Math.hypot(v[0], v[1], v[2])
@@ -62,7 +66,9 @@ export const collisionsScene: DemoScene = {
     }
     const ball = addSphereCollider(world, shape(-2.4, 0.45), { radius: 0.45 })
     const log = addCapsuleCollider(world, shape(-0.8, 0.3), { radius: 0.3, halfHeight: 0.35, axis: [0, 0, 1] })
-    const crate = addBoxCollider(world, shape(0.8, 0.35, quat.setAxisAngle(quat.create(), [0, 1, 0], 0.5)), { halfExtents: [0.4, 0.35, 0.4] })
+    const crate = addBoxCollider(world, shape(0.8, 0.35, quat.setAxisAngle(quat.create(), [0, 1, 0], 0.5)), {
+      halfExtents: [0.4, 0.35, 0.4],
+    })
     const rock = addConvexHullCollider(world, shape(2.4, 0.3), { points: rockPoints(0.5) })
 
     const flat = quat.setAxisAngle(quat.create(), [1, 0, 0], -Math.PI / 2)
@@ -70,9 +76,15 @@ export const collisionsScene: DemoScene = {
       const q = quat.multiply(quat.create(), quat.setAxisAngle(quat.create(), [0, 1, 0], turn), flat)
       const start = vec3.transformQuat(vec3.create(), [0, size / 2, 0], q) // position = middle of the top edge
       return createCloth(world, {
-        width: size, height: size, resolution: n,
-        position: [x + start[0], y + start[1], z + start[2]], rotation: q,
-        material: settings.material, substeps: settings.substeps, iterations: settings.iterations, tethers: settings.tethers,
+        width: size,
+        height: size,
+        resolution: n,
+        position: [x + start[0], y + start[1], z + start[2]],
+        rotation: q,
+        material: settings.material,
+        substeps: settings.substeps,
+        iterations: settings.iterations,
+        tethers: settings.tethers,
       })
     }
     const cloths = [
@@ -84,9 +96,15 @@ export const collisionsScene: DemoScene = {
     // a long sheet let go just above the ground, like a towel dropped by its top edge, piles up
     // in folds
     const tall = createCloth(world, {
-      width: 0.9, height: 2.4, resolution: [18, 48], position: [0, 2.47, 1.7],
+      width: 0.9,
+      height: 2.4,
+      resolution: [18, 48],
+      position: [0, 2.47, 1.7],
       rotation: quat.setAxisAngle(quat.create(), [1, 0, 0], 0.04),
-      material: settings.material, substeps: settings.substeps, iterations: settings.iterations, tethers: settings.tethers,
+      material: settings.material,
+      substeps: settings.substeps,
+      iterations: settings.iterations,
+      tethers: settings.tethers,
     })
     cloths.push(tall)
     // a thicker collision shell than the material's 5 mm: the flat triangles between particles
@@ -107,7 +125,13 @@ export const collisionsScene: DemoScene = {
     const label = () => (button.textContent = `Self-collision: ${selfCollision ? 'on' : 'off'}`)
     label()
 
-    const looks = [ginghamFabric('#d9822b', 6), cottonFabric('#2f7f95', '#e9e4d8'), ginghamFabric('#b8324f', 10), cottonFabric('#5d8f3c'), towelFabric('#3a6fb0')]
+    const looks = [
+      ginghamFabric('#d9822b', 6),
+      cottonFabric('#2f7f95', '#e9e4d8'),
+      ginghamFabric('#b8324f', 10),
+      cottonFabric('#5d8f3c'),
+      towelFabric('#3a6fb0'),
+    ]
     cloths.forEach((c, k) => showCloth(c, looks[k]))
 
     // The solids are drawn 1 to 1.5 cm inside their colliders, and the crate with rounded edges:
@@ -121,7 +145,13 @@ export const collisionsScene: DemoScene = {
       m.quaternion.set(q[0], q[1], q[2], q[3])
       root.add(shadows(m))
     }
-    const stone = new THREE.MeshStandardMaterial({ color: 0x8d8a84, roughness: 0.85, normalMap: grainNormal(3), normalScale: new THREE.Vector2(0.8, 0.8), flatShading: true })
+    const stone = new THREE.MeshStandardMaterial({
+      color: 0x8d8a84,
+      roughness: 0.85,
+      normalMap: grainNormal(3),
+      normalScale: new THREE.Vector2(0.8, 0.8),
+      flatShading: true,
+    })
     at(ball, new THREE.Mesh(new THREE.SphereGeometry(0.44, 40, 24), paint(0x6c7a89, 0.45)))
     at(log, new THREE.Mesh(new THREE.CapsuleGeometry(0.29, 0.7, 8, 24).rotateX(Math.PI / 2), wood()))
     at(crate, new THREE.Mesh(new RoundedBoxGeometry(0.78, 0.68, 0.78, 4, 0.035), paint(0x7d6a55, 0.7)))

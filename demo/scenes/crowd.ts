@@ -129,7 +129,14 @@ export const crowdScene: DemoScene = {
       setClothBudget(world, { msPerFrame: b === 'distance' ? undefined : Number(b), viewer, near: NEAR, far: FAR })
     }
     setBudget(budget)
-    const showBudget = addSegmented<Budget>(ui, 'Budget ms', [['4', '4'], ['8', '8'], ['16', '16'], ['distance', 'none']], budget, setBudget, 'budget')
+    const showBudget = addSegmented<Budget>(
+      ui,
+      'Budget ms',
+      [['4', '4'], ['8', '8'], ['16', '16'], ['distance', 'none']],
+      budget,
+      setBudget,
+      'budget',
+    )
 
     // workers: the scene is built again in a world with (or without) them
     const setThreads = (n: number) => {
@@ -143,7 +150,8 @@ export const crowdScene: DemoScene = {
     const tintBox = addToggle(ui, 'Tint by LOD', tintLod, (v) => (tintLod = v), 'tint-lod')
     const legend = document.createElement('div')
     legend.className = 'legend'
-    legend.innerHTML = LOD_CLASSES.map((c) => `<span><i style="background:#${c.color.toString(16).padStart(6, '0')}"></i>${c.label}</span>`).join('')
+    legend.innerHTML = LOD_CLASSES.map((c) => `<span><i style="background:#${c.color.toString(16).padStart(6, '0')}"></i>${c.label}</span>`)
+      .join('')
     ui.appendChild(legend)
 
     const frustum = new THREE.Frustum()

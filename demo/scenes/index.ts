@@ -9,4 +9,13 @@ import { materialsScene } from './materials'
 import { sheetScene } from './sheet'
 
 /** Every scene in the menu, in order. */
-export const scenes: DemoScene[] = [capeScene, flagScene, curtainScene, materialsScene, collisionsScene, crowdScene, accuracyScene, sheetScene]
+export const scenes: DemoScene[] = [
+  capeScene,
+  flagScene,
+  curtainScene,
+  materialsScene,
+  collisionsScene,
+  crowdScene,
+  accuracyScene,
+  sheetScene,
+]

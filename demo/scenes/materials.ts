@@ -47,7 +47,14 @@ export const materialsScene: DemoScene = {
     addPlaneCollider(world, ground)
     let strength = 1
     // eddies much larger than the row of sheets: every sheet feels the same air
-    const wind = createWindZone(world, { direction: [0.35, 0, -1], strength, turbulence: 0.35, turbulenceScale: 15, turbulencePeriod: 1.2, seed: 11 })
+    const wind = createWindZone(world, {
+      direction: [0.35, 0, -1],
+      strength,
+      turbulence: 0.35,
+      turbulenceScale: 15,
+      turbulencePeriod: 1.2,
+      seed: 11,
+    })
     const x0 = (-(MATERIALS.length - 1) / 2) * SPACING
     const cloths = MATERIALS.map((m, k) => {
       const cloth = createCloth(world, {
@@ -70,7 +77,10 @@ export const materialsScene: DemoScene = {
     const railEntity = addEntity(world as never)
     setTransform(world, railEntity, [0, railY, 0])
     addCapsuleCollider(world, railEntity, { radius: RAIL_RADIUS, halfHeight: span / 2, axis: [1, 0, 0] })
-    const rail = new THREE.Mesh(new THREE.CylinderGeometry(RAIL_RADIUS - 0.002, RAIL_RADIUS - 0.002, span, 16).rotateZ(Math.PI / 2), steel())
+    const rail = new THREE.Mesh(
+      new THREE.CylinderGeometry(RAIL_RADIUS - 0.002, RAIL_RADIUS - 0.002, span, 16).rotateZ(Math.PI / 2),
+      steel(),
+    )
     rail.position.set(0, railY, 0)
     root.add(shadows(rail))
     for (const px of [-span / 2, span / 2]) {
@@ -89,7 +99,11 @@ export const materialsScene: DemoScene = {
     const labels: SceneLabel[] = MATERIALS.flatMap((m, k) => {
       const spec = resolveMaterial(m.name)
       const density = spec.density >= 1 ? `${spec.density} kg/m²` : `${Math.round(spec.density * 1000)} g/m²`
-      return [{ text: `${m.name[0].toUpperCase() + m.name.slice(1)}\n${density}\n${m.note}`, at: [x0 + k * SPACING, 0.62, 0.2], className: 'card' }]
+      return [{
+        text: `${m.name[0].toUpperCase() + m.name.slice(1)}\n${density}\n${m.note}`,
+        at: [x0 + k * SPACING, 0.62, 0.2],
+        className: 'card',
+      }]
     })
     return {
       cloths,

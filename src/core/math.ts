@@ -5,9 +5,15 @@
 
 /** out[o..o+2] = q ⊗ v ⊗ q⁻¹ for a unit quaternion q. */
 export function rotateVec3(
-  qx: number, qy: number, qz: number, qw: number,
-  vx: number, vy: number, vz: number,
-  out: Float64Array | number[], o: number,
+  qx: number,
+  qy: number,
+  qz: number,
+  qw: number,
+  vx: number,
+  vy: number,
+  vz: number,
+  out: Float64Array | number[],
+  o: number,
 ): void {
   // t = 2 q × v;  v' = v + w t + q × t
   const tx = 2 * (qy * vz - qz * vy)

@@ -1,5 +1,23 @@
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_SPHERE } from '../core/shapes'
-import { F_BC, F_LIM2, F_M, F_MU_K, F_MU_S, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, F_SW, F_SWR, closestPoint, segmentHits } from './colliderFrame'
+import {
+  F_BC,
+  F_LIM2,
+  F_M,
+  F_MU_K,
+  F_MU_S,
+  F_PC,
+  F_PE,
+  F_PN,
+  F_PS,
+  F_RADIUS,
+  F_RE,
+  F_RS,
+  F_S0,
+  F_SW,
+  F_SWR,
+  closestPoint,
+  segmentHits,
+} from './colliderFrame'
 
 /**
  * Particle–collider contact kernels. One call handles one cloth against one collider for one
@@ -26,7 +44,6 @@ import { F_BC, F_LIM2, F_M, F_MU_K, F_MU_S, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_
  *   the shape whatever the speed. Slow particles (the common case) take the cheaper closest-point test.
  */
 
-
 /**
  * Contact response for particle j (offset 3·i) pushed along the world normal s[10..12] by s[13]:
  * moves it out, removes the separating velocity the push would add beyond the contact's needs,
@@ -35,7 +52,14 @@ import { F_BC, F_LIM2, F_M, F_MU_K, F_MU_S, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_
  * the normal correction). Position-based friction after Macklin et al., "Unified particle physics
  * for real-time applications" (2014), §6.1, measured against the moving surface.
  */
-export function respond(pos: Float64Array, prev: Float64Array, j: number, f: Float64Array, s: Float64Array, touched: Uint8Array | null): void {
+export function respond(
+  pos: Float64Array,
+  prev: Float64Array,
+  j: number,
+  f: Float64Array,
+  s: Float64Array,
+  touched: Uint8Array | null,
+): void {
   if (touched !== null) touched[(j / 3) | 0] = 1
   const nx = s[10], ny = s[11], nz = s[12], push = s[13]
   const x = pos[j] + nx * push, y = pos[j + 1] + ny * push, z = pos[j + 2] + nz * push
@@ -70,7 +94,14 @@ export function respond(pos: Float64Array, prev: Float64Array, j: number, f: Flo
 }
 
 /** Contact from the local result in s[6..9] (normal, distance) if closer than the thickness; returns 1 or 0. */
-function contactFromLocal(pos: Float64Array, prev: Float64Array, j: number, f: Float64Array, s: Float64Array, touched: Uint8Array | null): number {
+function contactFromLocal(
+  pos: Float64Array,
+  prev: Float64Array,
+  j: number,
+  f: Float64Array,
+  s: Float64Array,
+  touched: Uint8Array | null,
+): number {
   const d = s[9], r = f[F_RADIUS]
   if (d >= r) return 0
   const nx = s[6], ny = s[7], nz = s[8]
@@ -114,8 +145,15 @@ function sweptClear(w2: number, reach: number, m2: number): boolean {
  * all there is. Returns 1 for a contact.
  */
 export function sweptContact(
-  shape: number, pos: Float64Array, prev: Float64Array, j: number, f: Float64Array,
-  planes: Float64Array | null, planeCount: number, s: Float64Array, touched: Uint8Array | null,
+  shape: number,
+  pos: Float64Array,
+  prev: Float64Array,
+  j: number,
+  f: Float64Array,
+  planes: Float64Array | null,
+  planeCount: number,
+  s: Float64Array,
+  touched: Uint8Array | null,
 ): number {
   const r = f[F_RADIUS]
   const px = prev[j] - f[F_PS], py = prev[j + 1] - f[F_PS + 1], pz = prev[j + 2] - f[F_PS + 2]
@@ -132,12 +170,17 @@ export function sweptContact(
   closestPoint(shape, f, planes, planeCount, s)
   const db = s[9]
   if (db < r) {
-    s[0] = ax; s[1] = ay; s[2] = az
+    s[0] = ax
+    s[1] = ay
+    s[2] = az
     const nx = s[6], ny = s[7], nz = s[8]
     closestPoint(shape, f, planes, planeCount, s)
     if (s[9] <= 0) {
       // started inside: push out where it is now
-      s[6] = nx; s[7] = ny; s[8] = nz; s[9] = db
+      s[6] = nx
+      s[7] = ny
+      s[8] = nz
+      s[9] = db
       return contactFromLocal(pos, prev, j, f, s, touched)
     }
   } else {
@@ -145,10 +188,17 @@ export function sweptContact(
     // farther than the thickness plus its path length never came within the thickness on the way
     // (most particles near a fast collider: skips the start point's test and the segment test)
     if (db >= r && (db - r) * (db - r) >= mx * mx + my * my + mz * mz) return 0
-    s[0] = ax; s[1] = ay; s[2] = az
+    s[0] = ax
+    s[1] = ay
+    s[2] = az
     closestPoint(shape, f, planes, planeCount, s)
     if (s[9] <= 0) return 0
-    s[14] = ax; s[15] = ay; s[16] = az; s[17] = bx; s[18] = by; s[19] = bz
+    s[14] = ax
+    s[15] = ay
+    s[16] = az
+    s[17] = bx
+    s[18] = by
+    s[19] = bz
     if (segmentHits(shape, f, planes, planeCount, s) === 0) return 0
   }
   // s[3..8]: a's closest point and normal, the separating plane
@@ -156,10 +206,14 @@ export function sweptContact(
   return contactFromLocal(pos, prev, j, f, s, touched)
 }
 
-
 /** Sphere of radius f[F_S0] centred at the collider's position. Returns the number of contacts. */
 export function collideSphere(
-  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  f: Float64Array,
+  s: Float64Array,
   touched: Uint8Array | null = null,
 ): number {
   const cx = f[F_PE], cy = f[F_PE + 1], cz = f[F_PE + 2]
@@ -182,9 +236,13 @@ export function collideSphere(
     if (d2 >= R2) continue
     const d = Math.sqrt(d2)
     if (d > 1e-12) {
-      s[10] = dx / d; s[11] = dy / d; s[12] = dz / d
+      s[10] = dx / d
+      s[11] = dy / d
+      s[12] = dz / d
     } else {
-      s[10] = f[F_RE + 1]; s[11] = f[F_RE + 4]; s[12] = f[F_RE + 7]
+      s[10] = f[F_RE + 1]
+      s[11] = f[F_RE + 4]
+      s[12] = f[F_RE + 7]
     }
     s[13] = R - d
     respond(pos, prev, j, f, s, touched)
@@ -195,7 +253,12 @@ export function collideSphere(
 
 /** Capsule of radius f[F_S0] around the segment ±f[F_S0 + 1] along the collider's local y. */
 export function collideCapsule(
-  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  f: Float64Array,
+  s: Float64Array,
   touched: Uint8Array | null = null,
 ): number {
   const cx = f[F_PE], cy = f[F_PE + 1], cz = f[F_PE + 2]
@@ -223,9 +286,13 @@ export function collideCapsule(
     if (d2 >= R2) continue
     const d = Math.sqrt(d2)
     if (d > 1e-12) {
-      s[10] = vx / d; s[11] = vy / d; s[12] = vz / d
+      s[10] = vx / d
+      s[11] = vy / d
+      s[12] = vz / d
     } else {
-      s[10] = f[F_RE]; s[11] = f[F_RE + 3]; s[12] = f[F_RE + 6]
+      s[10] = f[F_RE]
+      s[11] = f[F_RE + 3]
+      s[12] = f[F_RE + 6]
     }
     s[13] = R - d
     respond(pos, prev, j, f, s, touched)
@@ -236,7 +303,12 @@ export function collideCapsule(
 
 /** Box with half-extents f[F_S0..F_S0+2] in the collider's local frame. */
 export function collideBox(
-  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  f: Float64Array,
+  s: Float64Array,
   touched: Uint8Array | null = null,
 ): number {
   const px = f[F_PE], py = f[F_PE + 1], pz = f[F_PE + 2]
@@ -266,7 +338,9 @@ export function collideBox(
     const ey = ly < -hy ? ly + hy : ly > hy ? ly - hy : 0
     const ez = lz < -hz ? lz + hz : lz > hz ? lz - hz : 0
     if (ex * ex + ey * ey + ez * ez > r2) continue
-    s[0] = lx; s[1] = ly; s[2] = lz
+    s[0] = lx
+    s[1] = ly
+    s[2] = lz
     closestPoint(SHAPE_BOX, f, null, 0, s)
     contacts += contactFromLocal(pos, prev, j, f, s, touched)
   }
@@ -275,8 +349,15 @@ export function collideBox(
 
 /** Convex hull given by `planeCount` local planes (n·x ≤ d inside, stride 4). */
 export function collideHull(
-  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array,
-  planes: Float64Array, planeCount: number, s: Float64Array, touched: Uint8Array | null = null,
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  f: Float64Array,
+  planes: Float64Array,
+  planeCount: number,
+  s: Float64Array,
+  touched: Uint8Array | null = null,
 ): number {
   const px = f[F_PE], py = f[F_PE + 1], pz = f[F_PE + 2]
   const r00 = f[F_RE], r01 = f[F_RE + 1], r02 = f[F_RE + 2]
@@ -293,7 +374,8 @@ export function collideHull(
     const m2 = mx * mx + my * my + mz * mz
     if (m2 > lim2) {
       const wx = x - swx, wy = y - swy, wz = z - swz
-      if (!sweptClear(wx * wx + wy * wy + wz * wz, swr, m2)) contacts += sweptContact(SHAPE_HULL, pos, prev, j, f, planes, planeCount, s, touched)
+      if (!sweptClear(wx * wx + wy * wy + wz * wz, swr, m2))
+        contacts += sweptContact(SHAPE_HULL, pos, prev, j, f, planes, planeCount, s, touched)
       continue
     }
     const bx = x - px, by = y - py, bz = z - pz
@@ -334,7 +416,12 @@ export function collideHull(
  * far side to tunnel to, so no swept test is needed.
  */
 export function collidePlane(
-  pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, f: Float64Array, s: Float64Array,
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  f: Float64Array,
+  s: Float64Array,
   touched: Uint8Array | null = null,
 ): number {
   const nx = f[F_PN], ny = f[F_PN + 1], nz = f[F_PN + 2]
@@ -345,7 +432,9 @@ export function collidePlane(
     const j = 3 * i
     const d = pos[j] * nx + pos[j + 1] * ny + pos[j + 2] * nz - c
     if (d >= 0) continue
-    s[10] = nx; s[11] = ny; s[12] = nz
+    s[10] = nx
+    s[11] = ny
+    s[12] = nz
     s[13] = -d
     respond(pos, prev, j, f, s, touched)
     contacts++
@@ -359,7 +448,15 @@ export function collidePlane(
  * when `deviation` is 1, out[10] the largest |v − mean| of a free particle (m/s; else 0).
  * Particles with `skip[i]` = 1 (vertices no triangle uses) are left out.
  */
-export function measureCloth(pos: Float64Array, vel: Float64Array, invMass: Float64Array, count: number, deviation: number, out: Float64Array, skip: Uint8Array | null = null): void {
+export function measureCloth(
+  pos: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  deviation: number,
+  out: Float64Array,
+  skip: Uint8Array | null = null,
+): void {
   let x0 = Infinity, y0 = Infinity, z0 = Infinity, x1 = -Infinity, y1 = -Infinity, z1 = -Infinity
   let v2max = 0, mx = 0, my = 0, mz = 0, n = 0
   for (let i = 0; i < count; i++) {
@@ -386,9 +483,16 @@ export function measureCloth(pos: Float64Array, vel: Float64Array, invMass: Floa
     my /= n
     mz /= n
   }
-  out[0] = x0; out[1] = y0; out[2] = z0; out[3] = x1; out[4] = y1; out[5] = z1
+  out[0] = x0
+  out[1] = y0
+  out[2] = z0
+  out[3] = x1
+  out[4] = y1
+  out[5] = z1
   out[6] = v2max
-  out[7] = mx; out[8] = my; out[9] = mz
+  out[7] = mx
+  out[8] = my
+  out[9] = mz
   let dev2 = 0
   if (deviation === 1) {
     for (let i = 0; i < count; i++) {

@@ -69,12 +69,19 @@ export function closestPoint(shape: number, f: Float64Array, planes: Float64Arra
     const len = Math.sqrt(vx * vx + vy * vy + vz * vz)
     let nx = 0, ny = 1, nz = 0
     if (len > 1e-12) {
-      nx = vx / len; ny = vy / len; nz = vz / len
+      nx = vx / len
+      ny = vy / len
+      nz = vz / len
     } else if (shape === SHAPE_CAPSULE) {
-      nx = 1; ny = 0
+      nx = 1
+      ny = 0
     }
-    s[3] = nx * R; s[4] = t + ny * R; s[5] = nz * R
-    s[6] = nx; s[7] = ny; s[8] = nz
+    s[3] = nx * R
+    s[4] = t + ny * R
+    s[5] = nz * R
+    s[6] = nx
+    s[7] = ny
+    s[8] = nz
     s[9] = len - R
     return
   }
@@ -87,24 +94,38 @@ export function closestPoint(shape: number, f: Float64Array, planes: Float64Arra
     const e2 = ex * ex + ey * ey + ez * ez
     if (e2 > 0) {
       const d = Math.sqrt(e2)
-      s[3] = qx; s[4] = qy; s[5] = qz
-      s[6] = ex / d; s[7] = ey / d; s[8] = ez / d
+      s[3] = qx
+      s[4] = qy
+      s[5] = qz
+      s[6] = ex / d
+      s[7] = ey / d
+      s[8] = ez / d
       s[9] = d
       return
     }
     // inside: the nearest face
     const dx = hx - Math.abs(lx), dy = hy - Math.abs(ly), dz = hz - Math.abs(lz)
-    s[3] = lx; s[4] = ly; s[5] = lz
-    s[6] = 0; s[7] = 0; s[8] = 0
+    s[3] = lx
+    s[4] = ly
+    s[5] = lz
+    s[6] = 0
+    s[7] = 0
+    s[8] = 0
     if (dx <= dy && dx <= dz) {
       const sg = lx < 0 ? -1 : 1
-      s[3] = sg * hx; s[6] = sg; s[9] = -dx
+      s[3] = sg * hx
+      s[6] = sg
+      s[9] = -dx
     } else if (dy <= dz) {
       const sg = ly < 0 ? -1 : 1
-      s[4] = sg * hy; s[7] = sg; s[9] = -dy
+      s[4] = sg * hy
+      s[7] = sg
+      s[9] = -dy
     } else {
       const sg = lz < 0 ? -1 : 1
-      s[5] = sg * hz; s[8] = sg; s[9] = -dz
+      s[5] = sg * hz
+      s[8] = sg
+      s[9] = -dz
     }
     return
   }
@@ -116,15 +137,23 @@ export function closestPoint(shape: number, f: Float64Array, planes: Float64Arra
       const dk = planes[o] * lx + planes[o + 1] * ly + planes[o + 2] * lz - planes[o + 3]
       if (dk > d) {
         d = dk
-        nx = planes[o]; ny = planes[o + 1]; nz = planes[o + 2]
+        nx = planes[o]
+        ny = planes[o + 1]
+        nz = planes[o + 2]
       }
     }
   } else if (shape === SHAPE_PLANE) {
-    nx = f[F_S0]; ny = f[F_S0 + 1]; nz = f[F_S0 + 2]
+    nx = f[F_S0]
+    ny = f[F_S0 + 1]
+    nz = f[F_S0 + 2]
     d = nx * lx + ny * ly + nz * lz - f[F_S0 + 3]
   }
-  s[3] = lx - nx * d; s[4] = ly - ny * d; s[5] = lz - nz * d
-  s[6] = nx; s[7] = ny; s[8] = nz
+  s[3] = lx - nx * d
+  s[4] = ly - ny * d
+  s[5] = lz - nz * d
+  s[6] = nx
+  s[7] = ny
+  s[8] = nz
   s[9] = d
 }
 

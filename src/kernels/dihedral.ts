@@ -71,8 +71,7 @@ export function solveDihedrals(
     const g2x = kA * nAx, g2y = kA * nAy, g2z = kA * nAz
     const g3x = kB * nBx, g3y = kB * nBy, g3z = kB * nBz
     const at = compliance[h] * invH2
-    const den =
-      w0 * (g0x * g0x + g0y * g0y + g0z * g0z) +
+    const den = w0 * (g0x * g0x + g0y * g0y + g0z * g0z) +
       w1 * (g1x * g1x + g1y * g1y + g1z * g1z) +
       w2 * (g2x * g2x + g2y * g2y + g2z * g2z) +
       w3 * (g3x * g3x + g3y * g3y + g3z * g3z) +

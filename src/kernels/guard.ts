@@ -141,7 +141,12 @@ export function checkPieceHealth(
     const o = PIECE_STRIDE * p
     box[o] = box[o + 1] = box[o + 2] = Infinity
     box[o + 3] = box[o + 4] = box[o + 5] = -Infinity
-    box[o + 6] = box[o + 7] = box[o + 8] = box[o + 9] = box[o + 10] = 0
+    box[o + 6] =
+      box[o + 7] =
+      box[o + 8] =
+      box[o + 9] =
+      box[o + 10] =
+        0
   }
   let bad = 0
   let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity

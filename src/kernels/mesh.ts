@@ -80,7 +80,14 @@ export function measureStretch(
  * returned from a function that is not inlined would be boxed; a slot is not). Rest lengths ≤ 0
  * are skipped.
  */
-export function maxEdgeStrain(pos: Float64Array, edges: Int32Array, edgeRest: Float64Array, edgeCount: number, out: Float64Array, o: number): void {
+export function maxEdgeStrain(
+  pos: Float64Array,
+  edges: Int32Array,
+  edgeRest: Float64Array,
+  edgeCount: number,
+  out: Float64Array,
+  o: number,
+): void {
   let max2 = 0
   for (let e = 0; e < edgeCount; e++) {
     const r = edgeRest[e]

@@ -41,8 +41,24 @@ export function predictInFrame(
 ): void {
   const h = params[P_H]
   const ox = f[F_ORIGIN], oy = f[F_ORIGIN + 1], oz = f[F_ORIGIN + 2]
-  const a00 = f[F_A], a01 = f[F_A + 1], a02 = f[F_A + 2], a10 = f[F_A + 3], a11 = f[F_A + 4], a12 = f[F_A + 5], a20 = f[F_A + 6], a21 = f[F_A + 7], a22 = f[F_A + 8]
-  const q00 = f[F_Q], q01 = f[F_Q + 1], q02 = f[F_Q + 2], q10 = f[F_Q + 3], q11 = f[F_Q + 4], q12 = f[F_Q + 5], q20 = f[F_Q + 6], q21 = f[F_Q + 7], q22 = f[F_Q + 8]
+  const a00 = f[F_A],
+    a01 = f[F_A + 1],
+    a02 = f[F_A + 2],
+    a10 = f[F_A + 3],
+    a11 = f[F_A + 4],
+    a12 = f[F_A + 5],
+    a20 = f[F_A + 6],
+    a21 = f[F_A + 7],
+    a22 = f[F_A + 8]
+  const q00 = f[F_Q],
+    q01 = f[F_Q + 1],
+    q02 = f[F_Q + 2],
+    q10 = f[F_Q + 3],
+    q11 = f[F_Q + 4],
+    q12 = f[F_Q + 5],
+    q20 = f[F_Q + 6],
+    q21 = f[F_Q + 7],
+    q22 = f[F_Q + 8]
   const cx = f[F_C], cy = f[F_C + 1], cz = f[F_C + 2]
   for (let i = 0; i < count; i++) {
     const j = 3 * i
@@ -107,10 +123,25 @@ export const REF_PARAMS = 34
  * Places the listed particles (`list` null: particles 0 to listCount − 1) on their reference
  * positions at the end of the substep (particles held with max distance 0; a teleport's reset).
  */
-export function placeOnReference(pos: Float64Array, list: Int32Array | null, listCount: number, ref: Float32Array, w: Float64Array, params: Float64Array): void {
+export function placeOnReference(
+  pos: Float64Array,
+  list: Int32Array | null,
+  listCount: number,
+  ref: Float32Array,
+  w: Float64Array,
+  params: Float64Array,
+): void {
   const f = params[P_STEP_FRACTION]
   const rigid = w[W_MODE] === 0
-  const a00 = w[W_A], a01 = w[W_A + 1], a02 = w[W_A + 2], a10 = w[W_A + 3], a11 = w[W_A + 4], a12 = w[W_A + 5], a20 = w[W_A + 6], a21 = w[W_A + 7], a22 = w[W_A + 8]
+  const a00 = w[W_A],
+    a01 = w[W_A + 1],
+    a02 = w[W_A + 2],
+    a10 = w[W_A + 3],
+    a11 = w[W_A + 4],
+    a12 = w[W_A + 5],
+    a20 = w[W_A + 6],
+    a21 = w[W_A + 7],
+    a22 = w[W_A + 8]
   const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
   for (let q = 0; q < listCount; q++) {
     const i = list === null ? q : list[q]
@@ -171,9 +202,25 @@ export function constrainAndUpdateVelocities(
   const max2 = maxSpeed * maxSpeed
   let top = 0
   const rigid = w[W_MODE] === 0
-  const a00 = w[W_A], a01 = w[W_A + 1], a02 = w[W_A + 2], a10 = w[W_A + 3], a11 = w[W_A + 4], a12 = w[W_A + 5], a20 = w[W_A + 6], a21 = w[W_A + 7], a22 = w[W_A + 8]
+  const a00 = w[W_A],
+    a01 = w[W_A + 1],
+    a02 = w[W_A + 2],
+    a10 = w[W_A + 3],
+    a11 = w[W_A + 4],
+    a12 = w[W_A + 5],
+    a20 = w[W_A + 6],
+    a21 = w[W_A + 7],
+    a22 = w[W_A + 8]
   const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
-  const n00 = w[W_N], n01 = w[W_N + 1], n02 = w[W_N + 2], n10 = w[W_N + 3], n11 = w[W_N + 4], n12 = w[W_N + 5], n20 = w[W_N + 6], n21 = w[W_N + 7], n22 = w[W_N + 8]
+  const n00 = w[W_N],
+    n01 = w[W_N + 1],
+    n02 = w[W_N + 2],
+    n10 = w[W_N + 3],
+    n11 = w[W_N + 4],
+    n12 = w[W_N + 5],
+    n20 = w[W_N + 6],
+    n21 = w[W_N + 7],
+    n22 = w[W_N + 8]
   for (let i = 0; i < count; i++) {
     const j = 3 * i
     let x = pos[j], y = pos[j + 1], z = pos[j + 2]

@@ -60,8 +60,15 @@ export function hashCell(ix: number, iy: number, iz: number, mask: number): numb
  * out. Returns the number of entries (pass it to `gatherPairs` as the count).
  */
 export function buildHash(
-  pos: Float64Array, count: number, start: Int32Array, entries: Int32Array, bucket: Int32Array, sorted: Float64Array,
-  mask: number, p: Float64Array, skip: Uint8Array | null = null,
+  pos: Float64Array,
+  count: number,
+  start: Int32Array,
+  entries: Int32Array,
+  bucket: Int32Array,
+  sorted: Float64Array,
+  mask: number,
+  p: Float64Array,
+  skip: Uint8Array | null = null,
 ): number {
   const inv = p[S_INV_CELL]
   start.fill(0)
@@ -107,9 +114,21 @@ export function buildHash(
  * of its cells share it. Returns the new pair count.
  */
 export function gatherPairs(
-  sortedA: Float64Array, entriesA: Int32Array, invMassA: Float64Array, countA: number, restA: Float64Array | null,
-  sortedB: Float64Array, entriesB: Int32Array, invMassB: Float64Array, start: Int32Array, mask: number, visited: Int32Array,
-  pairs: Int32Array, offset: number, capacity: number, p: Float64Array,
+  sortedA: Float64Array,
+  entriesA: Int32Array,
+  invMassA: Float64Array,
+  countA: number,
+  restA: Float64Array | null,
+  sortedB: Float64Array,
+  entriesB: Int32Array,
+  invMassB: Float64Array,
+  start: Int32Array,
+  mask: number,
+  visited: Int32Array,
+  pairs: Int32Array,
+  offset: number,
+  capacity: number,
+  p: Float64Array,
 ): number {
   const R = p[S_RADIUS], R2 = R * R, inv = p[S_INV_CELL]
   const F = p[S_REST_FILTER], F2 = F * F
@@ -176,9 +195,18 @@ export function gatherPairs(
  * mass-weighted velocity). Pairs [first, first + count). Returns the number of pairs in contact.
  */
 export function solvePairs(
-  posA: Float64Array, prevA: Float64Array, invMassA: Float64Array, touchedA: Uint8Array,
-  posB: Float64Array, prevB: Float64Array, invMassB: Float64Array, touchedB: Uint8Array,
-  pairs: Int32Array, first: number, count: number, p: Float64Array,
+  posA: Float64Array,
+  prevA: Float64Array,
+  invMassA: Float64Array,
+  touchedA: Uint8Array,
+  posB: Float64Array,
+  prevB: Float64Array,
+  invMassB: Float64Array,
+  touchedB: Uint8Array,
+  pairs: Int32Array,
+  first: number,
+  count: number,
+  p: Float64Array,
 ): number {
   const D = p[S_DIST], D2 = D * D, muS = p[S_MU_S], muK = p[S_MU_K], sa = p[S_W_A], sb = p[S_W_B]
   const heavy = p[S_CONTACT_SCALE], slop = p[S_SLOP]
@@ -202,8 +230,12 @@ export function solvePairs(
     const nx = dx * invD, ny = dy * invD, nz = dz * invD
     const push = D - d
     const fa = wa * invW, fb = wb * invW
-    posA[ja] -= nx * push * fa; posA[ja + 1] -= ny * push * fa; posA[ja + 2] -= nz * push * fa
-    posB[jb] += nx * push * fb; posB[jb + 1] += ny * push * fb; posB[jb + 2] += nz * push * fb
+    posA[ja] -= nx * push * fa
+    posA[ja + 1] -= ny * push * fa
+    posA[ja + 2] -= nz * push * fa
+    posB[jb] += nx * push * fb
+    posB[jb + 1] += ny * push * fb
+    posB[jb + 2] += nz * push * fb
     // relative motion of B's particle with respect to A's this substep
     dx = posB[jb] - prevB[jb] - (posA[ja] - prevA[ja])
     dy = posB[jb + 1] - prevB[jb + 1] - (posA[ja + 1] - prevA[ja + 1])
@@ -212,8 +244,12 @@ export function solvePairs(
     const excess = dn - slop
     const shift = excess > 0 ? (excess < push ? excess : push) : 0
     if (shift > 0) {
-      prevA[ja] -= nx * shift * fa; prevA[ja + 1] -= ny * shift * fa; prevA[ja + 2] -= nz * shift * fa
-      prevB[jb] += nx * shift * fb; prevB[jb + 1] += ny * shift * fb; prevB[jb + 2] += nz * shift * fb
+      prevA[ja] -= nx * shift * fa
+      prevA[ja + 1] -= ny * shift * fa
+      prevA[ja + 2] -= nz * shift * fa
+      prevB[jb] += nx * shift * fb
+      prevB[jb + 1] += ny * shift * fb
+      prevB[jb + 2] += nz * shift * fb
     }
     dx -= dn * nx
     dy -= dn * ny
@@ -228,8 +264,12 @@ export function solvePairs(
     }
     const fU = f / (ua + ub)
     const ga = fU * ua, gb = fU * ub
-    posA[ja] += dx * ga; posA[ja + 1] += dy * ga; posA[ja + 2] += dz * ga
-    posB[jb] -= dx * gb; posB[jb + 1] -= dy * gb; posB[jb + 2] -= dz * gb
+    posA[ja] += dx * ga
+    posA[ja + 1] += dy * ga
+    posA[ja + 2] += dz * ga
+    posB[jb] -= dx * gb
+    posB[jb + 1] -= dy * gb
+    posB[jb + 2] -= dz * gb
   }
   return contacts
 }

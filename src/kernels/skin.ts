@@ -36,7 +36,15 @@ export function skinReference(
       const wt = weights[k]
       if (wt === 0) continue
       const b = 12 * joints[k]
-      const a00 = mats[b], a01 = mats[b + 1], a02 = mats[b + 2], a10 = mats[b + 3], a11 = mats[b + 4], a12 = mats[b + 5], a20 = mats[b + 6], a21 = mats[b + 7], a22 = mats[b + 8]
+      const a00 = mats[b],
+        a01 = mats[b + 1],
+        a02 = mats[b + 2],
+        a10 = mats[b + 3],
+        a11 = mats[b + 4],
+        a12 = mats[b + 5],
+        a20 = mats[b + 6],
+        a21 = mats[b + 7],
+        a22 = mats[b + 8]
       px += wt * (a00 * x + a01 * y + a02 * z + mats[b + 9])
       py += wt * (a10 * x + a11 * y + a12 * z + mats[b + 10])
       pz += wt * (a20 * x + a21 * y + a22 * z + mats[b + 11])

@@ -180,4 +180,3 @@ export function addZoneAir(
     if (dRho !== 0) air[k + 3] += w * dRho
   }
 }
-

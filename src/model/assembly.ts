@@ -237,7 +237,13 @@ function unusedVertices(tris: Uint32Array, n: number): Uint8Array | null {
  * neighbours, which Gauss-Seidel handles badly, so masses are clamped to at least 10 % of the mean
  * (over the vertices triangles use; a vertex no triangle uses gets 0: it is no part of the cloth).
  */
-function particleMasses(rest: Float64Array, tris: Uint32Array, areas: Float64Array, density: number, unused: Uint8Array | null): Float64Array {
+function particleMasses(
+  rest: Float64Array,
+  tris: Uint32Array,
+  areas: Float64Array,
+  density: number,
+  unused: Uint8Array | null,
+): Float64Array {
   const n = (rest.length / 3) | 0
   const mass = new Float64Array(n)
   for (let t = 0; t < areas.length; t++) {

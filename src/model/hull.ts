@@ -19,9 +19,12 @@ export function buildConvexHull(points: ArrayLike<number>, argument = 'points'):
   if (n < 4) throw new ClothError(argument, points, 'must hold at least 4 points (xyz interleaved)')
   let minX = Infinity, minY = Infinity, minZ = Infinity, maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity
   for (let i = 0; i < n; i++) {
-    minX = Math.min(minX, p[3 * i]); maxX = Math.max(maxX, p[3 * i])
-    minY = Math.min(minY, p[3 * i + 1]); maxY = Math.max(maxY, p[3 * i + 1])
-    minZ = Math.min(minZ, p[3 * i + 2]); maxZ = Math.max(maxZ, p[3 * i + 2])
+    minX = Math.min(minX, p[3 * i])
+    maxX = Math.max(maxX, p[3 * i])
+    minY = Math.min(minY, p[3 * i + 1])
+    maxY = Math.max(maxY, p[3 * i + 1])
+    minZ = Math.min(minZ, p[3 * i + 2])
+    maxZ = Math.max(maxZ, p[3 * i + 2])
   }
   const scale = Math.hypot(maxX - minX, maxY - minY, maxZ - minZ)
   const eps = 1e-9 * Math.max(scale, 1e-12)
@@ -31,7 +34,11 @@ export function buildConvexHull(points: ArrayLike<number>, argument = 'points'):
   for (let q = 0; q < n; q++) if (!tetra.includes(q)) hull.add(q, eps)
   const out = hull.compact(scale)
   if (out.planeCount > MAX_HULL_PLANES) {
-    throw new ClothError(argument, points, `has a hull of ${out.planeCount} planes; at most ${MAX_HULL_PLANES} are supported (use fewer points)`)
+    throw new ClothError(
+      argument,
+      points,
+      `has a hull of ${out.planeCount} planes; at most ${MAX_HULL_PLANES} are supported (use fewer points)`,
+    )
   }
   return out
 }
@@ -47,7 +54,10 @@ function initialTetrahedron(p: ArrayLike<number>, n: number, eps: number, scale:
   let b = a, best = -1
   for (let i = 0; i < n; i++) {
     const d = (X(i) - X(a)) ** 2 + (Y(i) - Y(a)) ** 2 + (Z(i) - Z(a)) ** 2
-    if (d > best) { best = d; b = i }
+    if (d > best) {
+      best = d
+      b = i
+    }
   }
   let c = a
   best = -1
@@ -56,7 +66,10 @@ function initialTetrahedron(p: ArrayLike<number>, n: number, eps: number, scale:
     const cy = (Z(b) - Z(a)) * (X(i) - X(a)) - (X(b) - X(a)) * (Z(i) - Z(a))
     const cz = (X(b) - X(a)) * (Y(i) - Y(a)) - (Y(b) - Y(a)) * (X(i) - X(a))
     const d = cx * cx + cy * cy + cz * cz
-    if (d > best) { best = d; c = i }
+    if (d > best) {
+      best = d
+      c = i
+    }
   }
   if (!(Math.sqrt(best) > eps * scale)) return null
   const nx0 = (Y(b) - Y(a)) * (Z(c) - Z(a)) - (Z(b) - Z(a)) * (Y(c) - Y(a))
@@ -67,7 +80,10 @@ function initialTetrahedron(p: ArrayLike<number>, n: number, eps: number, scale:
   best = -1
   for (let i = 0; i < n; i++) {
     const d = Math.abs((nx0 * (X(i) - X(a)) + ny0 * (Y(i) - Y(a)) + nz0 * (Z(i) - Z(a))) / l0)
-    if (d > best) { best = d; d4 = i }
+    if (d > best) {
+      best = d
+      d4 = i
+    }
   }
   return best > eps ? [a, b, c, d4] : null
 }
@@ -100,7 +116,9 @@ class HullFaces {
     let ny = (Z(j) - Z(i)) * (X(k) - X(i)) - (X(j) - X(i)) * (Z(k) - Z(i))
     let nz = (X(j) - X(i)) * (Y(k) - Y(i)) - (Y(j) - Y(i)) * (X(k) - X(i))
     const l = Math.hypot(nx, ny, nz) || 1
-    nx /= l; ny /= l; nz /= l
+    nx /= l
+    ny /= l
+    nz /= l
     // keep the interior point behind every face
     if (nx * (this.cx - X(i)) + ny * (this.cy - Y(i)) + nz * (this.cz - Z(i)) > 0) {
       this.faces.push([i, k, j])
@@ -167,6 +185,11 @@ class HullFaces {
       }
       if (!dup) planes.push(m[0], m[1], m[2], m[3])
     }
-    return { planes: Float64Array.from(planes), planeCount: planes.length / 4, vertices: Float64Array.from(verts), indices: Uint32Array.from(tris) }
+    return {
+      planes: Float64Array.from(planes),
+      planeCount: planes.length / 4,
+      vertices: Float64Array.from(verts),
+      indices: Uint32Array.from(tris),
+    }
   }
 }

@@ -1,4 +1,15 @@
-import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkIndex, checkInteger, checkObject, checkOneOf, checkPositive, isArrayLike } from '../core/errors'
+import {
+  ClothError,
+  MAX_COORDINATE,
+  checkAtMost,
+  checkBoundedArray,
+  checkIndex,
+  checkInteger,
+  checkObject,
+  checkOneOf,
+  checkPositive,
+  isArrayLike,
+} from '../core/errors'
 import type { BendSide, BendingModel, ShearModel, TopologyOptions } from './topology'
 
 /** Topology options as the builders take them, with every default filled in. */
@@ -17,7 +28,8 @@ export interface CheckedTopologyOptions {
 export function checkTopologyOptions(o: TopologyOptions | undefined, n: number, arg = 'options'): CheckedTopologyOptions {
   if (o === undefined) return { bending: 'line', shear: 'distance', bendSide: 'both' }
   checkObject(arg, o)
-  const bending = o.bending === undefined ? 'line' : checkOneOf(`${arg}.bending`, o.bending, ['line', 'distance', 'dihedral', 'both', 'none'] as const)
+  const bending = o.bending === undefined ? 'line'
+    : checkOneOf(`${arg}.bending`, o.bending, ['line', 'distance', 'dihedral', 'both', 'none'] as const)
   const shear = o.shear === undefined ? 'distance' : checkOneOf(`${arg}.shear`, o.shear, ['distance', 'compression', 'none'] as const)
   const bendSide = o.bendSide === undefined ? 'both' : checkOneOf(`${arg}.bendSide`, o.bendSide, ['both', 'front', 'back'] as const)
   let orderFrom: ArrayLike<number> | undefined
@@ -44,7 +56,8 @@ export function checkMeshInput(positions: unknown, indices: unknown, prefix = ''
   for (let k = 0; k < indices.length; k++) checkIndex(`${prefix}indices[${k}]`, indices[k], n)
   for (let t = 0; t < indices.length; t += 3) {
     const a = indices[t], b = indices[t + 1], c = indices[t + 2]
-    if (a === b || b === c || a === c) throw new ClothError(`${prefix}indices[${t}..${t + 2}]`, [a, b, c], 'must name three different vertices')
+    if (a === b || b === c || a === c)
+      throw new ClothError(`${prefix}indices[${t}..${t + 2}]`, [a, b, c], 'must name three different vertices')
   }
   return n
 }

@@ -228,7 +228,13 @@ function fillAdjacency(s: AnchorScratch, n: number, edges: ArrayLike<number>, ed
  * O(K·E·log E). Anchors on another piece of the mesh are never reached. Allocates nothing.
  */
 export function nearestAnchorsAlongMesh(
-  rest: ArrayLike<number>, n: number, edges: ArrayLike<number>, edgeCount: number, s: AnchorScratch, A: number, K: number,
+  rest: ArrayLike<number>,
+  n: number,
+  edges: ArrayLike<number>,
+  edgeCount: number,
+  s: AnchorScratch,
+  A: number,
+  K: number,
 ): void {
   fillAdjacency(s, n, edges, edgeCount)
   const best = s.bestAnchor, dist = s.bestDist

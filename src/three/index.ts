@@ -317,7 +317,11 @@ export function updateProxyGeometry(world: object, proxy: ClothRenderProxy, geom
  * @param proxy A render proxy of a cloth of that world.
  * @param material Any three.js material.
  */
-export function createProxyMesh<M extends Material = MeshStandardMaterial>(world: object, proxy: ClothRenderProxy, material?: M): Mesh<ClothGeometry, M> {
+export function createProxyMesh<M extends Material = MeshStandardMaterial>(
+  world: object,
+  proxy: ClothRenderProxy,
+  material?: M,
+): Mesh<ClothGeometry, M> {
   checkMaterial(material)
   const mesh = new Mesh(createProxyGeometry(world, proxy), material ?? (new MeshStandardMaterial({ side: DoubleSide }) as unknown as M))
   mesh.name = 'cloth proxy'

@@ -28,7 +28,11 @@ export function getCloth(state: ClothWorldState, cloth: number): ClothState {
 export function getClothWorldForChange(world: object): ClothWorldState {
   const state = getClothWorld(world)
   if (state.frame.open && !state.frame.delivering) {
-    throw new ClothError('world', world, 'is between beginClothStep and endClothStep: change cloths, pins, colliders and settings after endClothStep')
+    throw new ClothError(
+      'world',
+      world,
+      'is between beginClothStep and endClothStep: change cloths, pins, colliders and settings after endClothStep',
+    )
   }
   return state
 }
@@ -39,6 +43,10 @@ export function getClothWorldForChange(world: object): ClothWorldState {
  */
 export function checkStepFinished(state: ClothWorldState, world: object, cloth: number): void {
   if (state.frame.open && !state.frame.delivering) {
-    throw new ClothError('world', world, `is between beginClothStep and endClothStep, and cloth ${cloth}'s mesh was not read since its last finished step: read meshes after endClothStep (and before the next beginClothStep)`)
+    throw new ClothError(
+      'world',
+      world,
+      `is between beginClothStep and endClothStep, and cloth ${cloth}'s mesh was not read since its last finished step: read meshes after endClothStep (and before the next beginClothStep)`,
+    )
   }
 }

@@ -150,10 +150,19 @@ export function readPoseInto(state: ClothWorldState, eid: number, out: Float64Ar
   // x − x is 0 for a finite x and NaN otherwise (a plain sum could overflow to ∞ for huge finite ones)
   const finite = px - px + (py - py) + (pz - pz) + (qx - qx) + (qy - qy) + (qz - qz) + (qw - qw) === 0
   if (!finite || !(Math.abs(px) <= MAX_COORDINATE && Math.abs(py) <= MAX_COORDINATE && Math.abs(pz) <= MAX_COORDINATE)) {
-    throw new ClothError(`transform of entity ${eid}`, [px, py, pz, qx, qy, qz, qw], `must be finite, the position within ±${MAX_COORDINATE} m`)
+    throw new ClothError(
+      `transform of entity ${eid}`,
+      [px, py, pz, qx, qy, qz, qw],
+      `must be finite, the position within ±${MAX_COORDINATE} m`,
+    )
   }
-  out[0] = px; out[1] = py; out[2] = pz
-  out[3] = qx; out[4] = qy; out[5] = qz; out[6] = qw
+  out[0] = px
+  out[1] = py
+  out[2] = pz
+  out[3] = qx
+  out[4] = qy
+  out[5] = qz
+  out[6] = qw
   normalizeQuatAt(out, 3)
 }
 
@@ -170,7 +179,11 @@ export function readScaleInto(state: ClothWorldState, eid: number, out: Float64A
   out[o + 1] = sy > 0 && sy < Infinity ? sy : 1
   out[o + 2] = sz > 0 && sz < Infinity ? sz : 1
   if (out[o] > MAX_SCALE || out[o + 1] > MAX_SCALE || out[o + 2] > MAX_SCALE) {
-    throw new ClothError(`transform of entity ${eid}`, [sx, sy, sz], `must have a scale of at most ${MAX_SCALE} (one that is not finite and > 0 counts as 1)`)
+    throw new ClothError(
+      `transform of entity ${eid}`,
+      [sx, sy, sz],
+      `must have a scale of at most ${MAX_SCALE} (one that is not finite and > 0 counts as 1)`,
+    )
   }
 }
 
@@ -296,7 +309,15 @@ export function interpolateScale(k: Kinematics, so: number, t: Float64Array, ti:
  * position lerp, rotation slerp along the shortest arc (nlerp when nearly equal); f ≥ 1 gives b
  * exactly. (The fraction is read from an array: a double argument would be boxed per call.)
  */
-export function interpolatePose(a: Float64Array, b: Float64Array, o: number, t: Float64Array, ti: number, out: Float64Array, oo: number): void {
+export function interpolatePose(
+  a: Float64Array,
+  b: Float64Array,
+  o: number,
+  t: Float64Array,
+  ti: number,
+  out: Float64Array,
+  oo: number,
+): void {
   const f = t[ti]
   if (f >= 1) {
     for (let c = 0; c < 7; c++) out[oo + c] = b[o + c]
@@ -310,7 +331,10 @@ export function interpolatePose(a: Float64Array, b: Float64Array, o: number, t: 
   let cos = ax * bx + ay * by + az * bz + aw * bw
   if (cos < 0) {
     cos = -cos
-    bx = -bx; by = -by; bz = -bz; bw = -bw
+    bx = -bx
+    by = -by
+    bz = -bz
+    bw = -bw
   }
   let s0 = 1 - f, s1 = f
   if (cos < 0.9995) {
@@ -367,7 +391,12 @@ export function restoreSlotScale(state: ClothWorldState, slot: number, from: Flo
   const o = 3 * slot
   if (from === null) {
     readScaleInto(state, k.eid[slot], scale, 0)
-    for (let j = 0; j < 3; j++) k.scaleSampleFrom[o + j] = k.scaleSampleTo[o + j] = k.scaleStepFrom[o + j] = k.scaleStepTo[o + j] = scale[j]
+    for (let j = 0; j < 3; j++)
+      k.scaleSampleFrom[o + j] =
+        k.scaleSampleTo[o + j] =
+        k.scaleStepFrom[o + j] =
+        k.scaleStepTo[o + j] =
+          scale[j]
     return
   }
   for (let j = 0; j < 3; j++) {

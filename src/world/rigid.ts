@@ -11,9 +11,16 @@ const ROTATION = new Float64Array(13)
  */
 export function moveClothRigidly(
   c: ClothState,
-  fromX: number, fromY: number, fromZ: number,
-  rx: number, ry: number, rz: number, rw: number,
-  toX: number, toY: number, toZ: number,
+  fromX: number,
+  fromY: number,
+  fromZ: number,
+  rx: number,
+  ry: number,
+  rz: number,
+  rw: number,
+  toX: number,
+  toY: number,
+  toZ: number,
 ): void {
   // rotation matrix of the unit quaternion, once
   const M = ROTATION
@@ -29,11 +36,15 @@ export function moveClothRigidly(
     pos[i] = toX + m00 * x + m01 * y + m02 * z
     pos[i + 1] = toY + m10 * x + m11 * y + m12 * z
     pos[i + 2] = toZ + m20 * x + m21 * y + m22 * z
-    x = prev[i] - fromX; y = prev[i + 1] - fromY; z = prev[i + 2] - fromZ
+    x = prev[i] - fromX
+    y = prev[i + 1] - fromY
+    z = prev[i + 2] - fromZ
     prev[i] = toX + m00 * x + m01 * y + m02 * z
     prev[i + 1] = toY + m10 * x + m11 * y + m12 * z
     prev[i + 2] = toZ + m20 * x + m21 * y + m22 * z
-    x = vel[i]; y = vel[i + 1]; z = vel[i + 2]
+    x = vel[i]
+    y = vel[i + 1]
+    z = vel[i + 2]
     vel[i] = m00 * x + m01 * y + m02 * z
     vel[i + 1] = m10 * x + m11 * y + m12 * z
     vel[i + 2] = m20 * x + m21 * y + m22 * z

@@ -31,7 +31,8 @@ export function setTransform(
   if (rotation !== undefined) checkQuat('rotation', rotation)
   if (scale !== undefined) {
     checkVec3('scale', scale)
-    for (let i = 0; i < 3; i++) if (!(scale[i] > 0) || scale[i] > MAX_SCALE) throw new ClothError('scale', scale, `must be positive (at most ${MAX_SCALE})`)
+    for (let i = 0; i < 3; i++)
+      if (!(scale[i] > 0) || scale[i] > MAX_SCALE) throw new ClothError('scale', scale, `must be positive (at most ${MAX_SCALE})`)
   }
   const t = state.transforms
   const own = t.component === state.components.Transform
@@ -86,8 +87,10 @@ const scratch = new Float64Array(4)
  */
 export function getTransform(world: object, eid: number, outPosition?: vec3 | Writable, outRotation?: quat | Writable): boolean {
   const state = getClothWorld(world)
-  if (outPosition !== undefined && (!isArrayLike(outPosition) || outPosition.length < 3)) throw new ClothError('outPosition', outPosition, 'must be an array of 3 numbers')
-  if (outRotation !== undefined && (!isArrayLike(outRotation) || outRotation.length < 4)) throw new ClothError('outRotation', outRotation, 'must be an array of 4 numbers')
+  if (outPosition !== undefined && (!isArrayLike(outPosition) || outPosition.length < 3))
+    throw new ClothError('outPosition', outPosition, 'must be an array of 3 numbers')
+  if (outRotation !== undefined && (!isArrayLike(outRotation) || outRotation.length < 4))
+    throw new ClothError('outRotation', outRotation, 'must be an array of 4 numbers')
   if (!entityExists(world as never, eid) || !hasComponent(world as never, eid, state.transforms.component)) return false
   const t = state.transforms
   if (outPosition) {

@@ -217,7 +217,10 @@ function chart(rows: Row[]): string {
         name: s.name,
         color: s.color,
         marker: s.marker,
-        points: own.filter((r) => r.solver === s.solver && r.tethers === s.tethers).map((r) => ({ x: r.msPerStep, y: Math.max(r.maxStretch * 100, 1e-4) })),
+        points: own.filter((r) => r.solver === s.solver && r.tethers === s.tethers).map((r) => ({
+          x: r.msPerStep,
+          y: Math.max(r.maxStretch * 100, 1e-4),
+        })),
       })),
       front: paretoFront(pts),
     }
@@ -239,7 +242,10 @@ function qualityTiers(rows: Row[]) {
     { tier: 'Hero cape', budget: 0.02 },
   ]
   const out: Record<string, string | number>[] = []
-  const md = ['| Tier | Max stretch while running | Setting | ms per step (24×24) | Mean stretch | Shape error vs reference |', '|---|---|---|---|---|---|']
+  const md = [
+    '| Tier | Max stretch while running | Setting | ms per step (24×24) | Mean stretch | Shape error vs reference |',
+    '|---|---|---|---|---|---|',
+  ]
   for (const t of tiers) {
     const ok = cape.filter((r) => r.maxStretch <= t.budget).sort((a, b) => a.msPerStep - b.msPerStep)
     const best = ok[0]
@@ -247,9 +253,21 @@ function qualityTiers(rows: Row[]) {
       md.push(`| ${t.tier} | ≤ ${t.budget * 100} % | none within 64 sweeps | | | |`)
       continue
     }
-    const setting = `${best.substeps} substeps × ${best.iterations} iteration${best.iterations > 1 ? 's' : ''}, ${best.solver.toUpperCase()}${best.tethers ? ' + tethers' : ''}`
-    out.push({ tier: t.tier, budget: `≤ ${t.budget * 100} %`, setting, 'ms per step': fmt(best.msPerStep, 3), 'max stretch (%)': fmt(best.maxStretch * 100, 2) })
-    md.push(`| ${t.tier} | ≤ ${t.budget * 100} % | ${setting} | ${fmt(best.msPerStep, 3)} | ${fmt(best.meanStretch * 100, 3)} % | ${fmt(best.shapeError * 100, 1)} cm |`)
+    const setting = `${best.substeps} substeps × ${best.iterations} iteration${
+      best.iterations > 1 ? 's' : ''
+    }, ${best.solver.toUpperCase()}${best.tethers ? ' + tethers' : ''}`
+    out.push({
+      tier: t.tier,
+      budget: `≤ ${t.budget * 100} %`,
+      setting,
+      'ms per step': fmt(best.msPerStep, 3),
+      'max stretch (%)': fmt(best.maxStretch * 100, 2),
+    })
+    md.push(
+      `| ${t.tier} | ≤ ${t.budget * 100} % | ${setting} | ${fmt(best.msPerStep, 3)} | ${fmt(best.meanStretch * 100, 3)} % | ${
+        fmt(best.shapeError * 100, 1)
+      } cm |`,
+    )
   }
   return { rows: out, markdown: md.join('\n') }
 }

@@ -136,13 +136,28 @@ export function payForUse(): void {
   const s = getClothStats(busy)
   const rows = [
     { run: 'bare kernels, no world', 'ms per step': fmt(tBare, 3), 'ratio to bare': '1.000', goal: '' },
-    { run: 'full plugin, sheet alone', 'ms per step': fmt(tPlugin, 3), 'ratio to bare': fmt(tPlugin / tBare, 3), goal: `≤ 1.03: ${tPlugin / tBare <= 1.03 ? 'met' : 'missed'}` },
-    { run: 'full plugin, with wind, colliders, tearable elsewhere (sheet share)', 'ms per step': fmt(tBusy - tExtras, 3), 'ratio to bare': fmt((tBusy - tExtras) / tBare, 3), goal: `≤ 1.05: ${(tBusy - tExtras) / tBare <= 1.05 ? 'met' : 'missed'}` },
+    {
+      run: 'full plugin, sheet alone',
+      'ms per step': fmt(tPlugin, 3),
+      'ratio to bare': fmt(tPlugin / tBare, 3),
+      goal: `≤ 1.03: ${tPlugin / tBare <= 1.03 ? 'met' : 'missed'}`,
+    },
+    {
+      run: 'full plugin, with wind, colliders, tearable elsewhere (sheet share)',
+      'ms per step': fmt(tBusy - tExtras, 3),
+      'ratio to bare': fmt((tBusy - tExtras) / tBare, 3),
+      goal: `≤ 1.05: ${(tBusy - tExtras) / tBare <= 1.05 ? 'met' : 'missed'}`,
+    },
     { run: '  (that world, whole step)', 'ms per step': fmt(tBusy, 3), 'ratio to bare': '', goal: '' },
     { run: '  (that world without the sheet)', 'ms per step': fmt(tExtras, 3), 'ratio to bare': '', goal: '' },
   ]
-  table(`Pay for use: a ${N}×${N} cotton sheet hanging from two corners, 8 substeps × 1 iteration (median of 15 interleaved rounds of 100 steps)`, rows)
-  console.log(`  in the busy world, one step: ${s.windTriangles} wind triangles, ${s.colliderTests} particle–collider tests, ${s.strainChecks} strain checks (the tearable cloth's own)`)
+  table(
+    `Pay for use: a ${N}×${N} cotton sheet hanging from two corners, 8 substeps × 1 iteration (median of 15 interleaved rounds of 100 steps)`,
+    rows,
+  )
+  console.log(
+    `  in the busy world, one step: ${s.windTriangles} wind triangles, ${s.colliderTests} particle–collider tests, ${s.strainChecks} strain checks (the tearable cloth's own)`,
+  )
   saveJson('budget-pay-for-use', { tBare, tPlugin, tBusy, tExtras })
 }
 
@@ -180,9 +195,17 @@ export function sleepingCost(): void {
   const perSleeper = (tCrowd - tAlone) / sleepers.length
   const rows = [
     { run: 'one awake sheet', 'ms per step': fmt(tAlone, 4), goal: '' },
-    { run: `the same plus ${sleepers.length} sleeping sheets (${asleep} asleep), a moving collider and a wind zone far away`, 'ms per step': fmt(tCrowd, 4), goal: '' },
+    {
+      run: `the same plus ${sleepers.length} sleeping sheets (${asleep} asleep), a moving collider and a wind zone far away`,
+      'ms per step': fmt(tCrowd, 4),
+      goal: '',
+    },
     { run: 'one sleeping sheet (difference / 16)', 'ms per step': fmt(perSleeper, 5), goal: '' },
-    { run: 'sleeping / awake', 'ms per step': `${fmt((100 * perSleeper) / tAlone, 3)} %`, goal: `< 1 %: ${perSleeper / tAlone < 0.01 ? 'met' : 'missed'}` },
+    {
+      run: 'sleeping / awake',
+      'ms per step': `${fmt((100 * perSleeper) / tAlone, 3)} %`,
+      goal: `< 1 %: ${perSleeper / tAlone < 0.01 ? 'met' : 'missed'}`,
+    },
   ]
   table(`Sleeping: ${N}×${N} sheets, 8 substeps (median of 15 interleaved rounds of 100 steps)`, rows)
   saveJson('budget-sleeping', { tAlone, tCrowd, perSleeper, asleep })
@@ -214,7 +237,14 @@ export function capeCrowd(configure?: (world: object, hero: number, cape: number
     addCapsuleCollider(world, legs[0], { body: hero, offset: [-0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
     addCapsuleCollider(world, legs[1], { body: hero, offset: [0.1, -0.95, 0], radius: 0.08, halfHeight: 0.35 })
     const back = [0.2 * Math.sin(phase), 1.62, -0.2 * Math.cos(phase)] // (0, 0.02, −0.2) turned with the character
-    const cape = createCloth(world, { width: 0.6, height: 1, resolution: 24, position: [hx + back[0], back[1], hz + back[2]], rotation: turn, material: 'cotton' })
+    const cape = createCloth(world, {
+      width: 0.6,
+      height: 1,
+      resolution: 24,
+      position: [hx + back[0], back[1], hz + back[2]],
+      rotation: turn,
+      material: 'cotton',
+    })
     pinRow(world, cape, 0, hero)
     configure?.(world, hero, cape)
     heroes.push({ eid: hero, x, z, phase })
@@ -259,7 +289,14 @@ export function capes(): void {
   const nearOn = on.capes.filter((c) => getClothLod(on.world, c).distance < 6)
   const nearOff = off.capes.filter((_, i) => nearOn.includes(on.capes[i]))
   const rows = [
-    { budget: 'off (8 substeps each)', 'ms per frame': fmt(tOff, 2), 'predicted ms': '', 'substeps: capes': '8: 64', 'max stretch, near / all (%)': `${fmt(100 * stretch(off.world, nearOff), 2)} / ${fmt(100 * stretch(off.world, off.capes), 2)}`, 'goal ≤ 8 ms': '' },
+    {
+      budget: 'off (8 substeps each)',
+      'ms per frame': fmt(tOff, 2),
+      'predicted ms': '',
+      'substeps: capes': '8: 64',
+      'max stretch, near / all (%)': `${fmt(100 * stretch(off.world, nearOff), 2)} / ${fmt(100 * stretch(off.world, off.capes), 2)}`,
+      'goal ≤ 8 ms': '',
+    },
     {
       budget: 'on (8 ms, near 6 m, far 25 m)',
       'ms per frame': fmt(tOn, 2),
@@ -269,7 +306,14 @@ export function capes(): void {
       'goal ≤ 8 ms': tOn <= 8 ? 'met' : 'missed',
     },
   ]
-  table('64 capes of 24×24 on running characters, 3 capsules each, tethers on: ms per 60 Hz frame on one core (goal ≤ 8 ms with the budget on; median of 7 interleaved rounds of 30 frames)', rows)
-  console.log(`  calibration: ${fmt(cal.nsPerParticle, 1)} ns/particle, ${fmt(cal.nsPerProjection, 1)} ns/projection, ${fmt(cal.nsPerColliderTest, 1)} ns/collider test, ${fmt(cal.nsPerClothSubstep, 0)} ns/cloth·substep`)
+  table(
+    '64 capes of 24×24 on running characters, 3 capsules each, tethers on: ms per 60 Hz frame on one core (goal ≤ 8 ms with the budget on; median of 7 interleaved rounds of 30 frames)',
+    rows,
+  )
+  console.log(
+    `  calibration: ${fmt(cal.nsPerParticle, 1)} ns/particle, ${fmt(cal.nsPerProjection, 1)} ns/projection, ${
+      fmt(cal.nsPerColliderTest, 1)
+    } ns/collider test, ${fmt(cal.nsPerClothSubstep, 0)} ns/cloth·substep`,
+  )
   saveJson('budget-capes', { tOff, tOn, predicted, histogram: Object.fromEntries(histogram), calibration: cal })
 }

@@ -66,7 +66,10 @@ export function characterCost(): void {
     })
     results[name] = ratio
   }
-  table('Character cloth: the 64-cape crowd with inertia 0.5, max distance and a backstop, against the same crowd without (31 paired rounds of 3 frames)', rows)
+  table(
+    'Character cloth: the 64-cape crowd with inertia 0.5, max distance and a backstop, against the same crowd without (31 paired rounds of 3 frames)',
+    rows,
+  )
   saveJson('character', results)
   kernelCost()
 }
@@ -96,10 +99,19 @@ function kernelCost(): void {
     }
   }
   const kernels: [string, () => void][] = [
-    ['predict, world space (predictPositions)', () => { for (const k of cloths) predictPositions(k.pos, k.prev, k.vel, k.c.invMass, null, k.params, k.c.count) }],
-    ['predict in the frame (predictInFrame)', () => { for (const k of cloths) predictInFrame(k.pos, k.prev, k.vel, k.c.invMass, null, k.params, k.ch.frameParams, k.c.count) }],
-    ['writeback (updateVelocities)', () => { for (const k of cloths) updateVelocities(k.pos, k.prev, k.vel, k.params, k.c.count) }],
-    ['writeback with motion constraints (constrainAndUpdateVelocities)', () => { for (const k of cloths) constrainAndUpdateVelocities(k.pos, k.prev, k.vel, k.c.invMass, k.ch.ref, k.ch.lim, k.ch.refParams, k.ch.drive, k.params, k.c.count) }],
+    ['predict, world space (predictPositions)', () => {
+      for (const k of cloths) predictPositions(k.pos, k.prev, k.vel, k.c.invMass, null, k.params, k.c.count)
+    }],
+    ['predict in the frame (predictInFrame)', () => {
+      for (const k of cloths) predictInFrame(k.pos, k.prev, k.vel, k.c.invMass, null, k.params, k.ch.frameParams, k.c.count)
+    }],
+    ['writeback (updateVelocities)', () => {
+      for (const k of cloths) updateVelocities(k.pos, k.prev, k.vel, k.params, k.c.count)
+    }],
+    ['writeback with motion constraints (constrainAndUpdateVelocities)', () => {
+      for (const k of cloths)
+        constrainAndUpdateVelocities(k.pos, k.prev, k.vel, k.c.invMass, k.ch.ref, k.ch.lim, k.ch.refParams, k.ch.drive, k.params, k.c.count)
+    }],
   ]
   const particles = cloths.reduce((n, k) => n + k.c.count, 0)
   const cpu = () => {
@@ -115,5 +127,8 @@ function kernelCost(): void {
       samples[q].push(((cpu() - t0) / 40 / particles) * 1e6)
     })
   }
-  table('Character kernels: ns per particle and pass, on the 64 capes (CPU time, median of 9 rounds)', kernels.map(([name], q) => ({ kernel: name, 'ns/particle': fmt([...samples[q]].sort((a, b) => a - b)[4], 2) })))
+  table(
+    'Character kernels: ns per particle and pass, on the 64 capes (CPU time, median of 9 rounds)',
+    kernels.map(([name], q) => ({ kernel: name, 'ns/particle': fmt([...samples[q]].sort((a, b) => a - b)[4], 2) })),
+  )
 }

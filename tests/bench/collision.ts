@@ -104,7 +104,10 @@ export function perCollider(): void {
       'tests per step': draped.tests,
     })
   }
-  table('Collision cost per particle test (64×64 sheet, 8 substeps, collide phase only): draped over the collider, and hanging beside it in range', rows)
+  table(
+    'Collision cost per particle test (64×64 sheet, 8 substeps, collide phase only): draped over the collider, and hanging beside it in range',
+    rows,
+  )
   saveJson('collision-per-collider', rows)
 }
 

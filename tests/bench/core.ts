@@ -1,12 +1,31 @@
 import { addEntity, createWorld } from 'bitecs'
 import { PerformanceObserver } from 'node:perf_hooks'
-import { createCloth, getClothComponents, getClothState, getClothStats, getClothStretch, installClothPlugin, pinParticle, pinRow, resetClothStats, setTransform, stepCloth } from '../../src/index'
+import {
+  createCloth,
+  getClothComponents,
+  getClothState,
+  getClothStats,
+  getClothStretch,
+  installClothPlugin,
+  pinParticle,
+  pinRow,
+  resetClothStats,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { solveDistancesXpbd } from '../../src/kernels/distance'
 import { cpuMs, fmt, saveJson, table, timeIt } from './harness'
 import { createTextbook } from './textbook'
 
 /** A 1 m sheet of n×n particles hanging from its two top corners (or its top row). */
-function sheet(n: number, substeps: number, iterations: number, pins: 'corners' | 'row' = 'corners', tethers = true, bending: 'line' | 'distance' = 'line') {
+function sheet(
+  n: number,
+  substeps: number,
+  iterations: number,
+  pins: 'corners' | 'row' = 'corners',
+  tethers = true,
+  bending: 'line' | 'distance' = 'line',
+) {
   const world = installClothPlugin(createWorld(), { sleep: false })
   const cloth = createCloth(world, { width: 1, height: 1, resolution: n, substeps, iterations, tethers, bending, material: 'cotton' })
   if (pins === 'row') pinRow(world, cloth, 0)
@@ -40,7 +59,10 @@ export function sheets(): void {
       })
     }
   }
-  table('Sheets of 1 m hanging from their two top corners (cotton, line bending, tethers on), after 300 steps of 1/60 s (projections: distance, line-bending and tether constraints)', rows)
+  table(
+    'Sheets of 1 m hanging from their two top corners (cotton, line bending, tethers on), after 300 steps of 1/60 s (projections: distance, line-bending and tether constraints)',
+    rows,
+  )
   saveJson('core-sheets', rows)
 }
 
@@ -53,7 +75,8 @@ function solveLoop(c: ReturnType<typeof getClothState>): () => void {
   const t = c.topology
   return () => {
     c.distLambda.fill(0)
-    for (let it = 0; it < 8; it++) solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, c.params, 0, t.distCount)
+    for (let it = 0; it < 8; it++)
+      solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, c.params, 0, t.distCount)
   }
 }
 
@@ -105,7 +128,7 @@ export function throughput(): void {
   const names = [
     'textbook PBD loop: structural, shear, skip-one bending',
     'bitecs-cloth, default set: structural, shear, line bending, tethers',
-    'bitecs-cloth, the textbook\'s set: structural, shear, skip-one bending',
+    "bitecs-cloth, the textbook's set: structural, shear, skip-one bending",
     'bitecs-cloth, its distance loop alone (same set, 8 sweeps)',
   ]
   const rows: Record<string, string | number>[] = names.map((name, k) => ({
@@ -116,7 +139,10 @@ export function throughput(): void {
     'vs textbook': fmt(ratio[k], 2),
     'goal ≥ 0.8× textbook': k === 1 ? (ratio[k] >= 0.8 ? 'met' : 'missed') : '',
   }))
-  table(`Whole-step throughput, ${n}×${n} sheet hanging from its top row, 1 substep × 8 iterations (CPU time, median of 15 interleaved rounds of 30 steps)`, rows)
+  table(
+    `Whole-step throughput, ${n}×${n} sheet hanging from its top row, 1 substep × 8 iterations (CPU time, median of 15 interleaved rounds of 30 steps)`,
+    rows,
+  )
   saveJson('core-throughput', rows)
 }
 

@@ -25,7 +25,14 @@ function accuracySides(): Record<string, string | number>[] {
     const q = { substeps, iterations, tethers: false }
     const patch = createCloth(world, { ...q, width: 1, height: 1, resolution: 20, position: [0, 2.55, 0], shear: 'compression' })
     for (let c = 0; c < 20; c++) pinParticle(world, patch, c)
-    const chain = createCloth(world, { ...q, material: 'chainmail', width: 0.06, height: 1.2, resolution: [2, 30], position: [-0.85, 2.55, 0] })
+    const chain = createCloth(world, {
+      ...q,
+      material: 'chainmail',
+      width: 0.06,
+      height: 1.2,
+      resolution: [2, 30],
+      position: [-0.85, 2.55, 0],
+    })
     pinParticle(world, chain, 0)
     pinParticle(world, chain, 1)
     for (let i = 0; i < 120; i++) stepCloth(world, 1 / 60)
@@ -40,7 +47,12 @@ function accuracySides(): Record<string, string | number>[] {
       max += Math.max(a.max, b.max) / steps
     }
     const plural = (n: number, w: string) => `${n} ${w}${n === 1 ? '' : 's'}`
-    rows.push({ setting: `${plural(substeps, 'substep')} × ${plural(iterations, 'iteration')}`, 'mean stretch (%)': fmt(100 * mean, 2), 'max stretch (%)': fmt(100 * max, 1), 'ms per step': fmt(ms / steps, 3) })
+    rows.push({
+      setting: `${plural(substeps, 'substep')} × ${plural(iterations, 'iteration')}`,
+      'mean stretch (%)': fmt(100 * mean, 2),
+      'max stretch (%)': fmt(100 * max, 1),
+      'ms per step': fmt(ms / steps, 3),
+    })
   }
   return rows
 }
@@ -77,6 +89,6 @@ export function demoScenes(): void {
   const throws = curtainThrows(CURTAIN_TEARING)
   table('Curtain scene: twelve throws (cotton, tear strain 25 %, hysteresis 1, tethers off)', throws)
   const brittle = curtainThrows({ strain: 0.12, maxTearsPerStep: 32, hysteresis: 1 })
-  table('The same with the demo\'s settings before crack tearing (tear strain 12 %)', brittle)
+  table("The same with the demo's settings before crack tearing (tear strain 12 %)", brittle)
   saveJson('demo', { sides, throws, brittle })
 }

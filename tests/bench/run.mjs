@@ -38,6 +38,6 @@ const hash = spawnSync('git', ['rev-parse', '--short=12', 'HEAD'], { cwd: root, 
 const dirty = spawnSync('git', ['status', '--porcelain', '--untracked-files=no'], { cwd: root, encoding: 'utf8' }).stdout.trim() !== ''
 const commit = hash ? `commit ${hash}${dirty ? ' with uncommitted changes' : ''}` : 'not a git checkout'
 console.log(`bitecs-cloth benchmarks · ${commit} · node ${process.version} · ${cpus()[0]?.model ?? 'unknown CPU'} × ${cpus().length}`)
-console.log('Times are CPU time of the benchmark process on one core (a busy machine\'s waiting for a core is not counted).')
+console.log("Times are CPU time of the benchmark process on one core (a busy machine's waiting for a core is not counted).")
 const r = spawnSync(process.execPath, ['--expose-gc', outfile, ...process.argv.slice(2)], { stdio: 'inherit', cwd: root })
 process.exit(r.status ?? 1)

@@ -44,9 +44,13 @@ export function guardCost(): void {
       tOff += timeIt(() => clothFixedStep(off.world), 40, 5)
       tPhase += timeIt(() => clothGuard(on.world), 400, 20)
       tSparse += timeIt(() => clothGuard(sparse.world), 400, 20)
-      tCheck += timeIt(() => {
-        sink += checkClothHealth(c.pos, c.vel, c.invMass, c.count, g)
-      }, 400, 20)
+      tCheck += timeIt(
+        () => {
+          sink += checkClothHealth(c.pos, c.vel, c.invMass, c.count, g)
+        },
+        400,
+        20,
+      )
       tCopy += timeIt(() => c.guard.safe.set(c.pos), 400, 20)
     }
     if (sink !== 0) throw new Error('a healthy sheet failed its check')
@@ -77,10 +81,14 @@ export function snapshotCost(): void {
     const restore = timeIt(() => restoreClothState(world, cloth, snap), 400, 50)
     const c = getClothState(world, cloth)
     // a reset every step: the fault is written before each step, the guard restores after it
-    const reset = timeIt(() => {
-      c.pos[3 * (n + 1)] = NaN
-      clothFixedStep(world)
-    }, 100, 10)
+    const reset = timeIt(
+      () => {
+        c.pos[3 * (n + 1)] = NaN
+        clothFixedStep(world)
+      },
+      100,
+      10,
+    )
     rows.push({
       sheet: `${n}×${n}, 8 substeps`,
       'step (ms)': fmt(step, 3),

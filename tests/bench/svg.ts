@@ -61,7 +61,9 @@ export function scatterPanels(title: string, panels: Panel[], note = ''): string
   const legendH = 26
   const height = mt + ph + mb + legendH + (note ? 18 : 0)
   const out: string[] = []
-  out.push(`<svg xmlns="http://www.w3.org/2000/svg" width="${width}" height="${height}" viewBox="0 0 ${width} ${height}" font-family="system-ui, sans-serif" font-size="11">`)
+  out.push(
+    `<svg xmlns="http://www.w3.org/2000/svg" width="${width}" height="${height}" viewBox="0 0 ${width} ${height}" font-family="system-ui, sans-serif" font-size="11">`,
+  )
   out.push(`<rect width="${width}" height="${height}" fill="#ffffff"/>`)
   out.push(`<text x="12" y="20" font-size="14" font-weight="600">${esc(title)}</text>`)
   panels.forEach((p, i) => {
@@ -103,7 +105,9 @@ export function scatterPanels(title: string, panels: Panel[], note = ''): string
     for (const s of p.series) {
       for (const q of s.points) if (q.x > 0 && q.y > 0) out.push(marker(s.marker, sx(q.x), sy(q.y), s.color))
     }
-    if (p.front) for (const q of p.front) out.push(`<circle cx="${sx(q.x)}" cy="${sy(q.y)}" r="6.5" fill="none" stroke="#111" stroke-width="1.2"/>`)
+    if (p.front) {
+      for (const q of p.front) out.push(`<circle cx="${sx(q.x)}" cy="${sy(q.y)}" r="6.5" fill="none" stroke="#111" stroke-width="1.2"/>`)
+    }
   })
   // legend (from the first panel's series)
   let lx = 12

@@ -1,5 +1,14 @@
 import { createWorld } from 'bitecs'
-import { createCloth, getClothStats, installClothPlugin, makeTearable, pinParticle, resetClothStats, setTransform, stepCloth } from '../../src/index'
+import {
+  createCloth,
+  getClothStats,
+  installClothPlugin,
+  makeTearable,
+  pinParticle,
+  resetClothStats,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { cpuMs, fmt, saveJson, table, timeIt } from './harness'
 import { pinSidesToBars } from '../fixtures/bars'
 

@@ -37,7 +37,7 @@ export function createTextbook(n: number, pins: 'corners' | 'row', pose: 'hangin
       w[i] = 1 // equal masses: inverse masses only matter as ratios here
     }
   }
-  if (pins === 'row') for (let c = 0; c < n; c++) w[c] = 0
+  if (pins === 'row') { for (let c = 0; c < n; c++) w[c] = 0 }
   else w[0] = w[n - 1] = 0
   const a: number[] = [], b: number[] = [], kind: number[] = []
   const add = (i: number, j: number, k: number) => {

@@ -10,7 +10,8 @@ function flag(n: number, wind: 'none' | 'steady' | 'turbulent' | 'elsewhere') {
   for (let r = 0; r < rows; r++) pinParticle(world, cloth, r * n)
   if (wind === 'steady') createWindZone(world, { direction: [0.3, 0, 1], strength: 8 })
   if (wind === 'turbulent') createWindZone(world, { direction: [0.3, 0, 1], strength: 8, turbulence: 0.4 })
-  if (wind === 'elsewhere') createWindZone(world, { shape: 'sphere', position: [20, 0, 0], size: 3, direction: [1, 0, 0], strength: 8, turbulence: 0.4 })
+  if (wind === 'elsewhere')
+    createWindZone(world, { shape: 'sphere', position: [20, 0, 0], size: 3, direction: [1, 0, 0], strength: 8, turbulence: 0.4 })
   return { world, cloth }
 }
 

@@ -27,7 +27,11 @@ describe('inertia in the character frame', () => {
     const world = runDisplacement({ linear: 1, angular: 1, centrifugal: 1 })
     const half = runDisplacement({ linear: 0.5, angular: 0.5, centrifugal: 0.5 })
     const none = runDisplacement({ linear: 0, angular: 0, centrifugal: 0 })
-    console.log(`cape displacement in the character's frame (RMS over the run): shares 1 ${(100 * world).toFixed(1)} cm, 0.5 ${(100 * half).toFixed(1)} cm, 0 ${(100 * none).toFixed(4)} cm; ratio 0/1 ${(none / world).toExponential(2)}, 0.5/1 ${(half / world).toFixed(2)}`)
+    console.log(
+      `cape displacement in the character's frame (RMS over the run): shares 1 ${(100 * world).toFixed(1)} cm, 0.5 ${
+        (100 * half).toFixed(1)
+      } cm, 0 ${(100 * none).toFixed(4)} cm; ratio 0/1 ${(none / world).toExponential(2)}, 0.5/1 ${(half / world).toFixed(2)}`,
+    )
     expect(world).toBeGreaterThan(0.1) // the run really flings a world-space cape
     expect(none).toBeLessThan(0.1 * world)
     expect(half).toBeGreaterThan(2 * none)

@@ -3,7 +3,17 @@
 // rest shape carried rigidly by the character), not read from the library.
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import { ClothError, type ClothMotionConstraints, createCloth, getClothReference, getClothState, setClothInertia, setClothMotionConstraints, setTransform, stepCloth } from '../../src/index'
+import {
+  ClothError,
+  type ClothMotionConstraints,
+  createCloth,
+  getClothReference,
+  getClothState,
+  setClothInertia,
+  setClothMotionConstraints,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { DT, capeOnCharacter, carriedRest, drive, expectClothErrors, positionsNow, sprintTurnStopJump, yawQuat } from './scenes'
 
@@ -18,7 +28,10 @@ function painted(hem: number): number[] {
  * The violent run (world-space cape: sprint, turn, dead stop, jump) with motion constraints;
  * `check(x, ref, i)` sees every particle after every frame. Returns the cape's world.
  */
-function run(constraints: ClothMotionConstraints | undefined, check: (pos: Float64Array, ref: Float64Array, i: number, yaw: number) => void) {
+function run(
+  constraints: ClothMotionConstraints | undefined,
+  check: (pos: Float64Array, ref: Float64Array, i: number, yaw: number) => void,
+) {
   const { world, hero, cape } = capeOnCharacter(undefined, makeWorld({ sleep: false }))
   const rest = positionsNow(world, cape)
   if (constraints) setClothMotionConstraints(world, cape, constraints)
@@ -32,7 +45,8 @@ function run(constraints: ClothMotionConstraints | undefined, check: (pos: Float
   return { world, cape }
 }
 
-const dist = (a: ArrayLike<number>, b: ArrayLike<number>, i: number) => Math.hypot(a[3 * i] - b[3 * i], a[3 * i + 1] - b[3 * i + 1], a[3 * i + 2] - b[3 * i + 2])
+const dist = (a: ArrayLike<number>, b: ArrayLike<number>, i: number) =>
+  Math.hypot(a[3 * i] - b[3 * i], a[3 * i + 1] - b[3 * i + 1], a[3 * i + 2] - b[3 * i + 2])
 
 describe('max distance', () => {
   it('no particle ever ends a step farther from its reference than its painted max distance (+2 mm) through a sprint, a turn, a dead stop and a jump', () => {
@@ -55,7 +69,13 @@ describe('max distance', () => {
     const world = makeWorld({ sleep: false })
     const hero = addEntity(world)
     setTransform(world, hero, [0, 1.6, 0])
-    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [COLS, ROWS], position: [-0.15, 1.55, 0], rotation: yawQuat(-Math.PI / 2) })
+    const cape = createCloth(world, {
+      width: 0.5,
+      height: 0.8,
+      resolution: [COLS, ROWS],
+      position: [-0.15, 1.55, 0],
+      rotation: yawQuat(-Math.PI / 2),
+    })
     const rest = positionsNow(world, cape)
     setClothInertia(world, cape, { frame: hero, linear: 0.3, angular: 0.3, centrifugal: 0.3 })
     const md = Array.from({ length: ROWS * COLS }, (_, i) => (i < COLS ? 0 : Infinity))
@@ -99,7 +119,11 @@ describe('backstop', () => {
       // within the sphere's footprint its surface lies at depth distance + radius − √(radius² − lateral²)
       if (lateral < radius) worstDepth = Math.max(worstDepth, depth - (distance + radius - Math.sqrt(radius * radius - lateral * lateral)))
     })
-    console.log(`backstop: deepest inside the sphere ${(1000 * inside).toExponential(2)} mm, beyond the surface depth ${(1000 * worstDepth).toExponential(2)} mm`)
+    console.log(
+      `backstop: deepest inside the sphere ${(1000 * inside).toExponential(2)} mm, beyond the surface depth ${
+        (1000 * worstDepth).toExponential(2)
+      } mm`,
+    )
     expect(inside).toBeLessThan(0.002)
     expect(worstDepth).toBeLessThan(0.002)
     let deepest = -Infinity

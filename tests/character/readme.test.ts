@@ -3,7 +3,16 @@
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  createCloth, getClothReference, getClothState, getClothStats, installClothPlugin, pinRow, setClothInertia, setClothMotionConstraints, setTransform, stepCloth,
+  createCloth,
+  getClothReference,
+  getClothState,
+  getClothStats,
+  installClothPlugin,
+  pinRow,
+  setClothInertia,
+  setClothMotionConstraints,
+  setTransform,
+  stepCloth,
 } from '../../src/index'
 import { allFinite } from '../helpers'
 
@@ -15,13 +24,22 @@ describe('README: capes and character cloth', () => {
     setTransform(world, hero, [0, 0, 0])
 
     const cape = createCloth(world, {
-      width: 0.55, height: 1.05, resolution: [14, 24], position: [0, 1.47, -0.2],
+      width: 0.55,
+      height: 1.05,
+      resolution: [14, 24],
+      position: [0, 1.47, -0.2],
       rotation: [0, 1, 0, 0], // turned to face away from the body (−z): its backstop lies toward the back
       material: 'wool',
     })
     pinRow(world, cape, 0, hero)
     // feel half the hero's acceleration and turning; a snap of more than 90° in one frame resets it
-    setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { mode: 'reset', angle: Math.PI / 2 } })
+    setClothInertia(world, cape, {
+      frame: hero,
+      linear: 0.5,
+      angular: 0.5,
+      centrifugal: 0.5,
+      teleport: { mode: 'reset', angle: Math.PI / 2 },
+    })
     // held at the collar, freer lower down, free at the hem; never into the back
     const maxDistance = Array.from({ length: 14 * 24 }, (_, i) => {
       const u = Math.floor(i / 14) / 23 // 0 at the collar, 1 at the hem

@@ -1,6 +1,15 @@
 import { addEntity } from 'bitecs'
 import { expect } from 'vitest'
-import { ClothError, createCloth, getClothState, pinRow, setClothInertia, setTransform, stepCloth, type ClothInertiaOptions } from '../../src/index'
+import {
+  ClothError,
+  createCloth,
+  getClothState,
+  pinRow,
+  setClothInertia,
+  setTransform,
+  stepCloth,
+  type ClothInertiaOptions,
+} from '../../src/index'
 import { makeWorld } from '../helpers'
 
 export const DT = 1 / 60
@@ -49,14 +58,27 @@ export function capeOnCharacter(inertia?: ClothInertiaOptions, world = makeWorld
   setTransform(world, hero, [0, 1.6, 0])
   // the cape hangs behind the character (−x), its front facing away from the body (−x: a sheet
   // turned by −90° about y), so a backstop (behind the front) lies toward the body
-  const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [8, 12], position: [-0.15, 1.55, 0], rotation: yawQuat(-Math.PI / 2), iterations: 4 })
+  const cape = createCloth(world, {
+    width: 0.5,
+    height: 0.8,
+    resolution: [8, 12],
+    position: [-0.15, 1.55, 0],
+    rotation: yawQuat(-Math.PI / 2),
+    iterations: 4,
+  })
   pinRow(world, cape, 0, hero)
   if (inertia) setClothInertia(world, cape, { frame: hero, ...inertia })
   return { world, hero, cape }
 }
 
 /** Steps a scene along a motion for `seconds`, calling `sample(f, t)` after each frame. */
-export function drive(world: object, hero: number, motion: (t: number) => { p: number[]; yaw: number }, seconds: number, sample?: (f: number, t: number) => void): void {
+export function drive(
+  world: object,
+  hero: number,
+  motion: (t: number) => { p: number[]; yaw: number },
+  seconds: number,
+  sample?: (f: number, t: number) => void,
+): void {
   const frames = Math.round(seconds / DT)
   for (let f = 1; f <= frames; f++) {
     const t = f * DT

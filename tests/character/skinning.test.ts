@@ -3,7 +3,16 @@
 import { addComponent, addEntity, removeEntity } from 'bitecs'
 import { glMatrix, mat4, quat, vec3 } from 'gl-matrix'
 import { describe, expect, it } from 'vitest'
-import { ClothError, createCloth, getClothComponents, getClothState, setClothMotionConstraints, setClothSkinning, setTransform, stepCloth } from '../../src/index'
+import {
+  ClothError,
+  createCloth,
+  getClothComponents,
+  getClothState,
+  setClothMotionConstraints,
+  setClothSkinning,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { DT, expectClothErrors, positionsNow } from './scenes'
 
@@ -65,7 +74,11 @@ describe('skinned reference', () => {
       for (let j = 0; j < expected.length; j++) worst = Math.max(worst, Math.abs(c.pos[j] - expected[j]))
       moved = Math.max(moved, Math.hypot(c.pos[3 * (N - 1)] - rest[3 * (N - 1)], c.pos[3 * (N - 1) + 1] - rest[3 * (N - 1) + 1]))
     }
-    console.log(`skinning: worst difference from gl-matrix linear blend skinning ${(1000 * worst).toExponential(2)} mm; the tip moved ${moved.toFixed(3)} m`)
+    console.log(
+      `skinning: worst difference from gl-matrix linear blend skinning ${(1000 * worst).toExponential(2)} mm; the tip moved ${
+        moved.toFixed(3)
+      } m`,
+    )
     expect(worst).toBeLessThan(0.001)
     expect(moved).toBeGreaterThan(0.6) // the tip swung up (0.5 m arm turned 90°: 0.71 m)
     expect(allFinite(world, cloth)).toBe(true)

@@ -3,8 +3,20 @@
 import { addEntity, createWorld, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, createCloth, getClothState, getClothStats, installClothPlugin, pinRow, restoreClothState, saveClothState, setClothInertia, setClothMotionConstraints,
-  setClothSkinning, setTransform, stepCloth, type ClothSnapshot,
+  ClothError,
+  createCloth,
+  getClothState,
+  getClothStats,
+  installClothPlugin,
+  pinRow,
+  restoreClothState,
+  saveClothState,
+  setClothInertia,
+  setClothMotionConstraints,
+  setClothSkinning,
+  setTransform,
+  stepCloth,
+  type ClothSnapshot,
 } from '../../src/index'
 import { hashBytes, rng } from '../helpers'
 import { yawQuat } from './scenes'
@@ -18,7 +30,14 @@ function buildScene(world: object, configure = true) {
   const arm = [addEntity(world), addEntity(world)]
   setTransform(world, arm[0], [0.2, 1.4, 0])
   setTransform(world, arm[1], [0.5, 1.4, 0])
-  const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [6, 9], position: [-0.15, 1.55, 0], rotation: yawQuat(-Math.PI / 2), iterations: 3 })
+  const cape = createCloth(world, {
+    width: 0.5,
+    height: 0.8,
+    resolution: [6, 9],
+    position: [-0.15, 1.55, 0],
+    rotation: yawQuat(-Math.PI / 2),
+    iterations: 3,
+  })
   pinRow(world, cape, 0, hero)
   const sleeve = createCloth(world, { width: 0.6, height: 0.1, resolution: [7, 2], position: [0.5, 1.4, 0] })
   if (configure) configureScene(world, { hero, torso, arm, cape, sleeve })
@@ -26,7 +45,14 @@ function buildScene(world: object, configure = true) {
 }
 
 function configureScene(world: object, s: { hero: number; torso: number; arm: number[]; cape: number; sleeve: number }) {
-  setClothInertia(world, s.cape, { frame: s.hero, linear: 0.5, angular: 0.5, centrifugal: 0.3, maxLinearSpeed: 6, teleport: { mode: 'reset', angle: Math.PI / 2 } })
+  setClothInertia(world, s.cape, {
+    frame: s.hero,
+    linear: 0.5,
+    angular: 0.5,
+    centrifugal: 0.3,
+    maxLinearSpeed: 6,
+    teleport: { mode: 'reset', angle: Math.PI / 2 },
+  })
   setClothMotionConstraints(world, s.cape, {
     maxDistance: Array.from({ length: 54 }, (_, i) => (i < 6 ? 0 : 0.04 * Math.floor(i / 6))),
     backstop: { distance: 0.02, radius: 0.6 },
@@ -72,7 +98,13 @@ function stateHash(world: object, cloths: number[]): string {
   }).join('.')
 }
 
-function record(world: object, scene: ReturnType<typeof buildScene>, inputs: ReturnType<typeof makeInputs>, frames: number, hook?: (f: number) => void) {
+function record(
+  world: object,
+  scene: ReturnType<typeof buildScene>,
+  inputs: ReturnType<typeof makeInputs>,
+  frames: number,
+  hook?: (f: number) => void,
+) {
   const out: string[] = []
   for (let f = 0; f < frames; f++) {
     hook?.(f)
@@ -92,7 +124,8 @@ function inputsFrom(seed: number, from: number) {
 }
 
 const saveAll = (world: object, cloths: number[]) => cloths.map((cl) => saveClothState(world, cl))
-const restoreAll = (world: object, cloths: number[], snaps: ClothSnapshot[]) => cloths.forEach((cl, k) => restoreClothState(world, cl, snaps[k]))
+const restoreAll = (world: object, cloths: number[], snaps: ClothSnapshot[]) =>
+  cloths.forEach((cl, k) => restoreClothState(world, cl, snaps[k]))
 
 describe('character cloth determinism', () => {
   it('two worlds fed the same inputs are byte-identical after every frame (snaps, jumps, resets, skinning)', () => {

@@ -3,7 +3,18 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import { LIMITS, L_MAX } from '../../src/kernels/motion'
-import { createCloth, getClothReference, getClothState, getClothTearCount, makeTearable, pinParticle, setClothInertia, setClothMotionConstraints, setTransform, stepCloth } from '../../src/index'
+import {
+  createCloth,
+  getClothReference,
+  getClothState,
+  getClothTearCount,
+  makeTearable,
+  pinParticle,
+  setClothInertia,
+  setClothMotionConstraints,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { DT, drive } from './scenes'
 

@@ -3,8 +3,17 @@
 import { addComponent, addEntity, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  createCloth, getClothComponents, getClothState, getClothStats, removeCloth, setClothInertia, setClothMotionConstraints, setTransform, stepCloth,
-  teleportCloth, type ClothInertiaOptions,
+  createCloth,
+  getClothComponents,
+  getClothState,
+  getClothStats,
+  removeCloth,
+  setClothInertia,
+  setClothMotionConstraints,
+  setTransform,
+  stepCloth,
+  teleportCloth,
+  type ClothInertiaOptions,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { DT, capeOnCharacter, carriedRest, drive, localShape, positionsNow, rms, yawQuat } from './scenes'
@@ -42,7 +51,11 @@ describe('teleport', () => {
     const offBefore = rms(carriedRest(s.rest, [0, 1.6, 0], 0, s.at.p, s.at.yaw), c.pos.slice(0, 3 * c.count))
     stepCloth(s.world, DT)
     const offAfter = rms(ref, c.pos.slice(0, 3 * c.count))
-    console.log(`teleport reset: RMS distance from the reference pose ${(1000 * offBefore).toFixed(1)} mm before, ${(1000 * offAfter).toExponential(2)} mm one step after`)
+    console.log(
+      `teleport reset: RMS distance from the reference pose ${(1000 * offBefore).toFixed(1)} mm before, ${
+        (1000 * offAfter).toExponential(2)
+      } mm one step after`,
+    )
     expect(offBefore).toBeGreaterThan(0.05) // it was swinging well away from it
     expect(offAfter).toBeLessThan(0.003) // one step of gravity from the reference: ½·g·(1/60 s)² = 1.4 mm
   })
@@ -101,7 +114,13 @@ describe('teleport', () => {
     const world = makeWorld({ sleep: false })
     const hero = addEntity(world)
     setTransform(world, hero, [0, 1.6, 0])
-    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [8, 12], position: [-0.15, 1.55, 0], rotation: yawQuat(-Math.PI / 2) })
+    const cape = createCloth(world, {
+      width: 0.5,
+      height: 0.8,
+      resolution: [8, 12],
+      position: [-0.15, 1.55, 0],
+      rotation: yawQuat(-Math.PI / 2),
+    })
     setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
     setClothMotionConstraints(world, cape, { maxDistance: Array.from({ length: 96 }, (_, i) => (i < 8 ? 0 : Infinity)) })
     drive(world, hero, (t) => ({ p: [3 * t, 1.6, 0], yaw: 0 }), 1)

@@ -37,7 +37,11 @@ describe('colliders', () => {
       shape: { kind: 'capsule', radius: 0.15, halfHeight: 0.3 },
       add: (w, e) => addCapsuleCollider(w, e, { radius: 0.15, halfHeight: 0.3, axis: [1, 0, 0], rotation: [0, 0, 0, 1] }),
     },
-    { name: 'box', shape: { kind: 'box', halfExtents: [0.3, 0.2, 0.25] }, add: (w, e) => addBoxCollider(w, e, { halfExtents: [0.3, 0.2, 0.25] }) },
+    {
+      name: 'box',
+      shape: { kind: 'box', halfExtents: [0.3, 0.2, 0.25] },
+      add: (w, e) => addBoxCollider(w, e, { halfExtents: [0.3, 0.2, 0.25] }),
+    },
     {
       name: 'convex hull (34 planes)',
       shape: { kind: 'prism', radius: 0.3, halfHeight: 0.15, sides: 32 },
@@ -125,13 +129,23 @@ describe('colliders', () => {
       const flat = quat.setAxisAngle(quat.create(), [1, 0, 0], -Math.PI / 2)
       const rotation = quat.multiply(quat.create(), tilt, flat)
       const n = vec3.transformQuat(vec3.create(), [0, 1, 0], tilt)
-      const cloth = createCloth(world, { width: 0.5, height: 0.5, resolution: 12, position: vec3.scale(vec3.create(), n, 0.0055), rotation })
+      const cloth = createCloth(world, {
+        width: 0.5,
+        height: 0.5,
+        resolution: 12,
+        position: vec3.scale(vec3.create(), n, 0.0055),
+        rotation,
+      })
       setClothCollision(world, cloth, { friction: mu })
       const c = getClothState(world, cloth)
       const start = c.pos.slice()
       for (let f = 0; f < 120; f++) stepCloth(world, 1 / 60)
       let moved = 0
-      for (let i = 0; i < c.count; i++) moved = Math.max(moved, Math.hypot(c.pos[3 * i] - start[3 * i], c.pos[3 * i + 1] - start[3 * i + 1], c.pos[3 * i + 2] - start[3 * i + 2]))
+      for (let i = 0; i < c.count; i++)
+        moved = Math.max(
+          moved,
+          Math.hypot(c.pos[3 * i] - start[3 * i], c.pos[3 * i + 1] - start[3 * i + 1], c.pos[3 * i + 2] - start[3 * i + 2]),
+        )
       return moved
     }
     expect(slide(0.6)).toBeLessThan(0.005)

@@ -81,9 +81,19 @@ export function maxSpeed(world: object, cloth: number): number {
 }
 
 /** A horizontal sheet (its front facing up) centred at (x, y, z). */
-export function flatSheet(world: object, x: number, y: number, z: number, size: number, n: number, extra: Partial<CreateClothOptions> = {}): number {
+export function flatSheet(
+  world: object,
+  x: number,
+  y: number,
+  z: number,
+  size: number,
+  n: number,
+  extra: Partial<CreateClothOptions> = {},
+): number {
   return createCloth(world, {
-    width: size, height: size, resolution: n,
+    width: size,
+    height: size,
+    resolution: n,
     position: [x, y, z - size / 2],
     rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
     ...extra,

@@ -102,7 +102,11 @@ describe.skipIf(!hasChromium)('the demo cape in Chromium', () => {
       for (const g of gaits) {
         const r = await measure(setup, g, 5) // the gait is reached within 1.5 s; the last 2 s are measured
         result[name][g] = r
-        rows.push(`${name.padEnd(9)} ${g.padEnd(6)} hem ${r.mean.toFixed(1)}° (${r.min.toFixed(1)}..${r.max.toFixed(1)}), torso depth ${(100 * r.depth).toFixed(1)} cm`)
+        rows.push(
+          `${name.padEnd(9)} ${g.padEnd(6)} hem ${r.mean.toFixed(1)}° (${r.min.toFixed(1)}..${r.max.toFixed(1)}), torso depth ${
+            (100 * r.depth).toFixed(1)
+          } cm`,
+        )
       }
     }
     console.log(`cape hem angle from the vertical, mean (min..max) over 2 s:\n${rows.join('\n')}`)
@@ -122,7 +126,9 @@ describe.skipIf(!hasChromium)('the demo cape in Chromium', () => {
   it('does not enter the torso while turning on the spot or jumping', async () => {
     for (const move of ['turn', 'jump']) {
       const r = await measure(CHARACTER, move, 2)
-      console.log(`cape ${move}: hem ${r.mean.toFixed(1)}° (${r.min.toFixed(1)}..${r.max.toFixed(1)}), torso depth ${(100 * r.depth).toFixed(1)} cm`)
+      console.log(
+        `cape ${move}: hem ${r.mean.toFixed(1)}° (${r.min.toFixed(1)}..${r.max.toFixed(1)}), torso depth ${(100 * r.depth).toFixed(1)} cm`,
+      )
       expect(r.depth, `${move}: deepest cape particle in the torso, m`).toBeLessThan(0.02)
       expect(Math.abs(r.mean), `${move}: the cape stays behind, degrees`).toBeLessThan(45)
     }
@@ -133,7 +139,11 @@ describe.skipIf(!hasChromium)('the demo cape in Chromium', () => {
     for (const move of ['stand', 'turn', 'jump']) {
       const backstop = await measure({ ...CHARACTER, colliders: false }, move, 2)
       const none = await measure({ ...CHARACTER, colliders: false, backstop: false }, move, 2)
-      console.log(`cape ${move}, no colliders: torso depth ${(100 * backstop.depth).toFixed(1)} cm with the backstop, ${(100 * none.depth).toFixed(1)} cm without`)
+      console.log(
+        `cape ${move}, no colliders: torso depth ${(100 * backstop.depth).toFixed(1)} cm with the backstop, ${
+          (100 * none.depth).toFixed(1)
+        } cm without`,
+      )
       expect(backstop.depth, `${move}: deepest cape particle in the torso, backstop only, m`).toBeLessThan(0.02)
       if (move !== 'stand') expect(none.depth, `${move}: without colliders or backstop the cape enters the torso, m`).toBeGreaterThan(0.02)
     }

@@ -95,10 +95,16 @@ describe.skipIf(!hasChromium)('the crowd scene on workers in Chromium', () => {
     // the workers load their script through the page's event loop: wait until both say they are
     // ready before `simulate` blocks the page in stepCloth (otherwise the first step spins until
     // the pool reports them stuck, and only then do they start)
-    await page.waitForFunction((at) => {
-      const t = (__demo.world as { [k: symbol]: { threads: { pool: { control: Int32Array; workers: unknown[] } } | null } })[Symbol.for('bitecs-cloth')].threads
-      return t !== null && t.pool.workers.every((_, w) => Atomics.load(t.pool.control, at + w) === 1)
-    }, C_STATE, { timeout: 120_000 })
+    await page.waitForFunction(
+      (at) => {
+        const t = (__demo.world as { [k: symbol]: { threads: { pool: { control: Int32Array; workers: unknown[] } } | null } })[
+          Symbol.for('bitecs-cloth')
+        ].threads
+        return t !== null && t.pool.workers.every((_, w) => Atomics.load(t.pool.control, at + w) === 1)
+      },
+      C_STATE,
+      { timeout: 120_000 },
+    )
     expect(await page.evaluate(() => crossOriginIsolated)).toBe(true)
     const threads = () =>
       page.evaluate(() => {

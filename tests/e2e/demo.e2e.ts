@@ -221,10 +221,13 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
     let worst = 0
     for (let k = 1; k <= 10; k++) {
       await page.mouse.move(x - 25 * k, y + 10 * k)
-      worst = Math.max(worst, await page.evaluate(() => {
-        __demo.simulate(0.1)
-        return __demo.maxStretch()
-      }))
+      worst = Math.max(
+        worst,
+        await page.evaluate(() => {
+          __demo.simulate(0.1)
+          return __demo.maxStretch()
+        }),
+      )
     }
     await page.mouse.up()
     expect(await page.evaluate(() => __demo.grabbing)).toBe(false)

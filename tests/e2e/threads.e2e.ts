@@ -97,7 +97,11 @@ describe.skipIf(!hasChromium)('threaded cloth in Chromium', () => {
     await page.goto(url)
     await page.waitForFunction(() => (globalThis as { pageReady?: boolean }).pageReady === true)
     const r = await page.evaluate(() => (globalThis as unknown as { stepAtOnce(): Promise<Record<string, number | boolean>> }).stepAtOnce())
-    console.log(`stepCloth at once: 20 frames in ${(r.syncMs as number).toFixed(0)} ms, ${r.handedAtOnce} handed over; workers took steps from frame ${r.frames as number - 10}`)
+    console.log(
+      `stepCloth at once: 20 frames in ${
+        (r.syncMs as number).toFixed(0)
+      } ms, ${r.handedAtOnce} handed over; workers took steps from frame ${r.frames as number - 10}`,
+    )
     expect(errors).toEqual([])
     expect(r.syncMs).toBeLessThan(20000) // a spinning wait for workers that cannot start ran into the pool's one-minute stuck report
     expect(r.handed).toBeGreaterThan(r.handedAtOnce as number)

@@ -48,10 +48,20 @@ describe('solveLineBending', () => {
     for (const rest of [0, 1e-3]) {
       const pos = Float64Array.from([0, 0, 0, 1, 0.1, 0, 2, 0, 0])
       const lambda = new Float64Array(3)
-      for (let i = 0; i < 200; i++) solveLineBending(pos, Float64Array.from([0, w1, 0]), ids, Float64Array.from([rest]), Float64Array.from([alpha]), lambda, params(invH2), 0, 1)
+      for (let i = 0; i < 200; i++)
+        solveLineBending(
+          pos,
+          Float64Array.from([0, w1, 0]),
+          ids,
+          Float64Array.from([rest]),
+          Float64Array.from([alpha]),
+          lambda,
+          params(invH2),
+          0,
+          1,
+        )
       // (the scalar form's rest kink shifts its answer by rest × w/(w + α̃))
       expect(pos[4]).toBeCloseTo(expected + (rest * w1) / (w1 + alpha * invH2), 9)
     }
   })
 })
-

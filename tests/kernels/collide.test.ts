@@ -53,7 +53,9 @@ const scratch = () => new Float64Array(COLLIDE_SCRATCH)
 /** closestPoint for a local point: [point, normal, distance]. */
 function closest(shape: number, f: Float64Array, p: number[], planes: Float64Array | null = null, count = 0) {
   const s = scratch()
-  s[0] = p[0]; s[1] = p[1]; s[2] = p[2]
+  s[0] = p[0]
+  s[1] = p[1]
+  s[2] = p[2]
   closestPoint(shape, f, planes, count, s)
   return { q: [s[3], s[4], s[5]], n: [s[6], s[7], s[8]], d: s[9] }
 }
@@ -128,7 +130,8 @@ describe('collider distances and normals', () => {
     // every hull plane has every input point behind it
     for (let k = 0; k < hull.planeCount; k++) {
       for (let v = 0; v < hull.vertices.length; v += 3) {
-        const d = hull.planes[4 * k] * hull.vertices[v] + hull.planes[4 * k + 1] * hull.vertices[v + 1] + hull.planes[4 * k + 2] * hull.vertices[v + 2] - hull.planes[4 * k + 3]
+        const d = hull.planes[4 * k] * hull.vertices[v] + hull.planes[4 * k + 1] * hull.vertices[v + 1] +
+          hull.planes[4 * k + 2] * hull.vertices[v + 2] - hull.planes[4 * k + 3]
         expect(d).toBeLessThan(1e-9)
       }
     }
@@ -234,9 +237,35 @@ describe('contact response', () => {
     expect(collideBox(b.pos, b.prev, b.w, 1, frame([0.3, 0.3, 0.05], r, [0, 0, 0], [0, 0, 1], 0, 0, -1, 0.5), scratch())).toBe(1)
     expect(b.pos[2]).toBeCloseTo(1.06, 12)
     // a hull too
-    const hull = buildConvexHull([-1, -1, -0.05, 1, -1, -0.05, -1, 1, -0.05, 1, 1, -0.05, -1, -1, 0.05, 1, -1, 0.05, -1, 1, 0.05, 1, 1, 0.05])
+    const hull = buildConvexHull([
+      -1,
+      -1,
+      -0.05,
+      1,
+      -1,
+      -0.05,
+      -1,
+      1,
+      -0.05,
+      1,
+      1,
+      -0.05,
+      -1,
+      -1,
+      0.05,
+      1,
+      -1,
+      0.05,
+      -1,
+      1,
+      0.05,
+      1,
+      1,
+      0.05,
+    ])
     const h = particle([0, 0, 0.5], [0, 0, 0.5])
-    expect(collideHull(h.pos, h.prev, h.w, 1, frame([], r, [0, 0, 0], [0, 0, 1], 0, 0, -1, 1.5), hull.planes, hull.planeCount, scratch())).toBe(1)
+    expect(collideHull(h.pos, h.prev, h.w, 1, frame([], r, [0, 0, 0], [0, 0, 1], 0, 0, -1, 1.5), hull.planes, hull.planeCount, scratch()))
+      .toBe(1)
     expect(h.pos[2]).toBeCloseTo(1.06, 12)
     // a particle passing well beside a fast capsule is not touched
     const side = particle([0.5, 0, 0.5], [0.5, 0, 0.5])
@@ -247,7 +276,12 @@ describe('contact response', () => {
   it('segment tests: capsule and box, hits and misses', () => {
     const s = scratch()
     const seg = (a: number[], b: number[]) => {
-      s[14] = a[0]; s[15] = a[1]; s[16] = a[2]; s[17] = b[0]; s[18] = b[1]; s[19] = b[2]
+      s[14] = a[0]
+      s[15] = a[1]
+      s[16] = a[2]
+      s[17] = b[0]
+      s[18] = b[1]
+      s[19] = b[2]
     }
     const cap = frame([0.1, 0.5], 0.01)
     seg([-1, 0.4, 0], [1, 0.4, 0])
@@ -279,7 +313,11 @@ describe('properties', () => {
     (p, motion, r) => {
       const cases: [number[], (q: ReturnType<typeof particle>, f: Float64Array) => void, (x: number, y: number, z: number) => number][] = [
         [[0.5], (q, f) => collideSphere(q.pos, q.prev, q.w, 1, f, scratch()), (x, y, z) => Math.hypot(x, y, z) - 0.5],
-        [[0.3, 0.6], (q, f) => collideCapsule(q.pos, q.prev, q.w, 1, f, scratch()), (x, y, z) => Math.hypot(x, y - Math.max(-0.6, Math.min(0.6, y)), z) - 0.3],
+        [
+          [0.3, 0.6],
+          (q, f) => collideCapsule(q.pos, q.prev, q.w, 1, f, scratch()),
+          (x, y, z) => Math.hypot(x, y - Math.max(-0.6, Math.min(0.6, y)), z) - 0.3,
+        ],
         [[0.7, 0.4, 0.2], (q, f) => collideBox(q.pos, q.prev, q.w, 1, f, scratch()), (x, y, z) => {
           const qx = Math.abs(x) - 0.7, qy = Math.abs(y) - 0.4, qz = Math.abs(z) - 0.2
           return Math.hypot(Math.max(qx, 0), Math.max(qy, 0), Math.max(qz, 0)) + Math.min(Math.max(qx, qy, qz), 0)
@@ -299,7 +337,9 @@ describe('properties', () => {
     },
   )
 
-  test.prop([fc.array(point, { minLength: 1, maxLength: 30 }), point, point, fc.double({ min: 0.001, max: 0.05, noNaN: true })], { numRuns: 200 })(
+  test.prop([fc.array(point, { minLength: 1, maxLength: 30 }), point, point, fc.double({ min: 0.001, max: 0.05, noNaN: true })], {
+    numRuns: 200,
+  })(
     'the world-space bound in front of the swept test skips only particles the swept test would leave alone',
     (ends, from, to, r) => {
       const shapes: [number[], number, (pos: Float64Array, prev: Float64Array, w: Float64Array, n: number, f: Float64Array) => number][] = [

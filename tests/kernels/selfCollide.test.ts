@@ -125,7 +125,20 @@ describe('particle pair response', () => {
     const a = Float64Array.from([0, 0, 0]), b = Float64Array.from([0, 0.05, 0])
     const touched = new Uint8Array(1)
     const pairs = Int32Array.from([0, 0])
-    solvePairs(a, a.slice(), Float64Array.from([1]), touched, b, b.slice(), Float64Array.from([1]), touched, pairs, 0, 1, params({ [S_DIST]: 0.1, [S_W_A]: 0 }))
+    solvePairs(
+      a,
+      a.slice(),
+      Float64Array.from([1]),
+      touched,
+      b,
+      b.slice(),
+      Float64Array.from([1]),
+      touched,
+      pairs,
+      0,
+      1,
+      params({ [S_DIST]: 0.1, [S_W_A]: 0 }),
+    )
     expect(Array.from(a)).toEqual([0, 0, 0])
     expect(b[1]).toBeCloseTo(0.1, 12)
   })
@@ -153,7 +166,20 @@ describe('particle pair response', () => {
     const pos = Float64Array.from([0, 0, 0, 0, 0.05, 0])
     const w = Float64Array.from([1, 1])
     const touched = Uint8Array.from([1, 0])
-    solvePairs(pos, pos.slice(), w, touched, pos, pos.slice(), w, touched, Int32Array.from([0, 1]), 0, 1, params({ [S_DIST]: 0.1, [S_CONTACT_SCALE]: 0.25 }))
+    solvePairs(
+      pos,
+      pos.slice(),
+      w,
+      touched,
+      pos,
+      pos.slice(),
+      w,
+      touched,
+      Int32Array.from([0, 1]),
+      0,
+      1,
+      params({ [S_DIST]: 0.1, [S_CONTACT_SCALE]: 0.25 }),
+    )
     expect(pos[1]).toBeCloseTo(-0.01, 12) // 1/5 of the 5 cm
     expect(pos[4]).toBeCloseTo(0.09, 12)
   })
@@ -194,7 +220,7 @@ describe('relative motion clamp', () => {
       }
       const momentum = (a: Float64Array) => {
         const p = [0, 0, 0]
-        for (let i = 0; i < n; i++) if (w[i] > 0) for (let k = 0; k < 3; k++) p[k] += (a[3 * i + k] - prev[3 * i + k]) / w[i]
+        for (let i = 0; i < n; i++) if (w[i] > 0) { for (let k = 0; k < 3; k++) p[k] += (a[3 * i + k] - prev[3 * i + k]) / w[i] }
         return p
       }
       const before = momentum(pos)

@@ -5,7 +5,13 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  addBoxCollider, addCapsuleCollider, addConvexHullCollider, addPlaneCollider, addSphereCollider, removeCollider, setTransform,
+  addBoxCollider,
+  addCapsuleCollider,
+  addConvexHullCollider,
+  addPlaneCollider,
+  addSphereCollider,
+  removeCollider,
+  setTransform,
 } from '../../src/index'
 import { rng } from '../helpers'
 import { expectStable, expectStuck, hangingSheet, runTorture, type Scene } from './harness'
@@ -108,7 +114,10 @@ describe('a collider spawned inside the cloth', () => {
     ['sphere', sphere(0.25)],
     ['capsule', capsule],
     ['box', (w, e) => addBoxCollider(w, e, { halfExtents: [0.3, 0.2, 0.25], rotation: [0.1, 0.2, 0, 1] })],
-    ['convex hull', (w, e) => addConvexHullCollider(w, e, { points: [0, 0.3, 0, 0.3, 0, 0, -0.3, 0, 0, 0, 0, 0.3, 0, 0, -0.3, 0, -0.3, 0] })],
+    [
+      'convex hull',
+      (w, e) => addConvexHullCollider(w, e, { points: [0, 0.3, 0, 0.3, 0, 0, -0.3, 0, 0, 0, 0, 0.3, 0, 0, -0.3, 0, -0.3, 0] }),
+    ],
     ['plane (tilted floor through the sheet)', (w, e) => addPlaneCollider(w, e, { normal: [0, 1, 0.3] })],
     ['plane (wall through the sheet)', (w, e) => addPlaneCollider(w, e, { normal: [0.2, 0, 1] })],
   ]

@@ -31,10 +31,23 @@ import { gridMesh } from './harness'
 function buildScene(world: object) {
   const hero = addEntity(world)
   setTransform(world, hero, [0, 1.6, 0])
-  const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [7, 9], position: [0, 1.5, -0.15], iterations: 2, bending: 'both' })
+  const cape = createCloth(world, {
+    width: 0.5,
+    height: 0.8,
+    resolution: [7, 9],
+    position: [0, 1.5, -0.15],
+    iterations: 2,
+    bending: 'both',
+  })
   pinRow(world, cape, 0, hero)
   const sheet = createCloth(world, {
-    width: 1, height: 1, resolution: 8, position: [3, 2, 0], bending: 'dihedral', tethers: { mode: 'geodesic' }, guard: { snapshotInterval: 7 },
+    width: 1,
+    height: 1,
+    resolution: 8,
+    position: [3, 2, 0],
+    bending: 'dihedral',
+    tethers: { mode: 'geodesic' },
+    guard: { snapshotInterval: 7 },
   })
   pinParticle(world, sheet, 0)
   pinParticle(world, sheet, 7, null, [3.3, 2.1, 0.2], { blendTime: 0.5 })
@@ -119,7 +132,13 @@ describe('determinism', () => {
 
 describe('snapshots', () => {
   /** Runs `frames` frames from the current state, returning the state hash after each. */
-  function record(world: object, scene: ReturnType<typeof buildScene>, inputs: ReturnType<typeof makeInputs>, frames: number, hook?: (f: number) => void) {
+  function record(
+    world: object,
+    scene: ReturnType<typeof buildScene>,
+    inputs: ReturnType<typeof makeInputs>,
+    frames: number,
+    hook?: (f: number) => void,
+  ) {
     const out: string[] = []
     for (let f = 0; f < frames; f++) {
       hook?.(f)
@@ -129,7 +148,8 @@ describe('snapshots', () => {
     return out
   }
   const saveAll = (world: object, cloths: number[]) => cloths.map((cl) => saveClothState(world, cl))
-  const restoreAll = (world: object, cloths: number[], snaps: ClothSnapshot[]) => cloths.forEach((cl, k) => restoreClothState(world, cl, snaps[k]))
+  const restoreAll = (world: object, cloths: number[], snaps: ClothSnapshot[]) =>
+    cloths.forEach((cl, k) => restoreClothState(world, cl, snaps[k]))
   /** Inputs replayable from frame `from`: a fresh generator advanced past the earlier frames. */
   function inputsFrom(seed: number, from: number) {
     const gen = makeInputs(seed)

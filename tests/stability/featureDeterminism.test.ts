@@ -4,9 +4,26 @@
 import { addComponent, addEntity, createWorld, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, addBoxCollider, addSphereCollider, createCloth, createWindZone, enableSelfCollision, getClothComponents, getClothState,
-  getClothStats, getClothTearCount, gustWind, installClothPlugin, makeTearable, pinParticle, removeCollider, restoreClothState,
-  saveClothState, setTransform, stepCloth, type ClothSnapshot,
+  ClothError,
+  addBoxCollider,
+  addSphereCollider,
+  createCloth,
+  createWindZone,
+  enableSelfCollision,
+  getClothComponents,
+  getClothState,
+  getClothStats,
+  getClothTearCount,
+  gustWind,
+  installClothPlugin,
+  makeTearable,
+  pinParticle,
+  removeCollider,
+  restoreClothState,
+  saveClothState,
+  setTransform,
+  stepCloth,
+  type ClothSnapshot,
 } from '../../src/index'
 import { hashBytes, rng } from '../helpers'
 import { hangingSheet } from './harness'
@@ -157,7 +174,8 @@ describe('snapshots with colliders, wind and tearing', () => {
     return gen
   }
   const saveAll = (world: object, cloths: number[]) => cloths.map((cl) => saveClothState(world, cl))
-  const restoreAll = (world: object, cloths: number[], snaps: ClothSnapshot[]) => cloths.forEach((cl, k) => restoreClothState(world, cl, snaps[k]))
+  const restoreAll = (world: object, cloths: number[], snaps: ClothSnapshot[]) =>
+    cloths.forEach((cl, k) => restoreClothState(world, cl, snaps[k]))
 
   it('save, run, restore, run again: byte for byte (moving colliders, body colliders, turbulent wind and gusts, a torn cloth, self-collision)', () => {
     const world = installClothPlugin(createWorld())
@@ -258,7 +276,11 @@ describe('snapshots with colliders, wind and tearing', () => {
   })
 
   /** Two worlds built by `build` and run alike for `frames`; a messes with its world after a save, restores, and both go on alike. */
-  function undoes(build: (w: object) => { cloths: number[] }, input: (w: object, s: any, f: number) => void, mess: (w: object, s: any, f: number) => void) {
+  function undoes(
+    build: (w: object) => { cloths: number[] },
+    input: (w: object, s: any, f: number) => void,
+    mess: (w: object, s: any, f: number) => void,
+  ) {
     const a = installClothPlugin(createWorld()), b = installClothPlugin(createWorld())
     const sa = build(a), sb = build(b)
     for (let f = 0; f < 60; f++) {
@@ -315,7 +337,12 @@ describe('snapshots with colliders, wind and tearing', () => {
     const s = buildScene(world)
     record(world, s, makeInputs(4), 40)
     const c = getClothState(world, s.sheet)
-    const copy = () => ({ n: c.tethers.set.count, p: Array.from(c.tethers.set.particle.subarray(0, c.tethers.set.count)), a: Array.from(c.tethers.set.anchor.subarray(0, c.tethers.set.count)), r: Array.from(c.tethers.set.rest.subarray(0, c.tethers.set.count)) })
+    const copy = () => ({
+      n: c.tethers.set.count,
+      p: Array.from(c.tethers.set.particle.subarray(0, c.tethers.set.count)),
+      a: Array.from(c.tethers.set.anchor.subarray(0, c.tethers.set.count)),
+      r: Array.from(c.tethers.set.rest.subarray(0, c.tethers.set.count)),
+    })
     const saved = copy()
     expect(saved.n).toBeGreaterThan(0)
     const snap = saveClothState(world, s.sheet)

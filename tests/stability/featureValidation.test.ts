@@ -7,8 +7,21 @@
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, addBoxCollider, addCapsuleCollider, addConvexHullCollider, addPlaneCollider, addSphereCollider, createWindZone,
-  enableSelfCollision, getClothState, gustWind, installClothPlugin, setClothCollision, setTransform, setWindZone, stepCloth,
+  ClothError,
+  addBoxCollider,
+  addCapsuleCollider,
+  addConvexHullCollider,
+  addPlaneCollider,
+  addSphereCollider,
+  createWindZone,
+  enableSelfCollision,
+  getClothState,
+  gustWind,
+  installClothPlugin,
+  setClothCollision,
+  setTransform,
+  setWindZone,
+  stepCloth,
 } from '../../src/index'
 import { hangingSheet } from './harness'
 
@@ -26,15 +39,31 @@ describe('huge but finite inputs', () => {
     ['sphere radius 1e308', (w, _s, e) => addSphereCollider(w, e, { radius: 1e308 }), 'options.radius'],
     ['capsule half-height 1e308', (w, _s, e) => addCapsuleCollider(w, e, { radius: 0.1, halfHeight: 1e308 }), 'options.halfHeight'],
     ['box half-extents 1e308', (w, _s, e) => addBoxCollider(w, e, { halfExtents: [1, 1e308, 1] }), 'options.halfExtents'],
-    ['hull point 1e308', (w, _s, e) => addConvexHullCollider(w, e, { points: [0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1e308] }), 'options.points[11]'],
+    [
+      'hull point 1e308',
+      (w, _s, e) => addConvexHullCollider(w, e, { points: [0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1e308] }),
+      'options.points[11]',
+    ],
     ['collider offset 1e308', (w, _s, e) => addSphereCollider(w, e, { radius: 0.1, offset: [0, 1e308, 0] }), 'options.offset'],
     ['wind strength 1e308', (w) => createWindZone(w, { direction: [1, 0, 0], strength: 1e308 }), 'options.strength'],
     ['wind strength 1e100', (w) => createWindZone(w, { direction: [1, 0, 0], strength: 1e100 }), 'options.strength'],
     ['wind turbulence 1e308', (w) => createWindZone(w, { direction: [1, 0, 0], strength: 10, turbulence: 1e308 }), 'options.turbulence'],
-    ['wind turbulence scale 1e-300', (w) => createWindZone(w, { direction: [1, 0, 0], strength: 10, turbulence: 0.3, turbulenceScale: 1e-300 }), 'options.turbulenceScale'],
-    ['zone size 1e308', (w) => createWindZone(w, { shape: 'box', direction: [1, 0, 0], strength: 10, size: [1, 1e308, 1] }), 'options.size'],
+    [
+      'wind turbulence scale 1e-300',
+      (w) => createWindZone(w, { direction: [1, 0, 0], strength: 10, turbulence: 0.3, turbulenceScale: 1e-300 }),
+      'options.turbulenceScale',
+    ],
+    [
+      'zone size 1e308',
+      (w) => createWindZone(w, { shape: 'box', direction: [1, 0, 0], strength: 10, size: [1, 1e308, 1] }),
+      'options.size',
+    ],
     ['gust 1e308', (w) => gustWind(w, createWindZone(w, { direction: [1, 0, 0], strength: 1 }), { strength: 1e308 }), 'options.strength'],
-    ['zone strength set to 1e308', (w) => setWindZone(w, createWindZone(w, { direction: [1, 0, 0], strength: 1 }), { strength: 1e308 }), 'options.strength'],
+    [
+      'zone strength set to 1e308',
+      (w) => setWindZone(w, createWindZone(w, { direction: [1, 0, 0], strength: 1 }), { strength: 1e308 }),
+      'options.strength',
+    ],
     ['air density 1e308', (w) => createWindZone(w, { direction: [1, 0, 0], strength: 1, airDensity: 1e308 }), 'options.airDensity'],
     ['collision thickness 1e308', (w, s) => setClothCollision(w, s, { thickness: 1e308 }), 'options.thickness'],
     ['self-collision thickness 1e308', (w, s) => enableSelfCollision(w, s, { thickness: 1e308 }), 'options.thickness'],

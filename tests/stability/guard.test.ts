@@ -32,7 +32,16 @@ import {
   type ClothPluginOptions,
   type ClothResetEvent,
 } from '../../src/index'
-import { G_OUT_EXCESS, G_OUT_SPEED2, HEALTH_BOUNDS, HEALTH_NONFINITE, HEALTH_OK, HEALTH_SPEED, PIECE_STRIDE, checkPieceHealth } from '../../src/kernels/guard'
+import {
+  G_OUT_EXCESS,
+  G_OUT_SPEED2,
+  HEALTH_BOUNDS,
+  HEALTH_NONFINITE,
+  HEALTH_OK,
+  HEALTH_SPEED,
+  PIECE_STRIDE,
+  checkPieceHealth,
+} from '../../src/kernels/guard'
 import { getClothWorld } from '../../src/world/access'
 import { hashBytes } from '../helpers'
 import { geodesicDiameter, hangingSheet, inspect, inspectPieces } from './harness'
@@ -74,7 +83,14 @@ function meshHasNaN(world: object, cloth: number): boolean {
  * gains energy until the speed limit (250 m/s) is all that holds it (a real instability of this
  * material, not an injected fault; see the README).
  */
-const jelly = defineMaterial({ name: 'jelly', stretchCompliance: 300, shearCompliance: 1e6, bendCompliance: 0, damping: 0, stretchDamping: 0 })
+const jelly = defineMaterial({
+  name: 'jelly',
+  stretchCompliance: 300,
+  shearCompliance: 1e6,
+  bendCompliance: 0,
+  damping: 0,
+  stretchDamping: 0,
+})
 const jellySheet = { material: jelly, bending: 'dihedral' as const, tethers: false }
 
 describe('health check (one pass over the particles)', () => {
@@ -150,10 +166,11 @@ describe('a mesh of several pieces', () => {
     for (const x0 of [0, 2]) {
       const base = positions.length / 3
       for (let r = 0; r < 3; r++) for (let col = 0; col < 3; col++) positions.push(x0 + 0.25 * col, 2 - 0.25 * r, 0)
-      for (let r = 0; r < 2; r++) for (let col = 0; col < 2; col++) {
-        const i = base + 3 * r + col
-        indices.push(i, i + 3, i + 1, i + 1, i + 3, i + 4)
-      }
+      for (let r = 0; r < 2; r++)
+        for (let col = 0; col < 2; col++) {
+          const i = base + 3 * r + col
+          indices.push(i, i + 3, i + 1, i + 1, i + 3, i + 4)
+        }
     }
     // the guard phase alone on a pose written after a step (the solver would pull it back)
     const run = (move: (pos: Float64Array) => void) => {
@@ -168,9 +185,13 @@ describe('a mesh of several pieces', () => {
       return getClothStats(world).guardResets
     }
     // the free piece 30 m away as a whole: its own shape is fine
-    expect(run((pos) => { for (let i = 9; i < 18; i++) pos[3 * i + 2] += 30 })).toBe(0)
+    expect(run((pos) => {
+      for (let i = 9; i < 18; i++) pos[3 * i + 2] += 30
+    })).toBe(0)
     // the free piece flung apart along z (particles 5 m apart, 40 m across): reset
-    expect(run((pos) => { for (let i = 9; i < 18; i++) pos[3 * i + 2] += 5 * (i - 9) })).toBe(1)
+    expect(run((pos) => {
+      for (let i = 9; i < 18; i++) pos[3 * i + 2] += 5 * (i - 9)
+    })).toBe(1)
   })
 })
 
@@ -470,7 +491,8 @@ describe('with colliders, wind and tearing', () => {
     // which original particle each split copy came from: the copies share its rest position
     const rest = c.topology.restPositions
     const origin = (i: number) => {
-      for (let k = 0; k < 64; k++) if (rest[3 * k] === rest[3 * i] && rest[3 * k + 1] === rest[3 * i + 1] && rest[3 * k + 2] === rest[3 * i + 2]) return k
+      for (let k = 0; k < 64; k++)
+        if (rest[3 * k] === rest[3 * i] && rest[3 * k + 1] === rest[3 * i + 1] && rest[3 * k + 2] === rest[3 * i + 2]) return k
       return -1
     }
     for (let f = 0; f < 2; f++) {

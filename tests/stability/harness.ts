@@ -116,7 +116,9 @@ export interface TortureResult {
   /** The world's work counters at the end (`getClothStats`). */
   stats: ClothStats
   /** The case as run (defaults filled in). */
-  spec: Required<Pick<TortureCase, 'frames' | 'settle' | 'recover' | 'reach' | 'margin' | 'drapeTolerance' | 'restSpeed' | 'restStretch' | 'resets'>>
+  spec: Required<
+    Pick<TortureCase, 'frames' | 'settle' | 'recover' | 'reach' | 'margin' | 'drapeTolerance' | 'restSpeed' | 'restStretch' | 'resets'>
+  >
 }
 
 /** Runs a case (and its unabused twin for 'drape'). */
@@ -137,12 +139,23 @@ export function runTorture<P extends SceneParts>(tc: TortureCase<P>): TortureRes
   const sizes = scene.cloths.map((cl) => geodesicDiameter(world, cl))
   const allowed = sizes.map((s) => spec.reach * s + spec.margin)
   const result: TortureResult = {
-    finite: true, firstNonFinite: -1, worstExcess: -Infinity, worstFrame: -1, allowed,
-    drapeError: 0, endSpeed: 0, endStretch: 0, resets: 0, steps: 0, stats: getClothStats(world), spec,
+    finite: true,
+    firstNonFinite: -1,
+    worstExcess: -Infinity,
+    worstFrame: -1,
+    allowed,
+    drapeError: 0,
+    endSpeed: 0,
+    endStretch: 0,
+    resets: 0,
+    steps: 0,
+    stats: getClothStats(world),
+    spec,
   }
   const check = (frame: number) => {
     for (let k = 0; k < scene.cloths.length; k++) {
-      const h = tc.pieces ? inspectPieces(world, scene.cloths[k], allowed[k], tc.floor ?? -Infinity, spec.margin) : inspect(world, scene.cloths[k], allowed[k])
+      const h = tc.pieces ? inspectPieces(world, scene.cloths[k], allowed[k], tc.floor ?? -Infinity, spec.margin)
+        : inspect(world, scene.cloths[k], allowed[k])
       if (!h.finite && result.finite) {
         result.finite = false
         result.firstNonFinite = frame
@@ -157,7 +170,7 @@ export function runTorture<P extends SceneParts>(tc: TortureCase<P>): TortureRes
   for (let f = 0; f < spec.frames; f++) {
     const dt = tc.abuse?.(scene, f)
     // abuse writes the cloths' arrays directly, which a sleeping cloth would not notice
-    if (tc.abuse) for (const cl of scene.cloths) wakeCloth(world, cl)
+    if (tc.abuse) { for (const cl of scene.cloths) wakeCloth(world, cl) }
     stepCloth(world, typeof dt === 'number' ? dt : 1 / 60)
     if (f % every === 0 || f === spec.frames - 1) check(f)
   }
@@ -194,7 +207,8 @@ export function expectStable(r: TortureResult): void {
   expect(r.finite, `non-finite values from frame ${r.firstNonFinite}`).toBe(true)
   expect(r.worstExcess, `a particle left the allowed region by ${r.worstExcess} m at frame ${r.worstFrame}`).toBeLessThanOrEqual(0)
   expect(r.resets, 'guard resets').toBeLessThanOrEqual(r.spec.resets)
-  if (r.spec.recover === 'drape') expect(r.drapeError, 'distance from the unabused drape, in cloth sizes').toBeLessThan(r.spec.drapeTolerance)
+  if (r.spec.recover === 'drape')
+    expect(r.drapeError, 'distance from the unabused drape, in cloth sizes').toBeLessThan(r.spec.drapeTolerance)
   if (r.spec.recover !== 'bounded') {
     expect(r.endSpeed, 'rms speed after settling, m/s').toBeLessThan(r.spec.restSpeed)
     expect(r.endStretch, 'largest edge strain after settling').toBeLessThan(r.spec.restStretch)
@@ -225,7 +239,8 @@ export function inspect(world: object, cloth: number, allowed: number): { finite
   let finite = true
   for (let i = 0; i < 3 * c.count; i++) if (!Number.isFinite(c.pos[i]) || !Number.isFinite(c.vel[i])) finite = false
   const mesh = getClothMesh(world, cloth)
-  for (let i = 0; i < mesh.positions.length; i++) if (!Number.isFinite(mesh.positions[i]) || !Number.isFinite(mesh.normals[i])) finite = false
+  for (let i = 0; i < mesh.positions.length; i++)
+    if (!Number.isFinite(mesh.positions[i]) || !Number.isFinite(mesh.normals[i])) finite = false
   const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity]
   let pinned = 0
   for (let i = 0; i < c.count; i++) {
@@ -266,7 +281,13 @@ export function inspect(world: object, cloth: number, allowed: number): { finite
  * against the box of all the cloth's pinned particles (as the whole cloth before it tore), a piece
  * without pins against its own extent; plus a floor.
  */
-export function inspectPieces(world: object, cloth: number, allowed: number, floor: number, margin: number): { finite: boolean; excess: number; pieces: number } {
+export function inspectPieces(
+  world: object,
+  cloth: number,
+  allowed: number,
+  floor: number,
+  margin: number,
+): { finite: boolean; excess: number; pieces: number } {
   const c = getClothState(world, cloth)
   const { finite } = inspect(world, cloth, Infinity)
   const mesh = getClothMesh(world, cloth)

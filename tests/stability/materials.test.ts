@@ -7,7 +7,11 @@ describe('extreme materials', () => {
   const cases: [string, Parameters<typeof defineMaterial>[0], 'drape' | 'rest' | 'bounded'][] = [
     ['zero compliance (rigid in every mode)', { stretchCompliance: 0, shearCompliance: 0, bendCompliance: 0 }, 'rest'],
     ['huge compliance (1e12 in every mode)', { stretchCompliance: 1e12, shearCompliance: 1e12, bendCompliance: 1e12 }, 'rest'],
-    ['compliance near the top of the float range (1e306)', { stretchCompliance: 1e306, shearCompliance: 1e306, bendCompliance: 1e306 }, 'rest'],
+    [
+      'compliance near the top of the float range (1e306)',
+      { stretchCompliance: 1e306, shearCompliance: 1e306, bendCompliance: 1e306 },
+      'rest',
+    ],
     ['zero damping (air drag off, stretch damping on)', { damping: 0 }, 'bounded'],
     ['zero stretch damping', { stretchDamping: 0 }, 'rest'],
     ['no damping at all', { damping: 0, stretchDamping: 0 }, 'bounded'],

@@ -62,7 +62,11 @@ const runs = (n: number) => ({ numRuns: n * scale, seed })
 // Arbitraries
 
 /** 10^x for x in [lo, hi], or exactly 0 now and then. */
-const logOrZero = (lo: number, hi: number) => fc.oneof({ arbitrary: fc.constant(0), weight: 1 }, { arbitrary: fc.double({ min: lo, max: hi, noNaN: true }).map((x) => 10 ** x), weight: 4 })
+const logOrZero = (lo: number, hi: number) =>
+  fc.oneof({ arbitrary: fc.constant(0), weight: 1 }, {
+    arbitrary: fc.double({ min: lo, max: hi, noNaN: true }).map((x) => 10 ** x),
+    weight: 4,
+  })
 
 const materialArb: fc.Arbitrary<ClothMaterialSpec> = fc
   .record({
@@ -107,23 +111,44 @@ const meshArb = fc.oneof(
           { minLength: 1, maxLength: 2 * n },
         )
         .map((ts) => ts.flat()),
-    }),
+    })
   ),
 )
 
 /** Frame times: stalls, normal and uneven frames, hitches. */
-const dtsArb = fc.array(fc.oneof(fc.constant(0), fc.double({ min: 0, max: 0.1, noNaN: true }), fc.constant(1 / 60), fc.constant(10)), { minLength: 1, maxLength: 12 })
+const dtsArb = fc.array(fc.oneof(fc.constant(0), fc.double({ min: 0, max: 0.1, noNaN: true }), fc.constant(1 / 60), fc.constant(10)), {
+  minLength: 1,
+  maxLength: 12,
+})
 
 /** A collider: shape, pose near where the random cloths hang, and a motion (none for about half). */
 const colliderArb = fc.record({
   shape: fc.oneof(
     fc.record({ kind: fc.constant('sphere' as const), radius: fc.double({ min: 0.05, max: 0.5, noNaN: true }) }),
-    fc.record({ kind: fc.constant('capsule' as const), radius: fc.double({ min: 0.05, max: 0.3, noNaN: true }), halfHeight: fc.double({ min: 0, max: 0.4, noNaN: true }) }),
-    fc.record({ kind: fc.constant('box' as const), halfExtents: fc.tuple(...[0, 1, 2].map(() => fc.double({ min: 0.05, max: 0.4, noNaN: true }))) as fc.Arbitrary<[number, number, number]> }),
-    fc.record({ kind: fc.constant('prism' as const), radius: fc.double({ min: 0.1, max: 0.4, noNaN: true }), halfHeight: fc.double({ min: 0.05, max: 0.3, noNaN: true }), sides: fc.integer({ min: 3, max: 8 }) }),
+    fc.record({
+      kind: fc.constant('capsule' as const),
+      radius: fc.double({ min: 0.05, max: 0.3, noNaN: true }),
+      halfHeight: fc.double({ min: 0, max: 0.4, noNaN: true }),
+    }),
+    fc.record({
+      kind: fc.constant('box' as const),
+      halfExtents: fc.tuple(...[0, 1, 2].map(() => fc.double({ min: 0.05, max: 0.4, noNaN: true }))) as fc.Arbitrary<
+        [number, number, number]
+      >,
+    }),
+    fc.record({
+      kind: fc.constant('prism' as const),
+      radius: fc.double({ min: 0.1, max: 0.4, noNaN: true }),
+      halfHeight: fc.double({ min: 0.05, max: 0.3, noNaN: true }),
+      sides: fc.integer({ min: 3, max: 8 }),
+    }),
     fc.record({ kind: fc.constant('plane' as const) }),
   ),
-  position: fc.tuple(fc.double({ min: -1, max: 1, noNaN: true }), fc.double({ min: 0.3, max: 2.5, noNaN: true }), fc.double({ min: -0.5, max: 0.5, noNaN: true })),
+  position: fc.tuple(
+    fc.double({ min: -1, max: 1, noNaN: true }),
+    fc.double({ min: 0.3, max: 2.5, noNaN: true }),
+    fc.double({ min: -0.5, max: 0.5, noNaN: true }),
+  ),
   rotation: fc.tuple(...[0, 1, 2, 3].map(() => fc.double({ min: -1, max: 1, noNaN: true }))).filter((q) => Math.hypot(...q) > 0.1),
   /** Velocity, m/s (0: static). */
   velocity: fc.oneof(fc.constant([0, 0, 0]), fc.tuple(...[0, 1, 2].map(() => fc.double({ min: -5, max: 5, noNaN: true })))),
@@ -160,7 +185,12 @@ function moveColliders(world: object, specs: ColliderSpec[], ids: number[], t: n
     const v = specs[k].velocity
     if (v[0] === 0 && v[1] === 0 && v[2] === 0) continue
     const u = Math.min(t, 2) // they stop after 2 s (so a 10 s frame is no teleport to infinity)
-    setTransform(world, ids[k], [specs[k].position[0] + v[0] * u, specs[k].position[1] + v[1] * u, specs[k].position[2] + v[2] * u], specs[k].rotation)
+    setTransform(
+      world,
+      ids[k],
+      [specs[k].position[0] + v[0] * u, specs[k].position[1] + v[1] * u, specs[k].position[2] + v[2] * u],
+      specs[k].rotation,
+    )
   }
 }
 
@@ -170,7 +200,14 @@ type MeshSpec =
 
 function buildCloth(world: object, mesh: MeshSpec, solver: ClothOptions): number {
   if (mesh.kind === 'grid') {
-    return createCloth(world, { width: mesh.width, height: mesh.height, resolution: [mesh.columns, mesh.rows], topology: mesh.topology, position: [0, 2, 0], ...solver })
+    return createCloth(world, {
+      width: mesh.width,
+      height: mesh.height,
+      resolution: [mesh.columns, mesh.rows],
+      topology: mesh.topology,
+      position: [0, 2, 0],
+      ...solver,
+    })
   }
   return createClothFromMesh(world, { positions: mesh.positions, indices: mesh.indices, ...solver })
 }
@@ -192,7 +229,13 @@ function kineticEnergy(c: { vel: Float64Array; invMass: Float64Array; count: num
 // ---------------------------------------------------------------------------------------------
 
 /** A random cloth pinned by particle 0, with colliders, a box wind zone and self-collision as given. */
-function featureScene(mesh: MeshSpec, solver: ClothOptions, specs: ColliderSpec[], wind: Parameters<typeof createWindZone>[1] | null, self: boolean) {
+function featureScene(
+  mesh: MeshSpec,
+  solver: ClothOptions,
+  specs: ColliderSpec[],
+  wind: Parameters<typeof createWindZone>[1] | null,
+  self: boolean,
+) {
   const world = installClothPlugin(createWorld())
   const cloth = buildCloth(world, mesh, solver)
   pinParticle(world, cloth, 0)
@@ -215,7 +258,15 @@ function expectNoEnergyFromNowhere(e: number, e0: number, last: boolean): void {
 }
 
 describe('properties', () => {
-  it.prop([meshArb, solverArb, fc.array(fc.nat(), { maxLength: 4 }), fc.boolean(), dtsArb, fc.array(colliderArb, { maxLength: 3 }), windArb], runs(300))(
+  it.prop([
+    meshArb,
+    solverArb,
+    fc.array(fc.nat(), { maxLength: 4 }),
+    fc.boolean(),
+    dtsArb,
+    fc.array(colliderArb, { maxLength: 3 }),
+    windArb,
+  ], runs(300))(
     'any valid mesh, material, pins, frame times, colliders (static and moving) and wind: positions, velocities and the mesh stay finite; pins hold their particles exactly',
     (mesh, solver, pinSeeds, moving, dts, colliders, wind) => {
       // the guard is off: this is about the solver itself
@@ -262,7 +313,15 @@ describe('properties', () => {
     },
   )
 
-  it.prop([meshArb, solverArb, fc.array(fc.nat(), { maxLength: 3 }), fc.boolean(), dtsArb, fc.array(colliderArb, { minLength: 1, maxLength: 3 }), windArb], runs(200))(
+  it.prop([
+    meshArb,
+    solverArb,
+    fc.array(fc.nat(), { maxLength: 3 }),
+    fc.boolean(),
+    dtsArb,
+    fc.array(colliderArb, { minLength: 1, maxLength: 3 }),
+    windArb,
+  ], runs(200))(
     'no particle ends a step inside a static collider: every free particle is at least the thickness out of each static collider that no other collider comes near',
     (mesh, solver, pinSeeds, moving, dts, colliders, wind) => {
       const world = installClothPlugin(createWorld(), { guard: false })
@@ -303,7 +362,9 @@ describe('properties', () => {
           for (let i = 0; i < c.count; i++) {
             if (c.invMass[i] === 0) continue
             const d = signedDistance(world, ids[k], specs[k].shape, c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2])
-            expect(d, `particle ${i} against collider ${k} (${specs[k].shape.kind}) after a frame of ${dt} s`).toBeGreaterThanOrEqual(thickness - 1e-6)
+            expect(d, `particle ${i} against collider ${k} (${specs[k].shape.kind}) after a frame of ${dt} s`).toBeGreaterThanOrEqual(
+              thickness - 1e-6,
+            )
           }
         }
       }
@@ -311,7 +372,12 @@ describe('properties', () => {
   )
 
   it.prop(
-    [meshArb, solverArb.map((s) => ({ ...s, bending: s.bending === 'dihedral' || s.bending === 'both' ? ('distance' as const) : s.bending })), fc.integer({ min: 1, max: 1 << 30 }), fc.integer({ min: 5, max: 40 })],
+    [
+      meshArb,
+      solverArb.map((s) => ({ ...s, bending: s.bending === 'dihedral' || s.bending === 'both' ? ('distance' as const) : s.bending })),
+      fc.integer({ min: 1, max: 1 << 30 }),
+      fc.integer({ min: 5, max: 40 }),
+    ],
     runs(250),
   )(
     'no energy from nowhere: a free cloth without gravity or air drag (distance constraints, any material, moving under half an edge per substep) ends with no more kinetic energy than it started with, never 2 % more in a step, and keeps its momentum',
@@ -372,9 +438,26 @@ describe('properties', () => {
   )(
     'no energy from nowhere with dihedral bending, within the documented range (bend compliance × density ≥ 300, stretch ≤ 0.01, elements ≤ 3:1)',
     (p, seed) => {
-      const material = defineMaterial({ name: 'random', density: p.density, stretchCompliance: p.stretchCompliance, shearCompliance: p.shearCompliance, bendCompliance: p.bendCompliance, damping: 0, stretchDamping: p.stretchDamping })
+      const material = defineMaterial({
+        name: 'random',
+        density: p.density,
+        stretchCompliance: p.stretchCompliance,
+        shearCompliance: p.shearCompliance,
+        bendCompliance: p.bendCompliance,
+        damping: 0,
+        stretchDamping: p.stretchDamping,
+      })
       const world = installClothPlugin(createWorld(), { gravity: [0, 0, 0], guard: false })
-      const cloth = createCloth(world, { width: p.width, height: p.height, resolution: [p.columns, p.rows], material, bending: p.bending, topology: p.topology, iterations: p.iterations, substeps: p.substeps })
+      const cloth = createCloth(world, {
+        width: p.width,
+        height: p.height,
+        resolution: [p.columns, p.rows],
+        material,
+        bending: p.bending,
+        topology: p.topology,
+        iterations: p.iterations,
+        substeps: p.substeps,
+      })
       const c = getClothState(world, cloth)
       let r = seed
       for (let i = 0; i < 3 * c.count; i++) {
@@ -389,7 +472,17 @@ describe('properties', () => {
     },
   )
 
-  it.prop([fc.array(fc.record({ op: fc.nat(23), a: fc.anything({ withBigInt: false }), b: fc.oneof(fc.double(), fc.integer(), fc.constantFrom(NaN, Infinity, -Infinity, -1, 0, 1e308)), c: fc.nat(200) }), { minLength: 1, maxLength: 16 })], runs(250))(
+  it.prop([
+    fc.array(
+      fc.record({
+        op: fc.nat(23),
+        a: fc.anything({ withBigInt: false }),
+        b: fc.oneof(fc.double(), fc.integer(), fc.constantFrom(NaN, Infinity, -Infinity, -1, 0, 1e308)),
+        c: fc.nat(200),
+      }),
+      { minLength: 1, maxLength: 16 },
+    ),
+  ], runs(250))(
     'any sequence of API calls with garbage arguments (colliders, wind zones, tearing, self-collision and grabs included): every error is a ClothError, and the world stays finite',
     (ops) => {
       const world = installClothPlugin(createWorld(), { guard: false })
@@ -404,31 +497,123 @@ describe('properties', () => {
         const v = (x: unknown) => [x, b, 0] as unknown as number[]
         try {
           switch (op) {
-            case 0: stepCloth(world, b); break
-            case 1: pins.push(pinParticle(world, cloth, c % 20, c % 3 === 0 ? hero : null, c % 2 ? v(a) : undefined, { blendTime: b })); break
-            case 2: unpin(world, pins.length > 0 && c % 2 ? pins.splice(c % pins.length, 1)[0] : (a as number)); break
-            case 3: setTransform(world, c % 2 ? hero : (a as number), v(b), c % 3 ? [0, b, 0, 1] : undefined); break
-            case 4: teleportCloth(world, cloth, v(a), c % 2 ? [a, b, 0, 1] as number[] : undefined); break
-            case 5: setClothQuality(world, cloth, { substeps: b, iterations: c % 2 ? (a as number) : undefined }); break
-            case 6: setClothTethers(world, cloth, a as boolean); break
-            case 7: setClothGuard(world, cloth, a as boolean); break
-            case 8: cloths.push(createCloth(world, { width: b, height: 1, resolution: (c % 6) as number, material: a as string })); break
-            case 9: cloths.push(createClothFromMesh(world, { positions: [0, 0, 0, 1, 0, 0, 0, b, 0], indices: [0, 1, c % 4], masses: c % 2 ? [1, b, 1] : undefined })); break
-            case 10: restoreClothState(world, cloth, saveClothState(world, cloths[0])); break
-            case 11: removeCloth(world, c % 2 ? cloth : (a as number)); break
+            case 0:
+              stepCloth(world, b)
+              break
+            case 1:
+              pins.push(pinParticle(world, cloth, c % 20, c % 3 === 0 ? hero : null, c % 2 ? v(a) : undefined, { blendTime: b }))
+              break
+            case 2:
+              unpin(world, pins.length > 0 && c % 2 ? pins.splice(c % pins.length, 1)[0] : (a as number))
+              break
+            case 3:
+              setTransform(world, c % 2 ? hero : (a as number), v(b), c % 3 ? [0, b, 0, 1] : undefined)
+              break
+            case 4:
+              teleportCloth(world, cloth, v(a), c % 2 ? [a, b, 0, 1] as number[] : undefined)
+              break
+            case 5:
+              setClothQuality(world, cloth, { substeps: b, iterations: c % 2 ? (a as number) : undefined })
+              break
+            case 6:
+              setClothTethers(world, cloth, a as boolean)
+              break
+            case 7:
+              setClothGuard(world, cloth, a as boolean)
+              break
+            case 8:
+              cloths.push(createCloth(world, { width: b, height: 1, resolution: (c % 6) as number, material: a as string }))
+              break
+            case 9:
+              cloths.push(
+                createClothFromMesh(world, {
+                  positions: [0, 0, 0, 1, 0, 0, 0, b, 0],
+                  indices: [0, 1, c % 4],
+                  masses: c % 2 ? [1, b, 1] : undefined,
+                }),
+              )
+              break
+            case 10:
+              restoreClothState(world, cloth, saveClothState(world, cloths[0]))
+              break
+            case 11:
+              removeCloth(world, c % 2 ? cloth : (a as number))
+              break
             // colliders, wind, tearing, self-collision
-            case 12: addSphereCollider(world, c % 2 ? addEntity(world) : (a as number), { radius: b, body: c % 3 ? hero : undefined, offset: c % 5 ? v(a) : undefined }); break
-            case 13: addCapsuleCollider(world, addEntity(world), { radius: c / 100, halfHeight: b, body: hero, axis: c % 2 ? v(a) : undefined, rotation: c % 3 ? [a, b, 0, 1] as number[] : undefined }); break
-            case 14: addBoxCollider(world, addEntity(world), { halfExtents: v(b), body: hero, friction: c % 2 ? b : undefined, layer: c % 3 ? (a as number) : undefined }); break
-            case 15: addConvexHullCollider(world, addEntity(world), { points: c % 2 ? (a as number[]) : [0, 0, 0, 1, 0, 0, 0, b, 0, 0, 0, 1], body: hero }); break
-            case 16: addPlaneCollider(world, addEntity(world), { normal: c % 2 ? v(a) : undefined, distance: b, body: hero }); break
-            case 17: removeCollider(world, c % 2 ? (a as number) : c); break
-            case 18: zones.push(createWindZone(world, { direction: c % 2 ? v(a) : [1, 0, 0], strength: b, turbulence: c % 3 ? (a as number) : 0.2, shape: (['global', 'box', 'sphere', a] as never[])[c % 4], size: c % 5 ? b : undefined })); break
-            case 19: if (c % 2) setWindZone(world, zones[c % Math.max(1, zones.length)] ?? (a as number), { strength: b }); else gustWind(world, zones[c % Math.max(1, zones.length)] ?? (a as number), { strength: b, duration: a as number }); break
-            case 20: makeTearable(world, cloth, { strain: c % 2 ? b : 0.01, maxTearsPerStep: c % 3 ? (a as number) : undefined, capacity: c % 5 ? undefined : c, minPiece: c % 7 ? undefined : (a as number) }); break
-            case 21: grabs.push(grabParticle(world, cloth, c % 20, c % 2 ? v(a) : [b, 1, 0], { maxForce: c % 3 ? undefined : b, compliance: c % 5 ? undefined : (a as number) })); break
-            case 22: if (c % 2) moveGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number), c % 3 ? v(b) : v(a)); else releaseGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number)); break
-            default: if (c % 2) enableSelfCollision(world, cloth, { thickness: c % 3 ? b : undefined }); else setClothCollision(world, cloth, { layer: a as number, thickness: b })
+            case 12:
+              addSphereCollider(world, c % 2 ? addEntity(world) : (a as number), {
+                radius: b,
+                body: c % 3 ? hero : undefined,
+                offset: c % 5 ? v(a) : undefined,
+              })
+              break
+            case 13:
+              addCapsuleCollider(world, addEntity(world), {
+                radius: c / 100,
+                halfHeight: b,
+                body: hero,
+                axis: c % 2 ? v(a) : undefined,
+                rotation: c % 3 ? [a, b, 0, 1] as number[] : undefined,
+              })
+              break
+            case 14:
+              addBoxCollider(world, addEntity(world), {
+                halfExtents: v(b),
+                body: hero,
+                friction: c % 2 ? b : undefined,
+                layer: c % 3 ? (a as number) : undefined,
+              })
+              break
+            case 15:
+              addConvexHullCollider(world, addEntity(world), {
+                points: c % 2 ? (a as number[]) : [0, 0, 0, 1, 0, 0, 0, b, 0, 0, 0, 1],
+                body: hero,
+              })
+              break
+            case 16:
+              addPlaneCollider(world, addEntity(world), { normal: c % 2 ? v(a) : undefined, distance: b, body: hero })
+              break
+            case 17:
+              removeCollider(world, c % 2 ? (a as number) : c)
+              break
+            case 18:
+              zones.push(
+                createWindZone(world, {
+                  direction: c % 2 ? v(a) : [1, 0, 0],
+                  strength: b,
+                  turbulence: c % 3 ? (a as number) : 0.2,
+                  shape: (['global', 'box', 'sphere', a] as never[])[c % 4],
+                  size: c % 5 ? b : undefined,
+                }),
+              )
+              break
+            case 19:
+              if (c % 2) setWindZone(world, zones[c % Math.max(1, zones.length)] ?? (a as number), { strength: b })
+              else gustWind(world, zones[c % Math.max(1, zones.length)] ?? (a as number), { strength: b, duration: a as number })
+              break
+            case 20:
+              makeTearable(world, cloth, {
+                strain: c % 2 ? b : 0.01,
+                maxTearsPerStep: c % 3 ? (a as number) : undefined,
+                capacity: c % 5 ? undefined : c,
+                minPiece: c % 7 ? undefined : (a as number),
+              })
+              break
+            case 21:
+              grabs.push(
+                grabParticle(world, cloth, c % 20, c % 2 ? v(a) : [b, 1, 0], {
+                  maxForce: c % 3 ? undefined : b,
+                  compliance: c % 5 ? undefined : (a as number),
+                }),
+              )
+              break
+            case 22:
+              if (c % 2) moveGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number), c % 3 ? v(b) : v(a))
+              else releaseGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number))
+              break
+            default:
+              if (c % 2) enableSelfCollision(world, cloth, { thickness: c % 3 ? b : undefined })
+              else setClothCollision(world, cloth, { layer: a as number, thickness: b })
           }
         } catch (e) {
           expect(e).toBeInstanceOf(ClothError)
@@ -453,7 +638,7 @@ describe('properties', () => {
         const { world, cloth, specs, ids } = featureScene(mesh as MeshSpec, solver, colliders as ColliderSpec[], wind, self)
         let t = 0
         for (const dt of dts) {
-          moveColliders(world, specs, ids, (t += dt))
+          moveColliders(world, specs, ids, t += dt)
           stepCloth(world, dt)
         }
         for (let f = 0; f < 5; f++) stepCloth(world, 1 / 60)
@@ -469,7 +654,7 @@ describe('properties', () => {
       const { world, cloth, specs, ids } = featureScene(mesh as MeshSpec, solver, colliders as ColliderSpec[], wind, self)
       let t = 0
       for (const dt of before) {
-        moveColliders(world, specs, ids, (t += dt))
+        moveColliders(world, specs, ids, t += dt)
         stepCloth(world, dt)
       }
       const snap = saveClothState(world, cloth)
@@ -478,7 +663,7 @@ describe('properties', () => {
       const trail = () => {
         t = t0
         return after.map((dt) => {
-          moveColliders(world, specs, ids, (t += dt))
+          moveColliders(world, specs, ids, t += dt)
           stepCloth(world, dt)
           return hashBytes(c.pos) + hashBytes(c.vel)
         })

@@ -11,8 +11,13 @@ export function heroWithCape(
   const hero = addEntity(world)
   setTransform(world, hero, [0, 1.6, 0])
   const cape = createCloth(world, {
-    width: 0.5, height: 0.8, resolution: options.resolution ?? [6, 8], position: [0, 1.5, -0.15],
-    substeps: options.substeps ?? 8, material: 'cotton', bending: options.bending ?? 'distance',
+    width: 0.5,
+    height: 0.8,
+    resolution: options.resolution ?? [6, 8],
+    position: [0, 1.5, -0.15],
+    substeps: options.substeps ?? 8,
+    material: 'cotton',
+    bending: options.bending ?? 'distance',
   })
   pinRow(world, cape, 0, hero)
   return { cloths: [cape], hero }
@@ -30,7 +35,6 @@ export function walk(s: Scene<{ cloths: number[]; hero: number }>, t: number, sp
   const a = (speed / 2) * t
   setTransform(s.world, s.hero, [2 * Math.cos(a) - 2, 1.6, 2 * Math.sin(a)], [0, Math.sin(-a / 2), 0, Math.cos(-a / 2)])
 }
-
 
 /**
  * `heroWithCape` plus a body the cape collides with: a torso capsule and a head sphere following the
@@ -66,7 +70,12 @@ export function poseLegs(s: Scene<ReturnType<typeof heroWithBody>>, p: ArrayLike
     // hip at (±0.09, −0.85) in the hero's frame; the leg hangs 0.35 m below it, swung about x
     const lx = side * 0.09, ly = -0.85 - 0.35 * Math.cos(swing), lz = -0.35 * Math.sin(swing)
     const c = Math.cos(yaw), s_ = Math.sin(yaw)
-    const q = [Math.sin(swing / 2) * Math.cos(yaw / 2), Math.cos(swing / 2) * Math.sin(yaw / 2), -Math.sin(swing / 2) * Math.sin(yaw / 2), Math.cos(swing / 2) * Math.cos(yaw / 2)]
+    const q = [
+      Math.sin(swing / 2) * Math.cos(yaw / 2),
+      Math.cos(swing / 2) * Math.sin(yaw / 2),
+      -Math.sin(swing / 2) * Math.sin(yaw / 2),
+      Math.cos(swing / 2) * Math.cos(yaw / 2),
+    ]
     setTransform(s.world, s.legs[k], [p[0] + c * lx + s_ * lz, p[1] + ly, p[2] - s_ * lx + c * lz], q)
   }
 }

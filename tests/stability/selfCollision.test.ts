@@ -3,7 +3,15 @@
 import { createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  createCloth, defineMaterial, enableSelfCollision, getClothState, getClothStats, installClothPlugin, setTransform, stepCloth, teleportCloth,
+  createCloth,
+  defineMaterial,
+  enableSelfCollision,
+  getClothState,
+  getClothStats,
+  installClothPlugin,
+  setTransform,
+  stepCloth,
+  teleportCloth,
 } from '../../src/index'
 import { rng } from '../helpers'
 import { expectStable, expectStuck, hangingSheet, rmsSpeed, runTorture, type Scene } from './harness'

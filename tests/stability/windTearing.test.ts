@@ -4,8 +4,20 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  addBoxCollider, addCapsuleCollider, addConvexHullCollider, addSphereCollider, createCloth, createWindZone,
-  getClothTearCount, gustWind, makeTearable, pinParticle, removeWindZone, setTransform, setWindZone, type TearableOptions,
+  addBoxCollider,
+  addCapsuleCollider,
+  addConvexHullCollider,
+  addSphereCollider,
+  createCloth,
+  createWindZone,
+  getClothTearCount,
+  gustWind,
+  makeTearable,
+  pinParticle,
+  removeWindZone,
+  setTransform,
+  setWindZone,
+  type TearableOptions,
 } from '../../src/index'
 import { expectStable, expectStuck, hangingSheet, runTorture, type Scene } from './harness'
 import { heroWithCape, walk } from './scenes'
@@ -18,7 +30,10 @@ describe('wind of 1000 m/s', () => {
     for (const turbulence of [0, 0.5]) {
       it(`a global wind of 1000 m/s (turbulence ${turbulence}) on a hanging ${material} sheet for two seconds, then calm`, () => {
         expectStable(runTorture({
-          build: (world) => ({ cloths: [hangingSheet(world, { material })], zone: createWindZone(world, { direction: [0.3, 0.2, 1], strength: 0, turbulence }) }),
+          build: (world) => ({
+            cloths: [hangingSheet(world, { material })],
+            zone: createWindZone(world, { direction: [0.3, 0.2, 1], strength: 0, turbulence }),
+          }),
           abuse: (s: Zoned, f) => {
             if (f === 0) setWindZone(s.world, s.zone, { strength: 1000 })
           },
@@ -35,7 +50,15 @@ describe('wind of 1000 m/s', () => {
     expectStable(runTorture({
       build: (world) => ({ cloths: [hangingSheet(world)], zone: -1 }),
       abuse: (s: Zoned, f) => {
-        if (f === 10) s.zone = createWindZone(s.world, { shape: 'box', position: [0, 1.5, 0], size: [1.2, 1.2, 1.2], direction: [0.2, 0, -1], strength: 1000, turbulence: 0.3 })
+        if (f === 10)
+          s.zone = createWindZone(s.world, {
+            shape: 'box',
+            position: [0, 1.5, 0],
+            size: [1.2, 1.2, 1.2],
+            direction: [0.2, 0, -1],
+            strength: 1000,
+            turbulence: 0.3,
+          })
       },
       release: (s: Zoned) => removeWindZone(s.world, s.zone),
     }))
@@ -43,7 +66,10 @@ describe('wind of 1000 m/s', () => {
 
   it('a sphere zone of 1000 m/s sweeping across the sheet', () => {
     expectStable(runTorture({
-      build: (world) => ({ cloths: [hangingSheet(world)], zone: createWindZone(world, { shape: 'sphere', position: [-3, 1.5, 0.5], size: 0.6, direction: [0, 0.3, 1], strength: 1000 }) }),
+      build: (world) => ({
+        cloths: [hangingSheet(world)],
+        zone: createWindZone(world, { shape: 'sphere', position: [-3, 1.5, 0.5], size: 0.6, direction: [0, 0.3, 1], strength: 1000 }),
+      }),
       abuse: (s: Zoned, f) => setTransform(s.world, s.zone, [-3 + f / 20, 1.5 + 0.3 * Math.sin(f / 5), 0.5]),
       release: (s: Zoned) => setTransform(s.world, s.zone, [-3, 1.5, 0.5]),
     }))
@@ -63,7 +89,10 @@ describe('wind of 1000 m/s', () => {
 
   it('in-plane wind of 1000 m/s on a sheet with dihedral hinges (line bending may fold it within its plane, see inputs)', () => {
     expectStable(runTorture({
-      build: (world) => ({ cloths: [hangingSheet(world, { bending: 'both' })], zone: createWindZone(world, { direction: [1, 0, 0], strength: 0 }) }),
+      build: (world) => ({
+        cloths: [hangingSheet(world, { bending: 'both' })],
+        zone: createWindZone(world, { direction: [1, 0, 0], strength: 0 }),
+      }),
       abuse: (s: Zoned, f) => {
         if (f === 10) setWindZone(s.world, s.zone, { strength: 1000 })
       },
@@ -85,7 +114,10 @@ describe('wind of 1000 m/s', () => {
 
   it('a cape on a walking character in a turbulent storm of 1000 m/s', () => {
     expectStable(runTorture({
-      build: (world) => ({ ...heroWithCape(world), zone: createWindZone(world, { direction: [1, 0, 0.2], strength: 1000, turbulence: 0.5 }) }),
+      build: (world) => ({
+        ...heroWithCape(world),
+        zone: createWindZone(world, { direction: [1, 0, 0.2], strength: 1000, turbulence: 0.5 }),
+      }),
       abuse: (s: Scene<ReturnType<typeof heroWithCape> & { zone: number }>, f) => walk(s, f / 60),
       release: (s: Scene<ReturnType<typeof heroWithCape> & { zone: number }>) => {
         setTransform(s.world, s.hero, [0, 1.6, 0], [0, 0, 0, 1])
@@ -118,11 +150,13 @@ function ground(world: object, colliders: boolean) {
 const everything = (capacity?: number): TearableOptions => ({ strain: 1e-6, maxTearsPerStep: 4096, hysteresis: 1, capacity, minPiece: 1 })
 
 describe('every edge torn at once', () => {
-  for (const [name, capacity, colliders] of [
-    ['the capacity runs out (the default: as many particles again)', undefined, false],
-    ['room for every split: it comes apart crack by crack', 2000, false],
-    ['pieces falling onto a sphere, a box, a convex hull and a capsule', 2000, true],
-  ] as const) {
+  for (
+    const [name, capacity, colliders] of [
+      ['the capacity runs out (the default: as many particles again)', undefined, false],
+      ['room for every split: it comes apart crack by crack', 2000, false],
+      ['pieces falling onto a sphere, a box, a convex hull and a capsule', 2000, true],
+    ] as const
+  ) {
     it(`a sheet hanging 4 m up with every edge over its threshold: ${name}`, () => {
       let tears = 0
       const r = runTorture({
@@ -148,7 +182,12 @@ describe('every edge torn at once', () => {
   // the hull pushes it into the ground and the ground pushes it back): pinned there, its piece
   // rests with an edge held at about 3× its length. Without the colliders the same pieces rest
   // unstretched. When collisions learn to free it, this case turns red: move it up.
-  for (const [label, tear, stuck] of [['a tiny threshold (every edge over it)', everything(), true], ['a 20 % threshold, 64 tears a step', { strain: 0.2, maxTearsPerStep: 64 }, false]] as const) {
+  for (
+    const [label, tear, stuck] of [['a tiny threshold (every edge over it)', everything(), true], ['a 20 % threshold, 64 tears a step', {
+      strain: 0.2,
+      maxTearsPerStep: 64,
+    }, false]] as const
+  ) {
     it(`a tearable sheet with ${label} whose two top corners are pulled 10× the sheet apart in one frame, pieces landing on colliders`, () => {
       const r = runTorture({
         build: (world) => {

@@ -1,8 +1,17 @@
 import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, createCloth, getClothMesh, getClothState, getClothStretch, installClothPlugin, makeTearable, pinParticle,
-  pinRow, setTransform, stepCloth,
+  ClothError,
+  createCloth,
+  getClothMesh,
+  getClothState,
+  getClothStretch,
+  installClothPlugin,
+  makeTearable,
+  pinParticle,
+  pinRow,
+  setTransform,
+  stepCloth,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { meshPieces, pieceCount } from './util'

@@ -1,7 +1,17 @@
 import { describe, expect, it } from 'vitest'
 import {
-  createCloth, drainClothTears, getClothMesh, getClothState, getClothStats, getClothTearCount, makeTearable, onClothTear,
-  pinRow, setClothTethers, setTransform, stepCloth,
+  createCloth,
+  drainClothTears,
+  getClothMesh,
+  getClothState,
+  getClothStats,
+  getClothTearCount,
+  makeTearable,
+  onClothTear,
+  pinRow,
+  setClothTethers,
+  setTransform,
+  stepCloth,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { meshPieces, pieceCount } from './util'
@@ -54,7 +64,11 @@ describe('tearing', () => {
       if (label[i] !== leftPiece) continue
       for (let j = 0; j < mesh.vertexCount; j++) {
         if (label[j] !== rightPiece) continue
-        const d = Math.hypot(mesh.positions[3 * i] - mesh.positions[3 * j], mesh.positions[3 * i + 1] - mesh.positions[3 * j + 1], mesh.positions[3 * i + 2] - mesh.positions[3 * j + 2])
+        const d = Math.hypot(
+          mesh.positions[3 * i] - mesh.positions[3 * j],
+          mesh.positions[3 * i + 1] - mesh.positions[3 * j + 1],
+          mesh.positions[3 * i + 2] - mesh.positions[3 * j + 2],
+        )
         gap = Math.min(gap, d)
       }
     }

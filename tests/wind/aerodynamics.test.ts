@@ -1,7 +1,19 @@
 import { describe, expect, it } from 'vitest'
 import {
-  clothForces, clothSync, createCloth, createClothFromMesh, createWindZone, defineMaterial, getClothState, getClothStats, pinParticle,
-  pinRow, setClothSubstep, setTransform, stepCloth, type ClothState,
+  clothForces,
+  clothSync,
+  createCloth,
+  createClothFromMesh,
+  createWindZone,
+  defineMaterial,
+  getClothState,
+  getClothStats,
+  pinParticle,
+  pinRow,
+  setClothSubstep,
+  setTransform,
+  stepCloth,
+  type ClothState,
 } from '../../src/index'
 import { addEntity } from 'bitecs'
 import { allFinite, makeWorld } from '../helpers'
@@ -11,7 +23,14 @@ import * as phases from '../../src/index'
 function flag(speed: number, direction = [0, 0, 1], material: string | object = 'nylon') {
   const world = makeWorld()
   const cols = 18, rows = 12
-  const cloth = createCloth(world, { width: 1.5, height: 1, resolution: [cols, rows], position: [0.75, 3, 0], material: material as never, substeps: 8 })
+  const cloth = createCloth(world, {
+    width: 1.5,
+    height: 1,
+    resolution: [cols, rows],
+    position: [0.75, 3, 0],
+    material: material as never,
+    substeps: 8,
+  })
   for (let r = 0; r < rows; r++) pinParticle(world, cloth, r * cols)
   if (speed > 0) createWindZone(world, { direction, strength: speed })
   return { world, cloth, c: getClothState(world, cloth) }
@@ -115,8 +134,23 @@ describe('aerodynamics', () => {
       return { positions, indices }
     }
     const sheets: [string, (world: object) => number][] = [
-      ['grid, alternating diagonals (createCloth)', (w) => createCloth(w, { width: 1, height: 1, resolution: n, position: [0, 2, 0], material: 'nylon', tethers: false })],
-      ['grid, triangle topology (createCloth)', (w) => createCloth(w, { width: 1, height: 1, resolution: n, position: [0, 2, 0], material: 'nylon', topology: 'triangle', tethers: false })],
+      [
+        'grid, alternating diagonals (createCloth)',
+        (w) => createCloth(w, { width: 1, height: 1, resolution: n, position: [0, 2, 0], material: 'nylon', tethers: false }),
+      ],
+      [
+        'grid, triangle topology (createCloth)',
+        (w) =>
+          createCloth(w, {
+            width: 1,
+            height: 1,
+            resolution: n,
+            position: [0, 2, 0],
+            material: 'nylon',
+            topology: 'triangle',
+            tethers: false,
+          }),
+      ],
       ['mesh, every diagonal one way', (w) => createClothFromMesh(w, { ...grid(() => true), material: 'nylon', tethers: false })],
       ['mesh, every diagonal the other way', (w) => createClothFromMesh(w, { ...grid(() => false), material: 'nylon', tethers: false })],
     ]
@@ -139,7 +173,12 @@ describe('aerodynamics', () => {
         stepCloth(world2, 1 / 60)
         const interior: number[] = []
         for (let r = 1; r + 1 < n; r++) for (let col = 1; col + 1 < n; col++) interior.push(r * n + col)
-        for (const [what, value] of [['acceleration', (i: number) => accel[i]], ['velocity after one step', (i: number) => c2.vel[3 * i + 2]]] as const) {
+        for (
+          const [what, value] of [['acceleration', (i: number) => accel[i]], [
+            'velocity after one step',
+            (i: number) => c2.vel[3 * i + 2],
+          ]] as const
+        ) {
           const mean = interior.reduce((s, i) => s + value(i), 0) / interior.length
           expect(mean, what).toBeGreaterThan(0)
           const worst = Math.max(...interior.map((i) => Math.abs(value(i) / mean - 1)))
@@ -156,7 +195,12 @@ describe('aerodynamics', () => {
     // the material damping (1/s for cotton) drags toward still air, also in wind: terminal speed v
     // solves ½ρ·C_d·(U − v)² = σ·k·v (σ = 0.15 kg/m², k = 1/s, C_d = 1, ρ = 1.2): v = 8.54 m/s
     const world = makeWorld({ gravity: [0, 0, 0] })
-    const cloth = createClothFromMesh(world, { positions: [0, 0, 0, 0.3, 0, 0, 0, 0.3, 0], indices: [0, 1, 2], material: 'cotton', tethers: false })
+    const cloth = createClothFromMesh(world, {
+      positions: [0, 0, 0, 0.3, 0, 0, 0, 0.3, 0],
+      indices: [0, 1, 2],
+      material: 'cotton',
+      tethers: false,
+    })
     createWindZone(world, { direction: [0, 0, 1], strength: 10 })
     const c = getClothState(world, cloth)
     for (let f = 0; f < 600; f++) stepCloth(world, 1 / 60)

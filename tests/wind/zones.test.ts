@@ -1,8 +1,25 @@
 import { createWorld, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  ClothError, ClothSimulation, clothForces, clothSync, setClothSubstep, createCloth, createWindZone, getClothState, getClothStats, getWindZones, gustWind,
-  installClothPlugin, pinRow, removeWindZone, resetClothStats, sampleWind, setTransform, setWindZone, stepCloth,
+  ClothError,
+  ClothSimulation,
+  clothForces,
+  clothSync,
+  setClothSubstep,
+  createCloth,
+  createWindZone,
+  getClothState,
+  getClothStats,
+  getWindZones,
+  gustWind,
+  installClothPlugin,
+  pinRow,
+  removeWindZone,
+  resetClothStats,
+  sampleWind,
+  setTransform,
+  setWindZone,
+  stepCloth,
 } from '../../src/index'
 import { hashBytes, makeWorld } from '../helpers'
 
@@ -57,14 +74,27 @@ describe('wind zones', () => {
     expect(inside).toBeGreaterThan(50)
   })
 
-  it('a cloth out of a zone\'s reach pays nothing and moves exactly as in a world without the zone', () => {
+  it("a cloth out of a zone's reach pays nothing and moves exactly as in a world without the zone", () => {
     const run = (withZone: boolean) => {
       const world = makeWorld()
       const cloth = createCloth(world, { width: 1, height: 1, resolution: 10, position: [0, 2, 0] })
       pinRow(world, cloth, 0)
-      if (withZone) createWindZone(world, { shape: 'sphere', position: [10, 2, 0], size: 2, falloff: 1, direction: [1, 0, 0], strength: 20, turbulence: 0.5 })
+      if (withZone)
+        createWindZone(world, {
+          shape: 'sphere',
+          position: [10, 2, 0],
+          size: 2,
+          falloff: 1,
+          direction: [1, 0, 0],
+          strength: 20,
+          turbulence: 0.5,
+        })
       for (let f = 0; f < 60; f++) stepCloth(world, 1 / 60)
-      return { hash: hashBytes(getClothState(world, cloth).pos), tris: getClothStats(world).windTriangles, accel: getClothState(world, cloth).accel }
+      return {
+        hash: hashBytes(getClothState(world, cloth).pos),
+        tris: getClothStats(world).windTriangles,
+        accel: getClothState(world, cloth).accel,
+      }
     }
     const a = run(false), b = run(true)
     expect(b.tris).toBe(0)
@@ -127,7 +157,7 @@ describe('wind zones', () => {
     expect(() => installClothPlugin(createWorld(), { airDensity: -1 })).toThrow(/airDensity/)
   })
 
-  it('the facade\'s setWind maps onto one global zone', () => {
+  it("the facade's setWind maps onto one global zone", () => {
     const sim = new ClothSimulation({ width: 1, height: 1, resolution: 8, material: 'silk' })
     sim.pinRow(0)
     sim.setWind({ direction: [0, 0, 1], strength: 6, turbulence: 0.2 })

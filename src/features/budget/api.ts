@@ -226,7 +226,8 @@ export function configureBudget(world: object, options: ClothBudgetOptions | nul
   let viewer = -1
   if (options.viewer !== undefined && options.viewer !== null) {
     viewer = checkEntity(world, 'options.viewer', options.viewer)
-    if (!hasComponent(world as never, viewer, state.transforms.component)) throw new ClothError('options.viewer', viewer, 'must have a Transform (call setTransform)')
+    if (!hasComponent(world as never, viewer, state.transforms.component))
+      throw new ClothError('options.viewer', viewer, 'must have a Transform (call setTransform)')
   }
   const near = options.near === undefined ? 10 : checkPositive('options.near', options.near)
   const far = options.far === undefined ? Math.max(40, near) : checkPositive('options.far', options.far)
@@ -237,10 +238,12 @@ export function configureBudget(world: object, options: ClothBudgetOptions | nul
     throw new ClothError('options.freezeInvisible', options.freezeInvisible, 'must be a boolean')
   }
   const interval = options.interval === undefined ? 15 : checkInteger('options.interval', options.interval, 1, 100000)
-  if (options.adapt !== undefined && typeof options.adapt !== 'boolean') throw new ClothError('options.adapt', options.adapt, 'must be a boolean')
+  if (options.adapt !== undefined && typeof options.adapt !== 'boolean')
+    throw new ClothError('options.adapt', options.adapt, 'must be a boolean')
   const adapt = options.adapt ?? true
   const farStepEvery = options.farStepEvery === undefined ? 1 : options.farStepEvery
-  if (farStepEvery !== 1 && farStepEvery !== 2 && farStepEvery !== 4) throw new ClothError('options.farStepEvery', farStepEvery, 'must be 1, 2 or 4')
+  if (farStepEvery !== 1 && farStepEvery !== 2 && farStepEvery !== 4)
+    throw new ClothError('options.farStepEvery', farStepEvery, 'must be 1, 2 or 4')
   if (options.calibration !== undefined) q.calibration = checkCalibration(options.calibration, 'options.calibration')
   else if (msPerFrame > 0 && q.calibration === null) q.calibration = measure()
   q.timing[Q_FACTOR] = 1

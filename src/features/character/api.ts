@@ -11,9 +11,24 @@ import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/mot
 import { blankCharacter, blankSkin, unconstrained } from './state'
 import { bindRigid, currentReference, identityPose, lastReference, reserveBoneScratch, restNormals, trackedPose } from './reference'
 import {
-  M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_ANGULAR, S_CENTRIFUGAL, S_FRAME_EXPLICIT, S_LINEAR, S_MAX_ANGULAR,
-  S_MAX_LINEAR, S_TELEPORT_ANGLE, S_TELEPORT_DISTANCE, S_TELEPORT_MODE,
-  type ClothCharacter, type ClothInertiaOptions, type ClothMotionConstraints, type ClothSkinningOptions, type PerParticle,
+  M_BIND,
+  M_POSE,
+  M_PRIMED,
+  M_REF_VALID,
+  S_ANGULAR,
+  S_CENTRIFUGAL,
+  S_FRAME_EXPLICIT,
+  S_LINEAR,
+  S_MAX_ANGULAR,
+  S_MAX_LINEAR,
+  S_TELEPORT_ANGLE,
+  S_TELEPORT_DISTANCE,
+  S_TELEPORT_MODE,
+  type ClothCharacter,
+  type ClothInertiaOptions,
+  type ClothMotionConstraints,
+  type ClothSkinningOptions,
+  type PerParticle,
 } from './types'
 
 /**
@@ -47,7 +62,8 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
     return
   }
   checkObject('options', options)
-  const frame = options.frame === undefined ? undefined : options.frame === null ? 0 : checkFrameEntity(world, state, 'options.frame', options.frame)
+  const frame = options.frame === undefined ? undefined
+    : options.frame === null ? 0 : checkFrameEntity(world, state, 'options.frame', options.frame)
   const linear = share('options.linear', options.linear)
   const angular = share('options.angular', options.angular)
   const centrifugal = share('options.centrifugal', options.centrifugal)
@@ -59,7 +75,8 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
     checkObject('options.teleport', t)
     if (t.mode !== undefined) mode = checkOneOf('options.teleport.mode', t.mode, ['keep', 'reset'] as const) === 'reset' ? 1 : 0
     if (t.distance !== undefined) {
-      if (typeof t.distance !== 'number' || !(t.distance > 0)) throw new ClothError('options.teleport.distance', t.distance, 'must be a distance in metres > 0 (Infinity: never)')
+      if (typeof t.distance !== 'number' || !(t.distance > 0))
+        throw new ClothError('options.teleport.distance', t.distance, 'must be a distance in metres > 0 (Infinity: never)')
       distance = t.distance
     }
     if (t.angle !== undefined) {
@@ -182,14 +199,18 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
   checkObject('skinning', skinning)
   const n = c.count
   const { bones, joints, weights } = skinning
-  if (!isArrayLike(bones) || bones.length === 0 || bones.length > 65535) throw new ClothError('skinning.bones', bones, 'must be an array of 1 to 65535 bone entities')
+  if (!isArrayLike(bones) || bones.length === 0 || bones.length > 65535)
+    throw new ClothError('skinning.bones', bones, 'must be an array of 1 to 65535 bone entities')
   for (let b = 0; b < bones.length; b++) checkFrameEntity(world, state, `skinning.bones[${b}]`, bones[b])
-  if (!isArrayLike(joints) || joints.length !== 4 * n) throw new ClothError('skinning.joints', joints, `must hold 4 bone indices per particle (${4 * n} numbers)`)
+  if (!isArrayLike(joints) || joints.length !== 4 * n)
+    throw new ClothError('skinning.joints', joints, `must hold 4 bone indices per particle (${4 * n} numbers)`)
   for (let k = 0; k < 4 * n; k++) {
     const j = joints[k]
-    if (!Number.isInteger(j) || j < 0 || j >= bones.length) throw new ClothError(`skinning.joints[${k}]`, j, `must be a bone index in [0, ${bones.length - 1}]`)
+    if (!Number.isInteger(j) || j < 0 || j >= bones.length)
+      throw new ClothError(`skinning.joints[${k}]`, j, `must be a bone index in [0, ${bones.length - 1}]`)
   }
-  if (!isArrayLike(weights) || weights.length !== 4 * n) throw new ClothError('skinning.weights', weights, `must hold 4 weights per particle (${4 * n} numbers)`)
+  if (!isArrayLike(weights) || weights.length !== 4 * n)
+    throw new ClothError('skinning.weights', weights, `must hold 4 weights per particle (${4 * n} numbers)`)
   for (let i = 0; i < n; i++) {
     let sum = 0
     for (let k = 4 * i; k < 4 * i + 4; k++) {
@@ -197,7 +218,8 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
       if (typeof w !== 'number' || !(w >= 0) || !(w <= 1)) throw new ClothError(`skinning.weights[${k}]`, w, 'must be a weight in [0, 1]')
       sum += w
     }
-    if (!(Math.abs(sum - 1) <= 1e-3)) throw new ClothError('skinning.weights', weights, `of particle ${i} sum to ${sum}; each particle's 4 weights must sum to 1`)
+    if (!(Math.abs(sum - 1) <= 1e-3))
+      throw new ClothError('skinning.weights', weights, `of particle ${i} sum to ${sum}; each particle's 4 weights must sum to 1`)
   }
   const ch = ensureCharacter(state, c)
   rebindRest(state, c, ch)

@@ -4,8 +4,32 @@ import { P_DAMP, P_GX, P_H } from '../../kernels/params'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { trackedPose } from './reference'
 import {
-  M_PRIMED, M_POSE, M_V, M_VC, M_W, M_WC, S_ANGULAR, S_CENTRIFUGAL, S_LINEAR, S_MAX_ANGULAR, S_MAX_LINEAR,
-  W_FROM, W_M, W_N, W_P, W_PV, W_PVC, W_PW, W_PWC, W_R, W_TO, W_V, W_VC, W_W, W_WC, type ClothCharacter,
+  M_PRIMED,
+  M_POSE,
+  M_V,
+  M_VC,
+  M_W,
+  M_WC,
+  S_ANGULAR,
+  S_CENTRIFUGAL,
+  S_LINEAR,
+  S_MAX_ANGULAR,
+  S_MAX_LINEAR,
+  W_FROM,
+  W_M,
+  W_N,
+  W_P,
+  W_PV,
+  W_PVC,
+  W_PW,
+  W_PWC,
+  W_R,
+  W_TO,
+  W_V,
+  W_VC,
+  W_W,
+  W_WC,
+  type ClothCharacter,
 } from './types'
 
 /**

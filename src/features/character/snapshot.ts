@@ -73,7 +73,7 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
     for (let k = 0; k < refStride; k++) p[o + PER + k] = ch.ref[refStride * i + k]
   }
   s.characterDrive = fit64(s.characterDrive, ch.drive === null ? 0 : n)
-  if (ch.drive !== null) for (let i = 0; i < n; i++) s.characterDrive[i] = ch.drive[i]
+  if (ch.drive !== null) { for (let i = 0; i < n; i++) s.characterDrive[i] = ch.drive[i] }
   s.characterHeld = fit8(s.characterHeld, n)
   for (let i = 0; i < n; i++) s.characterHeld[i] = ch.held[i]
   const skin = ch.skin
@@ -103,7 +103,8 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   const h = s.character
   if (
     !(h instanceof Float64Array) || !(s.characterParticles instanceof Float64Array) || !(s.characterHeld instanceof Uint8Array) ||
-    !(s.characterBones instanceof Int32Array) || !(s.characterBoneData instanceof Float64Array) || !(s.characterJoints instanceof Int32Array) ||
+    !(s.characterBones instanceof Int32Array) || !(s.characterBoneData instanceof Float64Array) ||
+    !(s.characterJoints instanceof Int32Array) ||
     !(s.characterWeights instanceof Float64Array) || !(s.characterDrive instanceof Float64Array)
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (character cloth section missing)')
@@ -112,7 +113,8 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   const tracked = h[H_TRACKED] === 1
   const nb = s.characterBones.length
   if (
-    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) || s.characterParticles.length !== (PER + (nb > 0 ? BLEND : RIGID)) * n || s.characterHeld.length !== n ||
+    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) ||
+    s.characterParticles.length !== (PER + (nb > 0 ? BLEND : RIGID)) * n || s.characterHeld.length !== n ||
     (s.characterDrive.length !== 0 && s.characterDrive.length !== n) ||
     (h[H_SKIN] === 1) !== nb > 0 || s.characterBoneData.length !== BONE * nb || s.characterJoints.length !== (nb > 0 ? 4 * n : 0) ||
     s.characterWeights.length !== s.characterJoints.length
@@ -126,10 +128,12 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   for (let q = 0; q < s.characterJoints.length; q++) {
     if (!(s.characterJoints[q] >= 0 && s.characterJoints[q] < nb)) throw new ClothError(arg, s, 'holds a skin joint out of range')
   }
-  if (tracked && !live(world, state, h[H_FRAME])) throw new ClothError(arg, s, `has entity ${h[H_FRAME]} as the cloth's frame, which no longer exists or has no Transform`)
+  if (tracked && !live(world, state, h[H_FRAME]))
+    throw new ClothError(arg, s, `has entity ${h[H_FRAME]} as the cloth's frame, which no longer exists or has no Transform`)
   for (let b = 0; b < nb; b++) {
     const e = s.characterBones[b]
-    if (e !== 0 && !live(world, state, e)) throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
+    if (e !== 0 && !live(world, state, e))
+      throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
   }
 }
 
@@ -201,7 +205,8 @@ function restoreSkin(state: ClothWorldState, ch: ClothCharacter, s: CharacterSna
   const nb = s.characterBones.length
   let skin = ch.skin
   let same = skin !== null && skin.bones.length === nb
-  for (let b = 0; same && b < nb; b++) same = skin!.bones[b] === s.characterBones[b] && (skin!.slots[b] >= 0) === (s.characterBones[b] !== 0)
+  for (let b = 0; same && b < nb; b++)
+    same = skin!.bones[b] === s.characterBones[b] && (skin!.slots[b] >= 0) === (s.characterBones[b] !== 0)
   if (!same) {
     if (skin !== null) untrackBones(state, skin)
     skin = ch.skin = nb === 0 ? null : blankSkin(nb, ch.held.length)

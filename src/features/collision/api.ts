@@ -100,9 +100,11 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   const cc = c.collision
   const layer = options.layer === undefined ? cc.layer : checkInteger('options.layer', options.layer, 0, 0xffffffff)
   const mask = options.mask === undefined ? cc.mask : checkInteger('options.mask', options.mask, 0, 0xffffffff)
-  const thickness = options.thickness === undefined ? cc.thickness : checkAtMost('options.thickness', checkNonNegative('options.thickness', options.thickness), MAX_COORDINATE, ' m')
+  const thickness = options.thickness === undefined ? cc.thickness
+    : checkAtMost('options.thickness', checkNonNegative('options.thickness', options.thickness), MAX_COORDINATE, ' m')
   const friction = options.friction === undefined ? cc.friction : checkNonNegative('options.friction', options.friction)
-  const staticFriction = options.staticFriction === undefined ? cc.staticFriction : checkNonNegative('options.staticFriction', options.staticFriction)
+  const staticFriction = options.staticFriction === undefined ? cc.staticFriction
+    : checkNonNegative('options.staticFriction', options.staticFriction)
   cc.layer = layer
   cc.mask = mask
   cc.thickness = thickness

@@ -2,7 +2,19 @@ import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, type ConvexHull } from '../../core/shapes'
 import { clearActiveColliders, reserveActiveColliders, wakeAroundCollider } from './reach'
-import { ClothError, MAX_COORDINATE, checkAtMost, checkBoundedArray, checkFinite, checkInteger, checkNonNegative, checkPoint, checkPositive, checkQuat, checkVec3 } from '../../core/errors'
+import {
+  ClothError,
+  MAX_COORDINATE,
+  checkAtMost,
+  checkBoundedArray,
+  checkFinite,
+  checkInteger,
+  checkNonNegative,
+  checkPoint,
+  checkPositive,
+  checkQuat,
+  checkVec3,
+} from '../../core/errors'
 import { buildConvexHull } from '../../model/hull'
 import { F_BC, F_LIM2, F_M, F_PC, F_PE, F_PN, F_PS, F_RADIUS, F_RE, F_RS, F_S0, F_SW, F_SWR } from '../../kernels/colliderFrame'
 import { interpolatePose, interpolateScale, readPoseInto, readScaleInto, trackEntity, untrackEntity } from '../../world/kinematics'
@@ -83,11 +95,19 @@ function checkCommon(world: object, state: ClothWorldState, eid: number, o: Coll
   if (typeof o !== 'object' || o === null) throw new ClothError('options', o, 'must be an object')
   const C = state.collision.Collider
   if (hasComponent(world as never, eid, C)) {
-    throw new ClothError('eid', eid, 'already has a collider (an entity carries one; give each extra collider its own entity and options.body)')
+    throw new ClothError(
+      'eid',
+      eid,
+      'already has a collider (an entity carries one; give each extra collider its own entity and options.body)',
+    )
   }
   const body = o.body === undefined ? eid : checkEntity(world, 'options.body', o.body)
   if (!hasComponent(world as never, body, state.transforms.component)) {
-    throw new ClothError(o.body === undefined ? 'eid' : 'options.body', body, 'must have a Transform (call setTransform), or give options.body an entity that has one')
+    throw new ClothError(
+      o.body === undefined ? 'eid' : 'options.body',
+      body,
+      'must have a Transform (call setTransform), or give options.body an entity that has one',
+    )
   }
   const offset = o.offset === undefined ? [0, 0, 0] : checkPoint('options.offset', o.offset)
   const rotation = o.rotation === undefined ? [0, 0, 0, 1] : normalizedQuat(checkQuat('options.rotation', o.rotation))
@@ -100,8 +120,15 @@ function checkCommon(world: object, state: ClothWorldState, eid: number, o: Coll
 
 /** Writes the collider into the store, starts tracking its body and adds the component. */
 function spawnCollider(
-  world: object, state: ClothWorldState, eid: number, shape: number, o: Common,
-  size: ArrayLike<number>, bound: ArrayLike<number>, depth: number, hull?: ConvexHull,
+  world: object,
+  state: ClothWorldState,
+  eid: number,
+  shape: number,
+  o: Common,
+  size: ArrayLike<number>,
+  bound: ArrayLike<number>,
+  depth: number,
+  hull?: ConvexHull,
 ): number {
   const cw = state.collision
   growStores(state, eid)
@@ -173,7 +200,16 @@ export function addBoxCollider(world: object, eid: number, options: BoxColliderO
   const o = checkCommon(world, state, eid, options)
   const h = checkPoint('options.halfExtents', options.halfExtents)
   for (let k = 0; k < 3; k++) if (!(h[k] > 0)) throw new ClothError('options.halfExtents', options.halfExtents, 'must be > 0 on every axis')
-  return spawnCollider(world, state, eid, SHAPE_BOX, o, [h[0], h[1], h[2]], [0, 0, 0, Math.hypot(h[0], h[1], h[2])], Math.min(h[0], h[1], h[2]))
+  return spawnCollider(
+    world,
+    state,
+    eid,
+    SHAPE_BOX,
+    o,
+    [h[0], h[1], h[2]],
+    [0, 0, 0, Math.hypot(h[0], h[1], h[2])],
+    Math.min(h[0], h[1], h[2]),
+  )
 }
 
 /**
@@ -190,9 +226,13 @@ export function addConvexHullCollider(world: object, eid: number, options: Conve
   const nv = v.length / 3
   let cx = 0, cy = 0, cz = 0
   for (let i = 0; i < nv; i++) {
-    cx += v[3 * i]; cy += v[3 * i + 1]; cz += v[3 * i + 2]
+    cx += v[3 * i]
+    cy += v[3 * i + 1]
+    cz += v[3 * i + 2]
   }
-  cx /= nv; cy /= nv; cz /= nv
+  cx /= nv
+  cy /= nv
+  cz /= nv
   let radius = 0
   for (let i = 0; i < nv; i++) radius = Math.max(radius, Math.hypot(v[3 * i] - cx, v[3 * i + 1] - cy, v[3 * i + 2] - cz))
   let depth = Infinity
@@ -226,7 +266,8 @@ export function addPlaneCollider(world: object, eid: number, options: PlaneColli
 export function removeCollider(world: object, eid: number): void {
   const state = getClothWorldForChange(world)
   const C = state.collision.Collider
-  if (typeof eid !== 'number' || !hasComponent(world as never, eid, C)) throw new ClothError('eid', eid, 'must be a collider entity of this world')
+  if (typeof eid !== 'number' || !hasComponent(world as never, eid, C))
+    throw new ClothError('eid', eid, 'must be a collider entity of this world')
   removeComponent(world as never, eid, C)
 }
 
@@ -262,8 +303,8 @@ export function getColliderPose(world: object, eid: number, outPosition?: vec3 |
   readPoseInto(state, C.body[eid], t)
   readScaleInto(state, C.body[eid], scales, 0)
   composePose(state, eid, t, 0, scales, 0, t, 7)
-  if (outPosition) for (let k = 0; k < 3; k++) outPosition[k] = t[7 + k]
-  if (outRotation) for (let k = 0; k < 4; k++) outRotation[k] = t[10 + k]
+  if (outPosition) { for (let k = 0; k < 3; k++) outPosition[k] = t[7 + k] }
+  if (outRotation) { for (let k = 0; k < 4; k++) outRotation[k] = t[10 + k] }
   return true
 }
 
@@ -283,7 +324,16 @@ const scales = new Float64Array(6)
  * Collider pose from a body pose (src[so..so+6]) and scale (scale[sco..sco+2]) into
  * out[oo..oo+6]: p = pb + qb·(s ⊙ offset), q = qb·ql.
  */
-function composePose(state: ClothWorldState, eid: number, src: Float64Array, so: number, scale: Float64Array, sco: number, out: Float64Array, oo: number): void {
+function composePose(
+  state: ClothWorldState,
+  eid: number,
+  src: Float64Array,
+  so: number,
+  scale: Float64Array,
+  sco: number,
+  out: Float64Array,
+  oo: number,
+): void {
   const C = state.collision.Collider
   const ox = C.offset[3 * eid] * scale[sco], oy = C.offset[3 * eid + 1] * scale[sco + 1], oz = C.offset[3 * eid + 2] * scale[sco + 2]
   const qx = src[so + 3], qy = src[so + 4], qz = src[so + 5], qw = src[so + 6]
@@ -357,25 +407,38 @@ export function fillColliderFrame(state: ClothWorldState, eid: number, k: number
   interpolatePose(K.stepFrom, K.stepTo, so, T, 1, t, 7)
   interpolateScale(K, 3 * C.slot[eid], T, 1, scales, 3)
   composePose(state, eid, t, 7, scales, 3, t, 21)
-  f[F_PS] = t[14]; f[F_PS + 1] = t[15]; f[F_PS + 2] = t[16]
-  f[F_PE] = t[21]; f[F_PE + 1] = t[22]; f[F_PE + 2] = t[23]
+  f[F_PS] = t[14]
+  f[F_PS + 1] = t[15]
+  f[F_PS + 2] = t[16]
+  f[F_PE] = t[21]
+  f[F_PE + 1] = t[22]
+  f[F_PE + 2] = t[23]
   quatToMatrix(t, 17, f, F_RS)
   quatToMatrix(t, 24, f, F_RE)
   // M = Rs·Reᵀ
   for (let r = 0; r < 3; r++) {
     for (let c = 0; c < 3; c++) {
-      f[F_M + 3 * r + c] = f[F_RS + 3 * r] * f[F_RE + 3 * c] + f[F_RS + 3 * r + 1] * f[F_RE + 3 * c + 1] + f[F_RS + 3 * r + 2] * f[F_RE + 3 * c + 2]
+      f[F_M + 3 * r + c] = f[F_RS + 3 * r] * f[F_RE + 3 * c] + f[F_RS + 3 * r + 1] * f[F_RE + 3 * c + 1] +
+        f[F_RS + 3 * r + 2] * f[F_RE + 3 * c + 2]
     }
   }
   const b = 4 * eid
-  f[F_S0] = C.size[b]; f[F_S0 + 1] = C.size[b + 1]; f[F_S0 + 2] = C.size[b + 2]; f[F_S0 + 3] = C.size[b + 3]
-  f[F_BC] = C.bound[b]; f[F_BC + 1] = C.bound[b + 1]; f[F_BC + 2] = C.bound[b + 2]; f[F_BC + 3] = C.bound[b + 3]
+  f[F_S0] = C.size[b]
+  f[F_S0 + 1] = C.size[b + 1]
+  f[F_S0 + 2] = C.size[b + 2]
+  f[F_S0 + 3] = C.size[b + 3]
+  f[F_BC] = C.bound[b]
+  f[F_BC + 1] = C.bound[b + 1]
+  f[F_BC + 2] = C.bound[b + 2]
+  f[F_BC + 3] = C.bound[b + 3]
   if (C.shape[eid] === SHAPE_PLANE) {
     const nx = f[F_S0], ny = f[F_S0 + 1], nz = f[F_S0 + 2]
     const wx = f[F_RE] * nx + f[F_RE + 1] * ny + f[F_RE + 2] * nz
     const wy = f[F_RE + 3] * nx + f[F_RE + 4] * ny + f[F_RE + 5] * nz
     const wz = f[F_RE + 6] * nx + f[F_RE + 7] * ny + f[F_RE + 8] * nz
-    f[F_PN] = wx; f[F_PN + 1] = wy; f[F_PN + 2] = wz
+    f[F_PN] = wx
+    f[F_PN + 1] = wy
+    f[F_PN + 2] = wz
     f[F_PC] = wx * f[F_PE] + wy * f[F_PE + 1] + wz * f[F_PE + 2] + f[F_S0 + 3]
     f[F_LIM2] = Infinity
     f[F_SWR] = Infinity

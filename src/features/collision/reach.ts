@@ -20,8 +20,10 @@ export function colliderReaches(C: ColliderStore, e: number, b: Float64Array, c:
   if (C.shape[e] === SHAPE_PLANE) {
     const cx = 0.5 * (b[0] + b[3]), cy = 0.5 * (b[1] + b[4]), cz = 0.5 * (b[2] + b[5])
     const ex = 0.5 * (b[3] - b[0]), ey = 0.5 * (b[4] - b[1]), ez = 0.5 * (b[5] - b[2])
-    const d0 = sw[o] * cx + sw[o + 1] * cy + sw[o + 2] * cz - Math.abs(sw[o]) * ex - Math.abs(sw[o + 1]) * ey - Math.abs(sw[o + 2]) * ez - sw[o + 3]
-    const d1 = sw[o + 4] * cx + sw[o + 5] * cy + sw[o + 6] * cz - Math.abs(sw[o + 4]) * ex - Math.abs(sw[o + 5]) * ey - Math.abs(sw[o + 6]) * ez - sw[o + 7]
+    const d0 = sw[o] * cx + sw[o + 1] * cy + sw[o + 2] * cz - Math.abs(sw[o]) * ex - Math.abs(sw[o + 1]) * ey - Math.abs(sw[o + 2]) * ez -
+      sw[o + 3]
+    const d1 = sw[o + 4] * cx + sw[o + 5] * cy + sw[o + 6] * cz - Math.abs(sw[o + 4]) * ex - Math.abs(sw[o + 5]) * ey -
+      Math.abs(sw[o + 6]) * ez - sw[o + 7]
     return d0 < r || d1 < r
   }
   return !(
@@ -58,7 +60,6 @@ export function reserveActiveColliders(state: ClothWorldState): void {
     }
   }
 }
-
 
 /**
  * Wakes the sleeping cloths whose bounds collider `e`'s last swept bounds reach: called when a

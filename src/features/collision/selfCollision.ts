@@ -75,7 +75,8 @@ export function enableSelfCollision(world: object, cloth: number, options: SelfC
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  const thickness = options.thickness === undefined ? 0 : checkAtMost('options.thickness', checkPositive('options.thickness', options.thickness), MAX_COORDINATE, ' m')
+  const thickness = options.thickness === undefined ? 0
+    : checkAtMost('options.thickness', checkPositive('options.thickness', options.thickness), MAX_COORDINATE, ' m')
   const friction = options.friction === undefined ? -1 : checkNonNegative('options.friction', options.friction)
   const staticFriction = options.staticFriction === undefined ? -1 : checkNonNegative('options.staticFriction', options.staticFriction)
   const cw = state.collision
@@ -213,7 +214,8 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
       const sb = cb.self!
       const ba = ca.bounds, bb = cb.bounds
       const D = 0.5 * (st.thickness + sb.thickness)
-      if (ba[0] > bb[3] + D || bb[0] > ba[3] + D || ba[1] > bb[4] + D || bb[1] > ba[4] + D || ba[2] > bb[5] + D || bb[2] > ba[5] + D) continue
+      if (ba[0] > bb[3] + D || bb[0] > ba[3] + D || ba[1] > bb[4] + D || bb[1] > ba[4] + D || ba[2] > bb[5] + D || bb[2] > ba[5] + D)
+        continue
       // both cloths' travel over the whole step plus their mean motion toward each other
       const vx = ba[B_MEAN_V] - bb[B_MEAN_V], vy = ba[B_MEAN_V + 1] - bb[B_MEAN_V + 1], vz = ba[B_MEAN_V + 2] - bb[B_MEAN_V + 2]
       const dtA = A.h * A.substeps, dtB = B.h * B.substeps
@@ -222,7 +224,23 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
       sp[S_RADIUS] = R
       sp[S_INV_CELL] = 1 / sb.values[0]
       const first = st.crossCount
-      st.crossCount = gatherPairs(st.sorted, st.entries, A.invMass, st.hashed, null, sb.sorted, sb.entries, B.invMass, sb.start, sb.mask, sb.visited, st.cross, first, st.crossCapacity, sp)
+      st.crossCount = gatherPairs(
+        st.sorted,
+        st.entries,
+        A.invMass,
+        st.hashed,
+        null,
+        sb.sorted,
+        sb.entries,
+        B.invMass,
+        sb.start,
+        sb.mask,
+        sb.visited,
+        st.cross,
+        first,
+        st.crossCapacity,
+        sp,
+      )
       if (st.crossCount === first) continue
       const o = 3 * st.blockCount++
       st.blocks[o] = b
@@ -238,7 +256,23 @@ function rebuildSelfPairs(c: ClothState, st: SelfCollisionState, sp: Float64Arra
   st.hashed = buildHash(c.pos, c.count, st.start, st.entries, st.bucket, st.sorted, st.mask, sp, c.topology.unused)
   sp[S_RADIUS] = st.thickness + 2 * st.values[1]
   sp[S_REST_FILTER] = REST_FILTER * st.thickness
-  st.pairCount = gatherPairs(st.sorted, st.entries, c.invMass, st.hashed, c.topology.restPositions, st.sorted, st.entries, c.invMass, st.start, st.mask, st.visited, st.pairs, 0, st.capacity, sp)
+  st.pairCount = gatherPairs(
+    st.sorted,
+    st.entries,
+    c.invMass,
+    st.hashed,
+    c.topology.restPositions,
+    st.sorted,
+    st.entries,
+    c.invMass,
+    st.start,
+    st.mask,
+    st.visited,
+    st.pairs,
+    0,
+    st.capacity,
+    sp,
+  )
 }
 
 /**

@@ -17,11 +17,12 @@ export function saveCollision(c: ClothState, s: CollisionSnapshot): void {
 }
 
 export function checkCollision(s: CollisionSnapshot, arg: string): void {
-  if (!(s.touched instanceof Uint8Array)) throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
+  if (!(s.touched instanceof Uint8Array))
+    throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
 }
 
 export function restoreCollision(c: ClothState, s: CollisionSnapshot): void {
   const self = c.collision.self
   const n = c.count
-  if (self !== null && s.touched.length === n) for (let i = 0; i < n; i++) self.touched[i] = s.touched[i]
+  if (self !== null && s.touched.length === n) { for (let i = 0; i < n; i++) self.touched[i] = s.touched[i] }
 }

@@ -115,4 +115,3 @@ function collideColliders(state: ClothWorldState): void {
     }
   }
 }
-

@@ -14,7 +14,15 @@ import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState } from '../../world/state'
 import { restSize } from './size'
-import { EVENT_CAPACITY, REASONS, type ClothGuardOptions, type ClothGuardState, type ClothResetEvent, type GuardSettings, type GuardWorld } from './types'
+import {
+  EVENT_CAPACITY,
+  REASONS,
+  type ClothGuardOptions,
+  type ClothGuardState,
+  type ClothResetEvent,
+  type GuardSettings,
+  type GuardWorld,
+} from './types'
 import { newArray, arrayOf } from '../../core/shared'
 
 export function defaultGuardSettings(maxSpeed: number): GuardSettings {

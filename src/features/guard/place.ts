@@ -65,7 +65,14 @@ export function placeRigidly(state: ClothWorldState, c: ClothState, src: Float64
  * current ones (`pos`): centroids into f[F_CS..], f[F_CT..] and the rotation into f[F_Q..]
  * (identity when fewer than two pins determine it). Returns the number of pins used.
  */
-function fitToPins(particle: ArrayLike<number>, pins: number[], src: Float64Array, srcCount: number, pos: Float64Array, f: Float64Array): number {
+function fitToPins(
+  particle: ArrayLike<number>,
+  pins: number[],
+  src: Float64Array,
+  srcCount: number,
+  pos: Float64Array,
+  f: Float64Array,
+): number {
   for (let k = 0; k < f.length; k++) f[k] = 0
   let n = 0
   for (let q = 0; q < pins.length; q++) {

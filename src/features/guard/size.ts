@@ -40,8 +40,13 @@ export function restSize(t: ClothTopology): number {
 
 /** Dijkstra from `s`; returns the farthest reached particle (distances left in `dist`). */
 function sweep(
-  s: number, start: Int32Array, adj: Int32Array, adjLen: Float64Array,
-  dist: Float64Array, heap: DistHeap, seen: Uint8Array | null,
+  s: number,
+  start: Int32Array,
+  adj: Int32Array,
+  adjLen: Float64Array,
+  dist: Float64Array,
+  heap: DistHeap,
+  seen: Uint8Array | null,
 ): number {
   dist.fill(Infinity)
   dist[s] = 0

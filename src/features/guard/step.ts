@@ -12,7 +12,8 @@ import { newArray } from '../../core/shared'
  */
 export function checkGuardHealth(c: ClothState): number {
   const unused = c.topology.unused
-  if (c.piece !== null && c.pieceCount > 1) return checkPieceHealth(c.pos, c.vel, c.invMass, c.count, c.piece, c.pieceCount, c.guard.pieceBox, c.guard.params, unused)
+  if (c.piece !== null && c.pieceCount > 1)
+    return checkPieceHealth(c.pos, c.vel, c.invMass, c.count, c.piece, c.pieceCount, c.guard.pieceBox, c.guard.params, unused)
   return checkClothHealth(c.pos, c.vel, c.invMass, c.count, c.guard.params, unused)
 }
 

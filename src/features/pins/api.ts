@@ -1,6 +1,15 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkQuat } from '../../core/errors'
+import {
+  ClothError,
+  MAX_COORDINATE,
+  checkIndex,
+  checkInteger,
+  checkNonNegative,
+  checkObject,
+  checkPoint,
+  checkQuat,
+} from '../../core/errors'
 import { normalizedQuat, rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
@@ -57,7 +66,7 @@ export function pinParticle(
   // the pin continues from the target's pose at the end of the last step (the simulation's now)
   const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
   const k = state.kinematics
-  if (slot >= 0) for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j]
+  if (slot >= 0) { for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j] }
   // where the particle is now, in the target's frame
   toLocal(state, slot, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
   if (!(Math.abs(tmp[0]) <= MAX_COORDINATE && Math.abs(tmp[1]) <= MAX_COORDINATE && Math.abs(tmp[2]) <= MAX_COORDINATE)) {
@@ -157,8 +166,15 @@ export function releasePin(state: ClothWorldState, pin: number): void {
  * (slot −1), the point itself.
  */
 function toLocal(
-  state: ClothWorldState, slot: number, pose: Float64Array, po: number,
-  x: number, y: number, z: number, out: Float64Array, o: number,
+  state: ClothWorldState,
+  slot: number,
+  pose: Float64Array,
+  po: number,
+  x: number,
+  y: number,
+  z: number,
+  out: Float64Array,
+  o: number,
 ): void {
   if (slot < 0) {
     out[o] = x

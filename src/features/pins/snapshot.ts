@@ -1,7 +1,15 @@
 import { entityExists, hasComponent, removeEntity } from 'bitecs'
 import { allFinite, fit32, fit64 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
-import { SLOT_DATA, SLOT_SCALE_DATA, restoreSlot, restoreSlotScale, saveSlot, saveSlotScale, transformGeneration } from '../../world/kinematics'
+import {
+  SLOT_DATA,
+  SLOT_SCALE_DATA,
+  restoreSlot,
+  restoreSlotScale,
+  saveSlot,
+  saveSlotScale,
+  transformGeneration,
+} from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { pinParticle } from './api'
 
@@ -86,7 +94,10 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
-  if (s.targetScales !== undefined && (!(s.targetScales instanceof Float64Array) || s.targetScales.length !== SLOT_SCALE_DATA * s.targets.length)) {
+  if (
+    s.targetScales !== undefined &&
+    (!(s.targetScales instanceof Float64Array) || s.targetScales.length !== SLOT_SCALE_DATA * s.targets.length)
+  ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
   if (!allFinite(s.pinData) || !allFinite(s.targetData) || (s.targetScales !== undefined && !allFinite(s.targetScales))) {
@@ -105,7 +116,11 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
     if (target !== 0 && gens !== undefined) {
       const t = s.targets.indexOf(target)
       if (t >= 0 && gens[t] !== transformGeneration(state.kinematics, target)) {
-        throw new ClothError(arg, s, `pins entity ${target}, which lost its Transform (was removed) after the save: the id now names another entity`)
+        throw new ClothError(
+          arg,
+          s,
+          `pins entity ${target}, which lost its Transform (was removed) after the save: the id now names another entity`,
+        )
       }
     }
     if (!(s.pins[3 * q + 1] >= 0 && s.pins[3 * q + 1] < n)) throw new ClothError(arg, s, 'holds a pin on a particle out of range')
@@ -133,7 +148,9 @@ export function restorePinEntities(world: object, state: ClothWorldState, c: Clo
   for (let q = 0; q < np; q++) {
     const target = s.pins[3 * q + 2]
     const d = PIN_DATA * q
-    pinParticle(world, c.eid, s.pins[3 * q + 1], target === 0 ? null : target, [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]], { blendTime: 0 })
+    pinParticle(world, c.eid, s.pins[3 * q + 1], target === 0 ? null : target, [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]], {
+      blendTime: 0,
+    })
   }
 }
 

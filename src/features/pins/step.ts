@@ -27,7 +27,19 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): number
     if (slot < 0 || k.jumped[slot] === 0) continue
     const j = 10 * slot
     const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
-    moveClothRigidly(c, cx, cy, cz, k.jump[j + 3], k.jump[j + 4], k.jump[j + 5], k.jump[j + 6], cx + k.jump[j + 7], cy + k.jump[j + 8], cz + k.jump[j + 9])
+    moveClothRigidly(
+      c,
+      cx,
+      cy,
+      cz,
+      k.jump[j + 3],
+      k.jump[j + 4],
+      k.jump[j + 5],
+      k.jump[j + 6],
+      cx + k.jump[j + 7],
+      cy + k.jump[j + 8],
+      cz + k.jump[j + 9],
+    )
     state.stats.teleports++
     return 1
   }

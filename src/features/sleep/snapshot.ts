@@ -30,5 +30,5 @@ export function restoreSleep(state: ClothWorldState, c: ClothState, s: SleepSnap
     state.sleep.count += asleep ? 1 : -1
   }
   sleep.still = sl !== undefined ? sl[1] : 0
-  if (sl !== undefined) for (let j = 0; j < 6; j++) sleep.bounds[j] = sl[2 + j]
+  if (sl !== undefined) { for (let j = 0; j < 6; j++) sleep.bounds[j] = sl[2 + j] }
 }

@@ -154,7 +154,7 @@ class MeshIndex {
         const a = tris[3 * t + k], b = tris[3 * t + ((k + 1) % 3)]
         const key = pairKey(a, b)
         let list = this.edgeTris.get(key)
-        if (!list) this.edgeTris.set(key, (list = []))
+        if (!list) this.edgeTris.set(key, list = [])
         list.push(t)
         this.link(a, b)
       }
@@ -169,10 +169,10 @@ class MeshIndex {
   }
   private link(a: number, b: number): void {
     let s = this.neighbours.get(a)
-    if (!s) this.neighbours.set(a, (s = new Set()))
+    if (!s) this.neighbours.set(a, s = new Set())
     s.add(b)
     let r = this.neighbours.get(b)
-    if (!r) this.neighbours.set(b, (r = new Set()))
+    if (!r) this.neighbours.set(b, r = new Set())
     r.add(a)
   }
   corner(t: number, v: number): number {
@@ -199,11 +199,24 @@ function pairKey(a: number, b: number): number {
 }
 
 function pairSet(
-  ids: Int32Array, scale: number, count: number, cap: number, f64: Float64Array[], u8: Uint8Array[], over: Uint8Array | null,
-  mesh: MeshIndex, rest: Float64Array,
+  ids: Int32Array,
+  scale: number,
+  count: number,
+  cap: number,
+  f64: Float64Array[],
+  u8: Uint8Array[],
+  over: Uint8Array | null,
+  mesh: MeshIndex,
+  rest: Float64Array,
 ): PairSet {
   const s: PairSet = {
-    ids, scale, f64, u8, over, count, cap,
+    ids,
+    scale,
+    f64,
+    u8,
+    over,
+    count,
+    cap,
     endT: newArray(Int32Array, 2 * cap).fill(-1),
     endC: newArray(Uint8Array, 2 * cap),
     chkT: newArray(Int32Array, 4 * cap).fill(-1),

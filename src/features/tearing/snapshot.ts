@@ -40,7 +40,8 @@ export function saveTearing(state: ClothWorldState, c: ClothState, s: TearSnapsh
 export function checkTearing(s: TearSnapshot, arg: string, n: number): void {
   if (
     !(s.tear instanceof Float64Array) || (s.tear.length !== 0 && s.tear.length !== 3) || !(s.tearOver instanceof Uint8Array) ||
-    !(s.tearTethers instanceof Int32Array) || !(s.tearTetherRest instanceof Float64Array) || s.tearTethers.length !== 2 * s.tearTetherRest.length
+    !(s.tearTethers instanceof Int32Array) || !(s.tearTetherRest instanceof Float64Array) ||
+    s.tearTethers.length !== 2 * s.tearTetherRest.length
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
   }
@@ -54,16 +55,23 @@ export function checkTearing(s: TearSnapshot, arg: string, n: number): void {
 export function checkTearingFits(state: ClothWorldState, c: ClothState, s: TearSnapshot, arg: string): void {
   const T = c.tear
   if ((s.tear.length > 0) !== (T !== null)) {
-    throw new ClothError(arg, s, T !== null ? 'was saved from a cloth that was not tearable, and this one is' : 'was saved from a tearable cloth, and this one is not')
+    throw new ClothError(
+      arg,
+      s,
+      T !== null ? 'was saved from a cloth that was not tearable, and this one is' : 'was saved from a tearable cloth, and this one is not',
+    )
   }
   if (T === null) return
   if (s.tear[2] !== c.count || s.tear[1] !== meshFingerprint(c)) {
     const since = state.components.Tearable.tears[c.eid] - s.tear[0]
     throw new ClothError(
-      arg, s,
+      arg,
+      s,
       since > 0 && s.tear[2] < c.count
-        ? `was saved before this cloth tore (${since} tear${since === 1 ? '' : 's'} since): a snapshot does not restore a torn mesh, only a tearable cloth whose mesh is still the one it was saved with`
-        : 'was saved from a tearable cloth whose mesh (torn differently) is not this one\'s: a snapshot does not restore a torn mesh',
+        ? `was saved before this cloth tore (${since} tear${
+          since === 1 ? '' : 's'
+        } since): a snapshot does not restore a torn mesh, only a tearable cloth whose mesh is still the one it was saved with`
+        : "was saved from a tearable cloth whose mesh (torn differently) is not this one's: a snapshot does not restore a torn mesh",
     )
   }
   if (s.tearTetherRest.length > T.tethers.rest.length) throw new ClothError(arg, s, 'holds more tethers than this cloth has room for')

@@ -66,13 +66,13 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
     const start = (mayStart || lasting) && fresh < NEW_CRACKS_PER_STEP
     const smallest = T.candRatio[q] > OVERLOAD * OVERLOAD ? 1 : minPiece
     let nv = trySplit(c, T, first, second, step, smallest, start, !lasting)
-    if (nv < 0) nv = trySplit(c, T, (split = second), first, step, smallest, start, !lasting)
+    if (nv < 0) nv = trySplit(c, T, split = second, first, step, smallest, start, !lasting)
     if (nv < 0 && lasting && tA >= 0) {
       // neither end can split (each holds only this edge's triangles): part the triangle's third
       // particle, where it hangs on to the rest
       const k3 = 3 * tA
       const w = tris[k3] !== a && tris[k3] !== b ? tris[k3] : tris[k3 + 1] !== a && tris[k3 + 1] !== b ? tris[k3 + 1] : tris[k3 + 2]
-      nv = trySplit(c, T, (split = w), first, step, smallest, start, false)
+      nv = trySplit(c, T, split = w, first, step, smallest, start, false)
     }
     if (nv < 0) continue
     if (T.tip[split] === 0) fresh++
@@ -116,7 +116,16 @@ function recordTear(state: ClothWorldState, c: ClothState, split: number, nv: nu
  * this step already, v starts a new crack and `mayStart` is false, no cut fits (`strict`: see
  * `chooseCut`), or the cut would free a piece of fewer than `minPiece` triangles. Returns the new particle or −1.
  */
-function trySplit(c: ClothState, T: ClothTear, v: number, o: number, step: number, minPiece: number, mayStart: boolean, strict: boolean): number {
+function trySplit(
+  c: ClothState,
+  T: ClothTear,
+  v: number,
+  o: number,
+  step: number,
+  minPiece: number,
+  mayStart: boolean,
+  strict: boolean,
+): number {
   if (T.splitAt[v] === step) return -1
   if (T.tip[v] === 0 && !mayStart) return -1
   if (gatherFan(T, v) === 0) return -1

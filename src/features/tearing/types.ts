@@ -151,4 +151,3 @@ export interface ClothTear {
   /** Union-find scratch for labelling the connected pieces (`ClothState.piece`). */
   pieceRoot: Int32Array
 }
-

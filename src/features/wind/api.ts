@@ -1,6 +1,17 @@
 import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, onRemove, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkVec3, isArrayLike } from '../../core/errors'
+import {
+  ClothError,
+  MAX_COORDINATE,
+  checkAtMost,
+  checkInteger,
+  checkNonNegative,
+  checkOneOf,
+  checkPositive,
+  checkQuat,
+  checkVec3,
+  isArrayLike,
+} from '../../core/errors'
 import { NOISE_SCRATCH, ZONE_STRIDE, addZoneAir } from '../../kernels/wind'
 import { getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
@@ -54,7 +65,8 @@ const ZERO_ROTATION = [0, 0, 0, 1]
 
 /** Creates the per-world wind state (validates `airDensity`). Called by `installClothPlugin`. */
 export function createWindWorld(airDensity: number | undefined): WindWorld {
-  const rho = airDensity === undefined ? 1.2 : checkAtMost('options.airDensity', checkNonNegative('options.airDensity', airDensity), MAX_AIR_DENSITY, ' kg/m³')
+  const rho = airDensity === undefined ? 1.2
+    : checkAtMost('options.airDensity', checkNonNegative('options.airDensity', airDensity), MAX_AIR_DENSITY, ' kg/m³')
   return {
     zones: [],
     airDensity: arrayOf(Float64Array, [rho]),
@@ -84,7 +96,7 @@ export function installWind(world: object, state: ClothWorldState): void {
     touchLayout()
     untrackEntity(state, eid)
     state.wind.compiled = false
-    if (zones.length === 0) for (const c of state.cloths) c.accel = null
+    if (zones.length === 0) { for (const c of state.cloths) c.accel = null }
   })
 }
 
@@ -127,7 +139,12 @@ export function createWindZone(world: object, options: WindZoneOptions): number 
   Z.falloff[eid] = 0.5
   Z.airDensity[eid] = -1
   Z.seed[eid] = 1
-  Z.gustFrom[eid] = Z.gustPeak[eid] = Z.gustTime[eid] = Z.gustDuration[eid] = Z.gust[eid] = 0
+  Z.gustFrom[eid] =
+    Z.gustPeak[eid] =
+    Z.gustTime[eid] =
+    Z.gustDuration[eid] =
+    Z.gust[eid] =
+      0
   Z.drift[3 * eid] = Z.drift[3 * eid + 1] = Z.drift[3 * eid + 2] = 0
   applyZoneOptions(Z, eid, checked)
   Z.slot[eid] = trackEntity(state, eid)
@@ -207,7 +224,8 @@ export function sampleWind(world: object, position: Readonly<vec3> | ArrayLike<n
   samplePos[2] = position[2]
   sampleAir[0] = sampleAir[1] = sampleAir[2] = 0
   sampleAir[3] = wind.airDensity[0]
-  for (let z = 0; z < wind.zones.length; z++) addZoneAir(samplePos, 1, sampleAir, wind.params, z * ZONE_STRIDE, wind.airDensity, wind.scratch)
+  for (let z = 0; z < wind.zones.length; z++)
+    addZoneAir(samplePos, 1, sampleAir, wind.params, z * ZONE_STRIDE, wind.airDensity, wind.scratch)
   out[0] = sampleAir[0]
   out[1] = sampleAir[1]
   out[2] = sampleAir[2]
@@ -241,8 +259,10 @@ function checkZoneOptions(o: Partial<WindZoneOptions>, shape: WindShape): Checke
     out.dir = [d[0] / l, d[1] / l, d[2] / l]
   }
   // bounded far beyond anything physical, so no product of them overflows to Infinity in a step
-  if (o.strength !== undefined) out.strength = checkAtMost('options.strength', checkNonNegative('options.strength', o.strength), MAX_WIND, ' m/s')
-  if (o.turbulence !== undefined) out.turbulence = checkAtMost('options.turbulence', checkNonNegative('options.turbulence', o.turbulence), 100, '')
+  if (o.strength !== undefined)
+    out.strength = checkAtMost('options.strength', checkNonNegative('options.strength', o.strength), MAX_WIND, ' m/s')
+  if (o.turbulence !== undefined)
+    out.turbulence = checkAtMost('options.turbulence', checkNonNegative('options.turbulence', o.turbulence), 100, '')
   if (o.turbulenceScale !== undefined) out.turbulenceScale = checkScale('options.turbulenceScale', o.turbulenceScale, ' m')
   if (o.turbulencePeriod !== undefined) out.turbulencePeriod = checkScale('options.turbulencePeriod', o.turbulencePeriod, ' s')
   if (o.size !== undefined) {
@@ -255,13 +275,17 @@ function checkZoneOptions(o: Partial<WindZoneOptions>, shape: WindShape): Checke
     } else {
       if (!isArrayLike(o.size)) throw new ClothError('options.size', o.size, 'must be a number or [x, y, z] extents')
       const s = checkVec3('options.size', o.size)
-      for (let i = 0; i < 3; i++) if (!(s[i] > 0 && s[i] <= MAX_COORDINATE)) throw new ClothError('options.size', o.size, `must have positive extents of at most ${MAX_COORDINATE} m`)
+      for (let i = 0; i < 3; i++)
+        if (!(s[i] > 0 && s[i] <= MAX_COORDINATE))
+          throw new ClothError('options.size', o.size, `must have positive extents of at most ${MAX_COORDINATE} m`)
       out.half = [s[0] / 2, s[1] / 2, s[2] / 2]
     }
   }
-  if (o.falloff !== undefined) out.falloff = checkAtMost('options.falloff', checkNonNegative('options.falloff', o.falloff), MAX_COORDINATE, ' m')
+  if (o.falloff !== undefined)
+    out.falloff = checkAtMost('options.falloff', checkNonNegative('options.falloff', o.falloff), MAX_COORDINATE, ' m')
   if (o.seed !== undefined) out.seed = checkInteger('options.seed', o.seed, 0, 0xffffffff)
-  if (o.airDensity !== undefined) out.airDensity = checkAtMost('options.airDensity', checkNonNegative('options.airDensity', o.airDensity), MAX_AIR_DENSITY, ' kg/m³')
+  if (o.airDensity !== undefined)
+    out.airDensity = checkAtMost('options.airDensity', checkNonNegative('options.airDensity', o.airDensity), MAX_AIR_DENSITY, ' kg/m³')
   return out
 }
 

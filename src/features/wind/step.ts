@@ -1,6 +1,41 @@
-import { A_DRAG, A_H, A_LIFT, A_MAX_SPEED, A_STRIDE, AERO_PARAM_COUNT, accumulateAerodynamics, aeroNormals, limitAerodynamics } from '../../kernels/aero'
+import {
+  A_DRAG,
+  A_H,
+  A_LIFT,
+  A_MAX_SPEED,
+  A_STRIDE,
+  AERO_PARAM_COUNT,
+  accumulateAerodynamics,
+  aeroNormals,
+  limitAerodynamics,
+} from '../../kernels/aero'
 import { particleBounds } from '../../kernels/mesh'
-import { Z_CX, Z_CY, Z_CZ, Z_DENSITY, Z_DRIFT_X, Z_DRIFT_Y, Z_DRIFT_Z, Z_FALLOFF, Z_HX, Z_HY, Z_HZ, Z_INV_SCALE, Z_MAX, Z_MIN, Z_R, Z_SEED, Z_SHAPE, Z_TIME, Z_TURB, Z_VX, Z_VY, Z_VZ, ZONE_STRIDE, addZoneAir } from '../../kernels/wind'
+import {
+  Z_CX,
+  Z_CY,
+  Z_CZ,
+  Z_DENSITY,
+  Z_DRIFT_X,
+  Z_DRIFT_Y,
+  Z_DRIFT_Z,
+  Z_FALLOFF,
+  Z_HX,
+  Z_HY,
+  Z_HZ,
+  Z_INV_SCALE,
+  Z_MAX,
+  Z_MIN,
+  Z_R,
+  Z_SEED,
+  Z_SHAPE,
+  Z_TIME,
+  Z_TURB,
+  Z_VX,
+  Z_VY,
+  Z_VZ,
+  ZONE_STRIDE,
+  addZoneAir,
+} from '../../kernels/wind'
 import { quatToMatrix } from '../../core/math'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import type { ClothWind } from './types'
@@ -195,8 +230,10 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
         particleBounds(c.pos, c.count, b, 0, c.topology.unused)
         haveBounds = true
       }
-      if (b[3] < P[o + Z_MIN] || b[0] > P[o + Z_MAX] || b[4] < P[o + Z_MIN + 1] || b[1] > P[o + Z_MAX + 1] ||
-          b[5] < P[o + Z_MIN + 2] || b[2] > P[o + Z_MAX + 2]) continue
+      if (
+        b[3] < P[o + Z_MIN] || b[0] > P[o + Z_MAX] || b[4] < P[o + Z_MIN + 1] || b[1] > P[o + Z_MAX + 1] ||
+        b[5] < P[o + Z_MIN + 2] || b[2] > P[o + Z_MAX + 2]
+      ) continue
       if (P[o + Z_SHAPE] === 2) {
         // sphere: the exact distance from its centre to the cloth's box
         const cx = P[o + Z_CX], cy = P[o + Z_CY], cz = P[o + Z_CZ]
