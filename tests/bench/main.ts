@@ -10,7 +10,8 @@ import { demoScenes } from './demo'
 import { threeCost } from './three'
 import { proxyCost } from './render'
 import { characterCost } from './character'
-import { threadsCharacterCost, threadsCost } from './threads'
+import { isMainThread, parentPort, workerData } from 'node:worker_threads'
+import { runSplitWorker, threadsCharacterCost, threadsCost } from './threads'
 
 /**
  * Benchmark suites by name. `npm run bench` runs the default ones; `npm run bench -- <name>` runs
@@ -68,7 +69,12 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
   'threads-character': { byDefault: false, run: () => threadsCharacterCost() },
 }
 
-const wanted = process.argv.slice(2)
-for (const [name, suite] of Object.entries(suites)) {
-  if (wanted.length === 0 ? suite.byDefault : wanted.includes(name)) await suite.run()
+if (isMainThread) {
+  const wanted = process.argv.slice(2)
+  for (const [name, suite] of Object.entries(suites)) {
+    if (wanted.length === 0 ? suite.byDefault : wanted.includes(name)) await suite.run()
+  }
+} else if (workerData?.kind === 'split') {
+  // this bundle as a worker thread of the threads suite's split by hand
+  runSplitWorker(workerData, () => parentPort?.postMessage('ready'))
 }

@@ -16,6 +16,7 @@ import {
 import { getClothWorld } from '../../src/world/access'
 import { waitForWorkers } from '../../src/threads/pool'
 import { cpuMs, fmt, saveJson, table } from './harness'
+import { Worker } from 'node:worker_threads'
 
 const DT = 1 / 60
 /** The cloth worker, bundled next to the benchmark bundle by run.mjs. */
@@ -27,11 +28,11 @@ const WORKER = new URL('./worker.mjs', import.meta.url)
  * `threads` workers. `animate` writes the frame's Transforms (the game's work, not timed).
  * `configure` may give each cape character-cloth settings, and return what it animates per frame.
  */
-function crowd(threads: number, n: number, res: number, minStepMs?: number, configure?: Configure) {
+function crowd(threads: number, n: number, res: number, minStepMs?: number, configure?: Configure, first = 0) {
   const world = installClothPlugin(createWorld(), { sleep: false, threads, workerUrl: WORKER, threadMinStepMs: minStepMs })
   const heroes: { eid: number; x: number; z: number; phase: number }[] = []
   const moves: ((frame: number) => void)[] = []
-  for (let i = 0; i < n; i++) {
+  for (let i = first; i < first + n; i++) {
     const x = (i % 8) * 3, z = Math.floor(i / 8) * 3
     const phase = i * 0.7
     const turn: [number, number, number, number] = [0, Math.sin(-phase / 2), 0, Math.cos(-phase / 2)]
@@ -101,15 +102,20 @@ function frame(c: Crowd, out: { main: number; wall: number; cpu: number }): void
 
 const median = (a: number[]): number => [...a].sort((x, y) => x - y)[a.length >> 1]
 
-/** Interleaved rounds of `frames` frames per world; per world the median per round of main, wall and CPU ms. */
-function measure(worlds: Crowd[], rounds: number, frames: number): { main: number[]; wall: number[]; cpu: number[] }[] {
-  const out = worlds.map(() => ({ main: [] as number[], wall: [] as number[], cpu: [] as number[] }))
+/** Times one frame into `out` (main-thread, wall and CPU ms). */
+type Runner = (out: { main: number; wall: number; cpu: number }) => void
+
+const runner = (c: Crowd): Runner => (out) => frame(c, out)
+
+/** Interleaved rounds of `frames` frames per runner; per runner the median per round of main, wall and CPU ms. */
+function measure(runners: Runner[], rounds: number, frames: number): { main: number[]; wall: number[]; cpu: number[] }[] {
+  const out = runners.map(() => ({ main: [] as number[], wall: [] as number[], cpu: [] as number[] }))
   const t = { main: 0, wall: 0, cpu: 0 }
   for (let r = 0; r < rounds; r++) {
-    for (let w = 0; w < worlds.length; w++) {
+    for (let w = 0; w < runners.length; w++) {
       const main: number[] = [], wall: number[] = [], cpu: number[] = []
       for (let f = 0; f < frames; f++) {
-        frame(worlds[w], t)
+        runners[w](t)
         main.push(t.main)
         wall.push(t.wall)
         cpu.push(t.cpu)
@@ -120,6 +126,91 @@ function measure(worlds: Crowd[], rounds: number, frames: number): { main: numbe
     }
   }
   return out
+}
+
+/** The median over rounds of one runner's round median over another's (both measured in the same round). */
+const roundRatio = (a: number[], b: number[]): number => median(a.map((x, r) => x / b[r]))
+
+/**
+ * The machine's own best split of the crowd, beside the threaded mode: the 64 capes as two
+ * independent single-threaded worlds of 32, each on a plain worker thread, stepped in lockstep (a
+ * frame signals both and waits for both). No handoff, no partition, no shared world: what two
+ * threads of this machine can do with this work in the same round, whatever the VM gives the
+ * second core at that moment.
+ */
+interface Split {
+  workers: Worker[]
+  control: Int32Array
+  frame: number
+}
+
+/** What a split worker is told (the benchmark bundle runs as the worker: see main.ts). */
+interface SplitData {
+  kind: 'split'
+  control: SharedArrayBuffer
+  index: number
+  first: number
+  count: number
+  res: number
+}
+
+async function startSplit(n: number, res: number): Promise<Split> {
+  const control = new Int32Array(new SharedArrayBuffer(16))
+  const half = n >> 1
+  const workers = [0, 1].map((index) => {
+    const workerData: SplitData = {
+      kind: 'split',
+      control: control.buffer as SharedArrayBuffer,
+      index,
+      first: index * half,
+      count: half,
+      res,
+    }
+    return new Worker(new URL(import.meta.url), { workerData })
+  })
+  await Promise.all(workers.map((w) => new Promise<void>((resolve) => w.once('message', () => resolve()))))
+  return { workers, control, frame: 0 }
+}
+
+function splitFrame(s: Split, out: { main: number; wall: number; cpu: number }): void {
+  const c = s.control
+  const c0 = cpuMs()
+  const t0 = performance.now()
+  const f = ++s.frame
+  Atomics.store(c, 0, f)
+  Atomics.notify(c, 0)
+  for (let w = 0; w < 2; w++) {
+    for (let v = Atomics.load(c, 1 + w); v !== f; v = Atomics.load(c, 1 + w)) Atomics.wait(c, 1 + w, v)
+  }
+  out.wall = performance.now() - t0
+  out.main = 0
+  out.cpu = cpuMs() - c0
+}
+
+async function stopSplit(s: Split): Promise<void> {
+  Atomics.store(s.control, 0, -1)
+  Atomics.notify(s.control, 0)
+  await Promise.all(s.workers.map((w) => w.terminate()))
+}
+
+/** The split worker's side: builds its half of the crowd, says so, then steps a frame per signal until told -1. */
+export function runSplitWorker(d: SplitData, ready: () => void): void {
+  const c = crowd(0, d.count, d.res, undefined, undefined, d.first)
+  for (let f = 0; f < 60; f++) frame(c, { main: 0, wall: 0, cpu: 0 })
+  const control = new Int32Array(d.control)
+  ready()
+  let seen = 0
+  for (;;) {
+    Atomics.wait(control, 0, seen)
+    const f = Atomics.load(control, 0)
+    if (f < 0) return
+    if (f === seen) continue
+    c.animate()
+    stepCloth(c.world, DT)
+    seen = f
+    Atomics.store(control, 1 + d.index, f)
+    Atomics.notify(control, 1 + d.index)
+  }
 }
 
 const spread = (a: number[]): string => `${fmt(Math.min(...a), 2)}–${fmt(Math.max(...a), 2)}`
@@ -136,19 +227,32 @@ export async function threadsCost(): Promise<void> {
   const counts = [0, 1, 2]
   const worlds = counts.map((n) => crowd(n, 64, 24))
   for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0, cpu: 0 })
-  const m = measure(worlds, 7, 20)
-  const wall0 = median(m[0].wall)
+  const split = await startSplit(64, 24)
+  const rounds = 11
+  const m = measure([...worlds.map(runner), (t) => splitFrame(split, t)], rounds, 20)
+  await stopSplit(split)
+  const rows = [...counts.map((n) => `${n} workers`), '2 threads, split by hand']
   table(
-    '64 capes of 24×24, 3 capsules each, tethers, 8 substeps: ms per 60 Hz frame (median of 7 interleaved rounds of 20 frames; range of the round medians)',
-    counts.map((n, i) => ({
-      workers: n,
+    `64 capes of 24×24, 3 capsules each, tethers, 8 substeps: ms per 60 Hz frame (median of ${rounds} interleaved rounds of 20 frames; range of the round medians; wall / none: median of the rounds' ratios). Split by hand: two independent single-threaded worlds of 32 capes on two plain worker threads, in lockstep (the machine's own best split of this work, no handoff)`,
+    rows.map((label, i) => ({
+      mode: label,
       'main thread ms': fmt(median(m[i].main), 3),
       'main range': spread(m[i].main),
       'wall ms': fmt(median(m[i].wall), 2),
       'wall range': spread(m[i].wall),
-      'wall / none': fmt(median(m[i].wall) / wall0, 2),
+      'wall / none': fmt(roundRatio(m[i].wall, m[0].wall), 2),
       'CPU ms, all threads': fmt(median(m[i].cpu), 2),
     })),
+  )
+  const fullCores = m[3].wall.map((x, r) => (x / m[0].wall[r] <= 0.55 ? r : -1)).filter((r) => r >= 0)
+  const freeRounds = fullCores.length
+  const inFree = fullCores.map((r) => m[2].wall[r] / m[0].wall[r])
+  console.log(
+    `\n2 workers against the split by hand, same round: ${
+      fmt(roundRatio(m[2].wall, m[3].wall), 2)
+    } (median of the rounds' ratios; 1.00: as fast as two independent half-crowds). ` +
+      `Rounds where the split by hand ran at ≤ 0.55× none (two full cores): ${freeRounds} of ${rounds}` +
+      (freeRounds > 0 ? `; in those, 2 workers / none: median ${fmt(median(inFree), 2)} (${spread(inFree)})` : ''),
   )
   for (const w of worlds) disposeClothWorld(w.world)
 
@@ -181,7 +285,7 @@ export async function threadsCost(): Promise<void> {
       fmt(free, 2)
     }× as fast as on 1; 2.00 means two free cores.)`,
   )
-  saveJson('threads', { crowd: counts.map((n, i) => ({ workers: n, ...m[i] })), small: s, parallelism: free })
+  saveJson('threads', { crowd: rows.map((mode, i) => ({ mode, ...m[i] })), small: s, parallelism: free })
 }
 
 /**
@@ -285,7 +389,7 @@ export async function threadsCharacterCost(): Promise<void> {
   ]]
   const worlds = kinds.flatMap(([, configure]) => [crowd(0, 64, 24, undefined, configure), crowd(2, 64, 24, undefined, configure)])
   for (const w of worlds) for (let f = 0; f < 60; f++) frame(w, { main: 0, wall: 0, cpu: 0 })
-  const m = measure(worlds, 7, 20)
+  const m = measure(worlds.map(runner), 7, 20)
   table(
     '64 capes of 24×24 on 0 and 2 workers, plain and character cloth: ms per 60 Hz frame (median of 7 interleaved rounds of 20 frames)',
     worlds.map((_, i) => ({

@@ -98,6 +98,35 @@ describe('max distance', () => {
   })
 })
 
+describe('every n-th substep', () => {
+  it('with constraints every 3rd substep (and the last), every step still ends within max distance (+2 mm) and outside the backstop; every: 1 is the default, byte for byte', () => {
+    const md = painted(0.15)
+    const distance = 0.02, radius = 0.5
+    let worst = -Infinity, inside = -Infinity
+    const { world, cape } = run({ maxDistance: md, backstop: { distance, radius }, every: 3 }, (pos, ref, i, yaw) => {
+      worst = Math.max(worst, dist(pos, ref, i) - md[i])
+      // the backstop sphere's centre lies distance + radius behind the reference, along −normal (+x turned by yaw)
+      const nx = -Math.cos(yaw), nz = Math.sin(yaw)
+      const back = distance + radius
+      const cx = ref[3 * i] - nx * back, cz = ref[3 * i + 2] - nz * back
+      inside = Math.max(inside, radius - Math.hypot(pos[3 * i] - cx, pos[3 * i + 1] - ref[3 * i + 1], pos[3 * i + 2] - cz))
+    })
+    expect(getClothState(world, cape).substeps % 3).not.toBe(0) // (the last substep is not a 3rd one: it runs anyway)
+    expect(worst).toBeLessThan(0.002)
+    expect(inside).toBeLessThan(0.002)
+    // it is not every substep: the same run at every substep differs
+    const final = (constraints: ClothMotionConstraints) => {
+      const r = run(constraints, () => {})
+      return getClothState(r.world, r.cape).pos.slice()
+    }
+    const every1 = final({ maxDistance: md, backstop: { distance, radius }, every: 1 })
+    const byDefault = final({ maxDistance: md, backstop: { distance, radius } })
+    const every3 = final({ maxDistance: md, backstop: { distance, radius }, every: 3 })
+    expect(byDefault).toEqual(every1)
+    expect(every3).not.toEqual(every1)
+  })
+})
+
 describe('backstop', () => {
   it('keeps every particle out of its backstop sphere when a dead stop flings the cape into the body; without it the cape goes deep', () => {
     const md = painted(0.3)
@@ -204,6 +233,10 @@ describe('setClothMotionConstraints input', () => {
       [{ backstop: 'behind' }, 'constraints.backstop'],
       [{ drive: 1.5 }, 'constraints.drive'],
       [{ drive: -0.5 }, 'constraints.drive'],
+      [{ every: 0 }, 'constraints.every'],
+      [{ every: 1.5 }, 'constraints.every'],
+      [{ every: NaN }, 'constraints.every'],
+      [{ every: '2' }, 'constraints.every'],
     ]
     expectClothErrors(bad, (constraints) => setClothMotionConstraints(world, cape, constraints as never))
     expect(() => setClothMotionConstraints(world, cape, 5 as never)).toThrow(ClothError)

@@ -66,7 +66,7 @@ function configureScene(world: object, s: { hero: number; torso: number; arm: nu
     weights.push(1 - u, u, 0, 0)
   }
   setClothSkinning(world, s.sleeve, { bones: s.arm, joints, weights })
-  setClothMotionConstraints(world, s.sleeve, { maxDistance: Array.from({ length: n }, (_, i) => (i % 7 === 0 ? 0 : 0.05)) })
+  setClothMotionConstraints(world, s.sleeve, { maxDistance: Array.from({ length: n }, (_, i) => (i % 7 === 0 ? 0 : 0.05)), every: 3 })
   setClothInertia(world, s.sleeve, { frame: s.torso, linear: 0.2, angular: 0.2, centrifugal: 0.2 })
 }
 

@@ -17,6 +17,7 @@ import {
   M_REF_VALID,
   S_ANGULAR,
   S_CENTRIFUGAL,
+  S_EVERY,
   S_FRAME_EXPLICIT,
   S_LINEAR,
   S_MAX_ANGULAR,
@@ -139,6 +140,8 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
   const n = c.count
   const maxDistance = perParticle('constraints.maxDistance', constraints.maxDistance, n, Infinity, 0, Infinity)
   const drive = perParticle('constraints.drive', constraints.drive, n, 0, 0, 1)
+  const every = constraints.every ?? 1
+  if (!Number.isInteger(every) || every < 1 || every > 1e6) throw new ClothError('constraints.every', every, 'must be an integer ≥ 1')
   const bs = constraints.backstop
   let bsDistance: Float64Array | null = null, bsRadius: Float64Array | null = null
   if (bs !== undefined && bs !== null) {
@@ -165,6 +168,7 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
     touchLayout()
   }
   ch.constrained = true
+  ch.settings[S_EVERY] = every
   for (let i = 0; i < n; i++) {
     const hold = maxDistance[i] === 0
     if (hold && ch.held[i] === 0) holdParticle(c, ch, i)
@@ -277,6 +281,7 @@ function ensureCharacter(state: ClothWorldState, c: ClothState): ClothCharacter 
   settings[S_MAX_ANGULAR] = Infinity
   settings[S_TELEPORT_DISTANCE] = state.teleportDistance
   settings[S_TELEPORT_ANGLE] = Infinity
+  settings[S_EVERY] = 1
   // the rest shape as created, bound to the frame's pose now
   ch.rest.set(c.guard.rest.subarray(0, 3 * c.count))
   restNormals(c, ch.rest, ch.restNormal)

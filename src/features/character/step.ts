@@ -1,4 +1,5 @@
 import { rotateVecAt } from '../../core/math'
+import { updateVelocities } from '../../kernels/integrate'
 import { constrainAndUpdateVelocities, placeOnReference, predictInFrame } from '../../kernels/motion'
 import { K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
 import { moveClothRigidly } from '../../world/rigid'
@@ -15,6 +16,7 @@ import {
   M_VC,
   M_W,
   M_WC,
+  S_EVERY,
   S_TELEPORT_ANGLE,
   S_TELEPORT_DISTANCE,
   S_TELEPORT_MODE,
@@ -200,10 +202,17 @@ export function placeHeld(c: ClothState): void {
 
 /**
  * Writeback phase: max distance, backstop and drive at the end of the substep, then the
- * velocities (the reference for the substep was set up by the predict phase).
+ * velocities (the reference for the substep was set up by the predict phase). With `every` n > 1
+ * and no drive, the constraints run at every n-th substep and the step's last; the others get
+ * the plain velocity update.
  */
 export function writebackCharacter(c: ClothState): void {
   const ch = c.character!
+  const k = c.subIndex, every = ch.settings[S_EVERY]
+  if (every > 1 && ch.drive === null && (k + 1) % every !== 0 && k !== c.substeps - 1) {
+    updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
+    return
+  }
   constrainAndUpdateVelocities(c.pos, c.prev, c.vel, c.invMass, ch.ref, ch.lim, ch.refParams, ch.drive, c.params, c.count)
 }
 
