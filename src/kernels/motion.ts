@@ -87,13 +87,12 @@ export function predictInFrame(
 }
 
 /**
- * Where the motion kernels find each particle's reference position and normal (float32, per
- * particle), in one of two layouts:
- * - rigid (RIGID values per particle): the position and normal in the frame's bind coordinates;
- *   the reference is A·l + t, the normal N·n, with A, t, N from the frame's pose (see below);
- * - blended (BLEND values per particle, skinned cloths): the position at the start and at the end
- *   of the step, each as an offset from an anchor (the frame's origin then: float32 keeps ~0.1 µm
- *   at a metre from it), and the normal at the end.
+ * Where the motion kernels find each particle's reference (float32, BLEND values per particle):
+ * its position at the start and at the end of the step, each as an offset from an anchor (the
+ * frame's origin then: float32 keeps ~0.1 µm at a metre from it), and its normal at the end. A
+ * rigid reference is written there once a step from its bind coordinates (RIGID values per
+ * particle: position and normal in the frame's bind coordinates), a skinned one by blending.
+ * Within the step the reference moves linearly from start to end, as the frame's transform does.
  * Limits are a second float32 stream, LIMITS per particle: max distance (m, Infinity = free),
  * backstop distance and radius (radius 0 = none).
  */
@@ -106,18 +105,13 @@ export const L_RADIUS = 2
 
 /**
  * The frame's part of the reference for the current substep (REF_PARAMS doubles, filled per
- * substep by `referenceSubstep` in features/character): the layout (0 rigid, 1 blended); for rigid
- * references A (row-major 3×3) and t at the end of the substep and at its start (A0, t0), and N,
- * the rotation of the normals; for blended ones the anchors at the end (t) and at the start (t0)
- * of the substep, with params[P_STEP_FRACTION] and params[P_STEP_START] the fractions of the step.
+ * substep by `referenceSubstep` in features/character): the anchors at the end (t) and at the
+ * start (t0) of the substep, with params[P_STEP_FRACTION] and params[P_STEP_START] the fractions
+ * of the step.
  */
-export const W_MODE = 0
-export const W_A = 1
-export const W_T = 10
-export const W_A0 = 13
-export const W_T0 = 22
-export const W_N = 25
-export const REF_PARAMS = 34
+export const W_T = 0
+export const W_T0 = 3
+export const REF_PARAMS = 6
 
 /**
  * Places the listed particles (`list` null: particles 0 to listCount − 1) on their reference
@@ -132,140 +126,123 @@ export function placeOnReference(
   params: Float64Array,
 ): void {
   const f = params[P_STEP_FRACTION]
-  const rigid = w[W_MODE] === 0
-  const a00 = w[W_A],
-    a01 = w[W_A + 1],
-    a02 = w[W_A + 2],
-    a10 = w[W_A + 3],
-    a11 = w[W_A + 4],
-    a12 = w[W_A + 5],
-    a20 = w[W_A + 6],
-    a21 = w[W_A + 7],
-    a22 = w[W_A + 8]
   const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
   for (let q = 0; q < listCount; q++) {
     const i = list === null ? q : list[q]
-    const j = 3 * i
-    if (rigid) {
-      const o = RIGID * i
-      const lx = ref[o], ly = ref[o + 1], lz = ref[o + 2]
-      pos[j] = a00 * lx + a01 * ly + a02 * lz + tx
-      pos[j + 1] = a10 * lx + a11 * ly + a12 * lz + ty
-      pos[j + 2] = a20 * lx + a21 * ly + a22 * lz + tz
-    } else {
-      const o = BLEND * i
-      pos[j] = tx + ref[o] + (ref[o + 3] - ref[o]) * f
-      pos[j + 1] = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
-      pos[j + 2] = tz + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
-    }
+    const j = 3 * i, o = BLEND * i
+    pos[j] = tx + ref[o] + (ref[o + 3] - ref[o]) * f
+    pos[j + 1] = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
+    pos[j + 2] = tz + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
   }
 }
 
 /**
- * The writeback of a cloth with motion constraints: first the constraints around its reference
- * pose, then the velocities from the substep's motion, in one pass (the positions are read once
- * for both).
+ * The drive of a cloth with motion constraints, before `constrainAndUpdateVelocities` (its first
+ * constraint; a cloth without a drive skips this pass). For each free particle (inverse mass > 0)
+ * with ω = drive[i] > 0 (a frequency, rad/s) and r its reference position at the end of the
+ * substep: a critically damped spring (stiffness m·ω², damping 2m·ω) pulls the offset e = x − r
+ * toward 0, its damping acting on the offset's change over the substep (e_prev from `prev` and the
+ * reference at the substep's start); integrated implicitly, Δx = −(a²·e + 2a·(e − e_prev))/(1 + a)²,
+ * a = ω·h: independent of the mass, stable for any ω; ω = Infinity puts x on r.
+ */
+export function driveTowardReference(
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  ref: Float32Array,
+  w: Float64Array,
+  drive: Float64Array,
+  params: Float64Array,
+  count: number,
+): void {
+  const f = params[P_STEP_FRACTION], f0 = params[P_STEP_START], h = params[P_H]
+  const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
+  const sx = w[W_T0], sy = w[W_T0 + 1], sz = w[W_T0 + 2]
+  for (let i = 0; i < count; i++) {
+    const om = drive[i]
+    if (!(om > 0) || invMass[i] === 0) continue
+    const j = 3 * i, o = BLEND * i
+    const rx = tx + ref[o] + (ref[o + 3] - ref[o]) * f
+    const ry = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
+    const rz = tz + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
+    if (om === Infinity) {
+      pos[j] = rx
+      pos[j + 1] = ry
+      pos[j + 2] = rz
+      continue
+    }
+    const a = om * h
+    const inv = 1 / ((1 + a) * (1 + a))
+    const ex = pos[j] - rx, ey = pos[j + 1] - ry, ez = pos[j + 2] - rz
+    // the offset at the substep's start
+    const qx = prev[j] - sx - ref[o] - (ref[o + 3] - ref[o]) * f0
+    const qy = prev[j + 1] - sy - ref[o + 1] - (ref[o + 4] - ref[o + 1]) * f0
+    const qz = prev[j + 2] - sz - ref[o + 2] - (ref[o + 5] - ref[o + 2]) * f0
+    pos[j] -= (a * a * ex + 2 * a * (ex - qx)) * inv
+    pos[j + 1] -= (a * a * ey + 2 * a * (ey - qy)) * inv
+    pos[j + 2] -= (a * a * ez + 2 * a * (ez - qz)) * inv
+  }
+}
+
+/**
+ * A particle a limit moved weighs this share of its inverse mass in the next substep's distance
+ * solve (see `constrainAndUpdateVelocities`): heavy against free neighbours, as its own weight
+ * against a neighbour held too (the split of a correction depends only on the weights' ratio).
+ */
+export const HELD_WEIGHT = 1 / 16
+
+/**
+ * The writeback of a cloth with motion constraints (after its drive, `driveTowardReference`):
+ * first the limits around its reference pose, then the velocities from the substep's motion, in
+ * one pass (the positions are read once for both).
  *
- * Constraints, for each free particle (inverse mass > 0), with r its reference position at the
- * end of the substep and n its reference normal (`ref` and `w`, see above), and its limits:
- * 1. drive (when `drive` is given: a frequency ω per particle, rad/s): a critically damped spring
- *    (stiffness m·ω², damping 2m·ω) pulls the offset e = x − r toward 0, its damping acting on the
- *    offset's change over the substep (e_prev from `prev` and the reference at the substep's
- *    start); integrated implicitly, Δx = −(a²·e + 2a·(e − e_prev))/(1 + a)², a = ω·h: independent
- *    of the mass, stable for any ω; ω = Infinity puts x on r;
- * 2. max distance: x is brought back onto the sphere of that radius around r when outside it;
- * 3. backstop: x is pushed out of the sphere of radius ρ centred at r − n·(distance + ρ), then
- *    step 2 once more (the two regions are not convex together; r itself satisfies both).
- * Positions are written only where something moved them.
+ * Limits, for each free particle (inverse mass > 0), with r its reference position at the end of
+ * the substep and n its reference normal (`ref` and `w`, see above):
+ * 1. max distance: x is brought back onto the sphere of that radius around r when outside it;
+ * 2. backstop: x is pushed out of the sphere of radius ρ centred at r − n·(distance + ρ), then
+ *    step 1 once more (the two regions are not convex together; r itself satisfies both).
+ * Positions are written only where something moved them. A particle a limit moved is held for
+ * the next substep's distance solve: its entries in `invMass3` (the distance loops' inverse
+ * masses) are set to 0 and it is listed in `held` ([0] = count, then particles), for
+ * `releaseLimitHolds` to give back. A particle at its limit is held there by the body, so the
+ * edges it shares with free particles pulled away (a hand, a collision) correct the free ones
+ * only, instead of stretching by what the limit takes back each substep.
  *
  * Velocities, for every particle: v = (x − prev)/h, so a particle stopped at its limit loses its
  * outward speed; a speed above params[P_MAX_SPEED] is scaled down to it, the largest squared
  * speed before that goes to params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop
  * this repeats rather than calls: a second pass over the positions is what this kernel saves).
- * One long function on purpose: the constraints written out in full run per particle and
- * substep, where a call per particle would box its doubles.
+ * One long function on purpose: the limits written out in full run per particle and substep,
+ * where a call per particle would box its doubles.
  */
 export function constrainAndUpdateVelocities(
   pos: Float64Array,
   prev: Float64Array,
   vel: Float64Array,
   invMass: Float64Array,
+  invMass3: Float64Array,
+  held: Int32Array,
   ref: Float32Array,
   lim: Float32Array,
   w: Float64Array,
-  drive: Float64Array | null,
   params: Float64Array,
   count: number,
 ): void {
-  const f = params[P_STEP_FRACTION], f0 = params[P_STEP_START], h = params[P_H], invH = params[P_INV_H]
+  const f = params[P_STEP_FRACTION], invH = params[P_INV_H]
+  let heldCount = 0
   const maxSpeed = params[P_MAX_SPEED]
   const max2 = maxSpeed * maxSpeed
   let top = 0
-  const rigid = w[W_MODE] === 0
-  const a00 = w[W_A],
-    a01 = w[W_A + 1],
-    a02 = w[W_A + 2],
-    a10 = w[W_A + 3],
-    a11 = w[W_A + 4],
-    a12 = w[W_A + 5],
-    a20 = w[W_A + 6],
-    a21 = w[W_A + 7],
-    a22 = w[W_A + 8]
   const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
-  const n00 = w[W_N],
-    n01 = w[W_N + 1],
-    n02 = w[W_N + 2],
-    n10 = w[W_N + 3],
-    n11 = w[W_N + 4],
-    n12 = w[W_N + 5],
-    n20 = w[W_N + 6],
-    n21 = w[W_N + 7],
-    n22 = w[W_N + 8]
   for (let i = 0; i < count; i++) {
     const j = 3 * i
     let x = pos[j], y = pos[j + 1], z = pos[j + 2]
     if (invMass[i] !== 0) {
-      let rx = 0, ry = 0, rz = 0
-      const o = rigid ? RIGID * i : BLEND * i
-      if (rigid) {
-        const lx = ref[o], ly = ref[o + 1], lz = ref[o + 2]
-        rx = a00 * lx + a01 * ly + a02 * lz + tx
-        ry = a10 * lx + a11 * ly + a12 * lz + ty
-        rz = a20 * lx + a21 * ly + a22 * lz + tz
-      } else {
-        rx = tx + ref[o] + (ref[o + 3] - ref[o]) * f
-        ry = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
-        rz = tz + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
-      }
+      const o = BLEND * i
+      const rx = tx + ref[o] + (ref[o + 3] - ref[o]) * f
+      const ry = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
+      const rz = tz + ref[o + 2] + (ref[o + 5] - ref[o + 2]) * f
       let moved = false
-      const om = drive === null ? 0 : drive[i]
-      if (om > 0) {
-        moved = true
-        if (om === Infinity) {
-          x = rx
-          y = ry
-          z = rz
-        } else {
-          const a = om * h
-          const inv = 1 / ((1 + a) * (1 + a))
-          const ex = x - rx, ey = y - ry, ez = z - rz
-          // the offset at the substep's start
-          let qx = 0, qy = 0, qz = 0
-          if (rigid) {
-            const lx = ref[o], ly = ref[o + 1], lz = ref[o + 2]
-            qx = prev[j] - (w[W_A0] * lx + w[W_A0 + 1] * ly + w[W_A0 + 2] * lz + w[W_T0])
-            qy = prev[j + 1] - (w[W_A0 + 3] * lx + w[W_A0 + 4] * ly + w[W_A0 + 5] * lz + w[W_T0 + 1])
-            qz = prev[j + 2] - (w[W_A0 + 6] * lx + w[W_A0 + 7] * ly + w[W_A0 + 8] * lz + w[W_T0 + 2])
-          } else {
-            qx = prev[j] - w[W_T0] - ref[o] - (ref[o + 3] - ref[o]) * f0
-            qy = prev[j + 1] - w[W_T0 + 1] - ref[o + 1] - (ref[o + 4] - ref[o + 1]) * f0
-            qz = prev[j + 2] - w[W_T0 + 2] - ref[o + 2] - (ref[o + 5] - ref[o + 2]) * f0
-          }
-          x -= (a * a * ex + 2 * a * (ex - qx)) * inv
-          y -= (a * a * ey + 2 * a * (ey - qy)) * inv
-          z -= (a * a * ez + 2 * a * (ez - qz)) * inv
-        }
-      }
       const l = LIMITS * i
       const r = lim[l]
       const r2 = r * r // Infinity when free
@@ -283,17 +260,7 @@ export function constrainAndUpdateVelocities(
       }
       const rho = lim[l + L_RADIUS]
       if (rho > 0) {
-        let nx = 0, ny = 0, nz = 0
-        if (rigid) {
-          const u = ref[o + 3], v = ref[o + 4], t = ref[o + 5]
-          nx = n00 * u + n01 * v + n02 * t
-          ny = n10 * u + n11 * v + n12 * t
-          nz = n20 * u + n21 * v + n22 * t
-        } else {
-          nx = ref[o + 6]
-          ny = ref[o + 7]
-          nz = ref[o + 8]
-        }
+        const nx = ref[o + 6], ny = ref[o + 7], nz = ref[o + 8]
         const dist = lim[l + L_BACK]
         // the sphere lies wholly `distance` or more behind the reference: a particle less deep is clear
         if (ex * nx + ey * ny + ez * nz < -dist) {
@@ -330,6 +297,11 @@ export function constrainAndUpdateVelocities(
         pos[j] = x
         pos[j + 1] = y
         pos[j + 2] = z
+        const heavy = invMass[i] * HELD_WEIGHT
+        invMass3[j] = heavy
+        invMass3[j + 1] = heavy
+        invMass3[j + 2] = heavy
+        held[++heldCount] = i
       }
     }
     let vx = (x - prev[j]) * invH
@@ -348,4 +320,17 @@ export function constrainAndUpdateVelocities(
     vel[j + 2] = vz
   }
   params[P_MAX_V2] = top
+  held[0] = heldCount
+}
+
+/** Gives the particles `constrainAndUpdateVelocities` held (`held`) their inverse masses back in `invMass3`, and empties the list. */
+export function releaseLimitHolds(invMass: Float64Array, invMass3: Float64Array, held: Int32Array): void {
+  for (let q = 1; q <= held[0]; q++) {
+    const i = held[q]
+    const m = invMass[i]
+    invMass3[3 * i] = m
+    invMass3[3 * i + 1] = m
+    invMass3[3 * i + 2] = m
+  }
+  held[0] = 0
 }

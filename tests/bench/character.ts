@@ -106,7 +106,16 @@ function kernelCost(): void {
   const cloths = crowd.capes.map((e) => {
     const c = getClothState(crowd.world, e)
     const ch = c.character!
-    return { c, ch, pos: c.pos.slice(), prev: c.prev.slice(), vel: c.vel.slice(), params: c.params.slice() }
+    return {
+      c,
+      ch,
+      pos: c.pos.slice(),
+      prev: c.prev.slice(),
+      vel: c.vel.slice(),
+      params: c.params.slice(),
+      inv3: c.invMass3.slice(),
+      held: ch.limitHeld.slice(),
+    }
   })
   const reset = () => {
     for (const k of cloths) {
@@ -127,7 +136,19 @@ function kernelCost(): void {
     }],
     ['writeback with motion constraints (constrainAndUpdateVelocities)', () => {
       for (const k of cloths)
-        constrainAndUpdateVelocities(k.pos, k.prev, k.vel, k.c.invMass, k.ch.ref, k.ch.lim, k.ch.refParams, k.ch.drive, k.params, k.c.count)
+        constrainAndUpdateVelocities(
+          k.pos,
+          k.prev,
+          k.vel,
+          k.c.invMass,
+          k.inv3,
+          k.held,
+          k.ch.ref,
+          k.ch.lim,
+          k.ch.refParams,
+          k.params,
+          k.c.count,
+        )
     }],
   ]
   const particles = cloths.reduce((n, k) => n + k.c.count, 0)

@@ -420,6 +420,8 @@ export function reserveCharacter(c: ClothState, P: number): void {
   ch.rest = grownArray(ch.rest, 3 * P)
   ch.restNormal = grownArray(ch.restNormal, 3 * P)
   ch.ref = grownArray(ch.ref, BLEND * P)
+  ch.bind = grownArray(ch.bind, RIGID * P)
+  ch.limitHeld = grownArray(ch.limitHeld, P + 1)
   if (ch.lim.length < LIMITS * P) {
     const lim = unconstrained(newArray(Float32Array, LIMITS * P))
     lim.set(ch.lim)
@@ -440,8 +442,8 @@ export function copyCharacterParticle(c: ClothState, from: number, to: number): 
   if (ch === null) return
   copy3(ch.rest, from, to)
   copy3(ch.restNormal, from, to)
-  const stride = ch.skin === null ? RIGID : BLEND
-  for (let k = 0; k < stride; k++) ch.ref[stride * to + k] = ch.ref[stride * from + k]
+  for (let k = 0; k < BLEND; k++) ch.ref[BLEND * to + k] = ch.ref[BLEND * from + k]
+  for (let k = 0; k < RIGID; k++) ch.bind[RIGID * to + k] = ch.bind[RIGID * from + k]
   for (let k = 0; k < LIMITS; k++) ch.lim[LIMITS * to + k] = ch.lim[LIMITS * from + k]
   if (ch.drive !== null) ch.drive[to] = ch.drive[from]
   const skin = ch.skin

@@ -1,7 +1,7 @@
 import { quatToMatrix } from '../../core/math'
 import { skinReference } from '../../kernels/skin'
 import type { ClothState, ClothWorldState } from '../../world/state'
-import { BLEND, RIGID, W_A, W_A0, W_MODE, W_N, W_T, W_T0 } from '../../kernels/motion'
+import { BLEND, RIGID, W_T, W_T0 } from '../../kernels/motion'
 import { P_STEP_FRACTION, P_STEP_START } from '../../kernels/params'
 import {
   BLEND_BOTH,
@@ -91,7 +91,7 @@ export function poseTransform(pose: Float64Array, po: number, out: Float64Array,
 
 /**
  * A rigid reference's data (configuration time): each rest position and normal in the frame's
- * bind coordinates, l = diag(1/s)·Rᵀ·(rest − p) and Rᵀ·normal, into `ref` (RIGID values each).
+ * bind coordinates, l = diag(1/s)·Rᵀ·(rest − p) and Rᵀ·normal, into `bind` (RIGID values each).
  */
 export function bindRigid(c: ClothState, ch: ClothCharacter): void {
   const m = ch.motion
@@ -102,8 +102,8 @@ export function bindRigid(c: ClothState, ch: ClothCharacter): void {
     const dx = ch.rest[j] - px, dy = ch.rest[j + 1] - py, dz = ch.rest[j + 2] - pz
     const nx = ch.restNormal[j], ny = ch.restNormal[j + 1], nz = ch.restNormal[j + 2]
     for (let a = 0; a < 3; a++) {
-      ch.ref[o + a] = (rot[a] * dx + rot[3 + a] * dy + rot[6 + a] * dz) / m[M_BIND + 7 + a]
-      ch.ref[o + 3 + a] = rot[a] * nx + rot[3 + a] * ny + rot[6 + a] * nz
+      ch.bind[o + a] = (rot[a] * dx + rot[3 + a] * dy + rot[6 + a] * dz) / m[M_BIND + 7 + a]
+      ch.bind[o + 3 + a] = rot[a] * nx + rot[3 + a] * ny + rot[6 + a] * nz
     }
   }
   m[M_REF_VALID] = 0
@@ -124,8 +124,9 @@ function boneMatrices(skin: ClothSkin, bonePoses: Float64Array, mats: Float64Arr
 
 /**
  * Sync phase, for a cloth with motion constraints: the frame's part of this step's reference. A
- * rigid reference needs only the frame's transforms at the step's start and end (and its rotation
- * at the end, for normals). A skinned one is blended per particle (`ref`, BLEND values, offsets
+ * rigid reference needs the frame's transforms at the step's start and end (and its rotation at
+ * the end, for normals), from which `blendReference` writes it per particle at the step's first
+ * substep (both ends, every step: no continuity to keep track of). A skinned one is blended per particle (`ref`, BLEND values, offsets
  * from the frame's origin at the step's start and end) by `blendReference` at the step's first
  * substep, from the bones' matrices computed here: the start is last step's end while the
  * reference is continuous (the same origin); otherwise it is blended from the poses at the step's
@@ -138,6 +139,7 @@ export function updateReference(state: ClothWorldState, ch: ClothCharacter): voi
     poseTransform(w, W_FROM, w, W_TF)
     poseTransform(w, W_TO, w, W_TT)
     quatToMatrix(w, W_TO + 3, w, W_RT)
+    w[W_BLEND] = BLEND_BOTH
     return
   }
   const m = ch.motion
@@ -154,14 +156,19 @@ export function updateReference(state: ClothWorldState, ch: ClothCharacter): voi
 
 /**
  * Predict phase, at the cloth's first substep (or the sync phase, before a reset puts the cloth on
- * its reference): the per-particle blend of a skinned reference that `updateReference` set up.
+ * its reference): the per-particle reference of the step that `updateReference` set up, skinned
+ * or rigid.
  */
 export function blendReference(c: ClothState, ch: ClothCharacter): void {
   const w = ch.work
   const mode = w[W_BLEND]
   if (mode === 0) return
   w[W_BLEND] = 0
-  const skin = ch.skin!
+  const skin = ch.skin
+  if (skin === null) {
+    rigidReference(ch.bind, w, ch.ref, c.count)
+    return
+  }
   const ref = ch.ref
   if (mode === BLEND_END) {
     for (let o = 0; o < BLEND * c.count; o += BLEND) {
@@ -174,9 +181,36 @@ export function blendReference(c: ClothState, ch: ClothCharacter): void {
 }
 
 /**
+ * A rigid reference's step: each particle's bind coordinates l carried by the frame's transforms
+ * at the step's start and end, as offsets A·l from the frame's origin then, and its bind normal
+ * turned by the frame's rotation at the end, into `ref` (BLEND values each).
+ */
+function rigidReference(bind: Float32Array, w: Float64Array, ref: Float32Array, count: number): void {
+  const s00 = w[W_TF], s01 = w[W_TF + 1], s02 = w[W_TF + 2], s10 = w[W_TF + 3], s11 = w[W_TF + 4], s12 = w[W_TF + 5]
+  const s20 = w[W_TF + 6], s21 = w[W_TF + 7], s22 = w[W_TF + 8]
+  const e00 = w[W_TT], e01 = w[W_TT + 1], e02 = w[W_TT + 2], e10 = w[W_TT + 3], e11 = w[W_TT + 4], e12 = w[W_TT + 5]
+  const e20 = w[W_TT + 6], e21 = w[W_TT + 7], e22 = w[W_TT + 8]
+  const n00 = w[W_RT], n01 = w[W_RT + 1], n02 = w[W_RT + 2], n10 = w[W_RT + 3], n11 = w[W_RT + 4], n12 = w[W_RT + 5]
+  const n20 = w[W_RT + 6], n21 = w[W_RT + 7], n22 = w[W_RT + 8]
+  for (let i = 0, o = 0, r = 0; i < count; i++, o += RIGID, r += BLEND) {
+    const lx = bind[o], ly = bind[o + 1], lz = bind[o + 2]
+    const nx = bind[o + 3], ny = bind[o + 4], nz = bind[o + 5]
+    ref[r] = s00 * lx + s01 * ly + s02 * lz
+    ref[r + 1] = s10 * lx + s11 * ly + s12 * lz
+    ref[r + 2] = s20 * lx + s21 * ly + s22 * lz
+    ref[r + 3] = e00 * lx + e01 * ly + e02 * lz
+    ref[r + 4] = e10 * lx + e11 * ly + e12 * lz
+    ref[r + 5] = e20 * lx + e21 * ly + e22 * lz
+    ref[r + 6] = n00 * nx + n01 * ny + n02 * nz
+    ref[r + 7] = n10 * nx + n11 * ny + n12 * nz
+    ref[r + 8] = n20 * nx + n21 * ny + n22 * nz
+  }
+}
+
+/**
  * The frame's part of the reference for local substep k of n (`ch.refParams`, see REF_PARAMS in
- * kernels/motion.ts), with P_STEP_START and P_STEP_FRACTION set to k/n and (k + 1)/n; k = −1
- * gives the reference at the step's start.
+ * kernels/motion.ts: the frame's origin at the substep's end and start), with P_STEP_START and
+ * P_STEP_FRACTION set to k/n and (k + 1)/n; k = −1 gives the reference at the step's start.
  */
 export function referenceSubstep(c: ClothState, ch: ClothCharacter, k: number, n: number): void {
   const p = c.params
@@ -184,20 +218,6 @@ export function referenceSubstep(c: ClothState, ch: ClothCharacter, k: number, n
   p[P_STEP_START] = f0
   p[P_STEP_FRACTION] = f
   const w = ch.work, r = ch.refParams
-  if (ch.skin === null) {
-    r[W_MODE] = 0
-    for (let q = 0; q < 9; q++) {
-      r[W_A + q] = w[W_TF + q] + (w[W_TT + q] - w[W_TF + q]) * f
-      r[W_A0 + q] = w[W_TF + q] + (w[W_TT + q] - w[W_TF + q]) * f0
-      r[W_N + q] = w[W_RT + q]
-    }
-    for (let q = 0; q < 3; q++) {
-      r[W_T + q] = w[W_TF + 9 + q] + (w[W_TT + 9 + q] - w[W_TF + 9 + q]) * f
-      r[W_T0 + q] = w[W_TF + 9 + q] + (w[W_TT + 9 + q] - w[W_TF + 9 + q]) * f0
-    }
-    return
-  }
-  r[W_MODE] = 1
   for (let q = 0; q < 3; q++) {
     r[W_T + q] = w[W_FROM + q] + (w[W_TO + q] - w[W_FROM + q]) * f
     r[W_T0 + q] = w[W_FROM + q] + (w[W_TO + q] - w[W_FROM + q]) * f0
@@ -225,7 +245,7 @@ function referencePositions(c: ClothState, ch: ClothCharacter, pose: Float64Arra
     for (let i = 0; i < c.count; i++) {
       const o = RIGID * i
       for (let a = 0; a < 3; a++)
-        out[3 * i + a] = t[3 * a] * ch.ref[o] + t[3 * a + 1] * ch.ref[o + 1] + t[3 * a + 2] * ch.ref[o + 2] + t[9 + a]
+        out[3 * i + a] = t[3 * a] * ch.bind[o] + t[3 * a + 1] * ch.bind[o + 1] + t[3 * a + 2] * ch.bind[o + 2] + t[9 + a]
     }
     return
   }

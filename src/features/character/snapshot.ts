@@ -62,6 +62,7 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   if (tracked) saveSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
   const stride = PER + (ch.skin === null ? RIGID : BLEND)
   const refStride = stride - PER
+  const ref = ch.skin === null ? ch.bind : ch.ref // (a rigid reference's step data is rebuilt from bind every step)
   const p = (s.characterParticles = fit64(s.characterParticles, stride * n))
   for (let i = 0; i < n; i++) {
     const o = stride * i
@@ -70,7 +71,7 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
       p[o + 3 + d] = ch.restNormal[3 * i + d]
       p[o + 6 + d] = ch.lim[LIMITS * i + d]
     }
-    for (let k = 0; k < refStride; k++) p[o + PER + k] = ch.ref[refStride * i + k]
+    for (let k = 0; k < refStride; k++) p[o + PER + k] = ref[refStride * i + k]
   }
   s.characterDrive = fit64(s.characterDrive, ch.drive === null ? 0 : n)
   if (ch.drive !== null) { for (let i = 0; i < n; i++) s.characterDrive[i] = ch.drive[i] }
@@ -179,6 +180,7 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
   const p = s.characterParticles
   const stride = PER + (h[H_SKIN] === 1 ? BLEND : RIGID)
   const refStride = stride - PER
+  const ref = h[H_SKIN] === 1 ? ch.ref : ch.bind
   ch.heldCount = 0
   for (let i = 0; i < n; i++) {
     const o = stride * i
@@ -187,7 +189,7 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
       ch.restNormal[3 * i + d] = p[o + 3 + d]
       ch.lim[LIMITS * i + d] = p[o + 6 + d]
     }
-    for (let k = 0; k < refStride; k++) ch.ref[refStride * i + k] = p[o + PER + k]
+    for (let k = 0; k < refStride; k++) ref[refStride * i + k] = p[o + PER + k]
     ch.held[i] = s.characterHeld[i]
     if (ch.held[i] === 1) ch.heldList[ch.heldCount++] = i
   }

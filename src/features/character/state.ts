@@ -1,5 +1,5 @@
 import { newArray } from '../../core/shared'
-import { BLEND, FRAME_PARAMS, LIMITS, L_MAX, L_RADIUS, REF_PARAMS } from '../../kernels/motion'
+import { BLEND, FRAME_PARAMS, LIMITS, L_MAX, L_RADIUS, REF_PARAMS, RIGID } from '../../kernels/motion'
 import { MOTION, SETTINGS, WORK, type ClothCharacter, type ClothSkin } from './types'
 
 /**
@@ -19,6 +19,8 @@ export function blankCharacter(P: number): ClothCharacter {
     rest: newArray(Float64Array, 3 * P),
     restNormal: newArray(Float64Array, 3 * P),
     ref: newArray(Float32Array, BLEND * P),
+    bind: newArray(Float32Array, RIGID * P),
+    limitHeld: newArray(Int32Array, P + 1),
     lim: unconstrained(newArray(Float32Array, LIMITS * P)),
     refParams: newArray(Float64Array, REF_PARAMS),
     constrained: false,

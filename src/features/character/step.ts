@@ -1,6 +1,12 @@
 import { rotateVecAt } from '../../core/math'
 import { updateVelocities } from '../../kernels/integrate'
-import { constrainAndUpdateVelocities, placeOnReference, predictInFrame } from '../../kernels/motion'
+import {
+  constrainAndUpdateVelocities,
+  driveTowardReference,
+  placeOnReference,
+  predictInFrame,
+  releaseLimitHolds,
+} from '../../kernels/motion'
 import { K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
 import { moveClothRigidly } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
@@ -208,12 +214,14 @@ export function placeHeld(c: ClothState): void {
  */
 export function writebackCharacter(c: ClothState): void {
   const ch = c.character!
+  releaseLimitHolds(c.invMass, c.invMass3, ch.limitHeld)
   const k = c.subIndex, every = ch.settings[S_EVERY]
   if (every > 1 && ch.drive === null && (k + 1) % every !== 0 && k !== c.substeps - 1) {
     updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
     return
   }
-  constrainAndUpdateVelocities(c.pos, c.prev, c.vel, c.invMass, ch.ref, ch.lim, ch.refParams, ch.drive, c.params, c.count)
+  if (ch.drive !== null) driveTowardReference(c.pos, c.prev, c.invMass, ch.ref, ch.refParams, ch.drive, c.params, c.count)
+  constrainAndUpdateVelocities(c.pos, c.prev, c.vel, c.invMass, c.invMass3, ch.limitHeld, ch.ref, ch.lim, ch.refParams, c.params, c.count)
 }
 
 /**

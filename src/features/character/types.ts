@@ -134,13 +134,16 @@ export interface ClothCharacter {
   /** Rest vertex normals, at the same pose. */
   restNormal: Float64Array
   /**
-   * Per particle, float32 (see `kernels/motion.ts`): without a skin, the rest position and normal
-   * in the frame's bind coordinates (RIGID values); with one, the skinned reference at the start
-   * and the end of the cloth's current step as offsets from the frame's origin then
-   * (`work[W_FROM..]`, `work[W_TO..]`; between steps `motion[M_POSE..]`) and the normal at its end
-   * (BLEND values). Room for BLEND values per particle either way.
+   * Per particle, float32 (BLEND values, see `kernels/motion.ts`): the reference at the start and
+   * the end of the cloth's current step as offsets from the frame's origin then (`work[W_FROM..]`,
+   * `work[W_TO..]`; between steps `motion[M_POSE..]`) and the normal at its end: skinned, or the
+   * rigid reference carried from `bind`.
    */
   ref: Float32Array
+  /** Per particle, float32 (RIGID values): the rest position and normal in the frame's bind coordinates (without a skin). */
+  bind: Float32Array
+  /** Particles a limit moved in the last substep, held for the next distance solve ([0] = count; see `constrainAndUpdateVelocities`). */
+  limitHeld: Int32Array
   /** Per particle, float32 (LIMITS values): max distance (m, Infinity = free), backstop distance and radius (0 = none). */
   lim: Float32Array
   /** The frame's part of the reference for the current substep (see `kernels/motion.ts`, REF_PARAMS). */
