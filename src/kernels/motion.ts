@@ -201,12 +201,13 @@ export const HELD_WEIGHT = 1 / 16
  * 1. max distance: x is brought back onto the sphere of that radius around r when outside it;
  * 2. backstop: x is pushed out of the sphere of radius ρ centred at r − n·(distance + ρ), then
  *    step 1 once more (the two regions are not convex together; r itself satisfies both).
- * Positions are written only where something moved them. A particle a limit moved is held for
- * the next substep's distance solve: its entries in `invMass3` (the distance loops' inverse
- * masses) are set to 0 and it is listed in `held` ([0] = count, then particles), for
- * `releaseLimitHolds` to give back. A particle at its limit is held there by the body, so the
- * edges it shares with free particles pulled away (a hand, a collision) correct the free ones
- * only, instead of stretching by what the limit takes back each substep.
+ * Positions are written only where something moved them. A particle a limit moved is made heavy
+ * for the next substep's distance solve: its entries in `invMass3` (the distance loops' inverse
+ * masses) become HELD_WEIGHT of its inverse mass and it is listed in `held` ([0] = count, then
+ * particles), for `releaseLimitHolds` to give back (the solve's refresh of `invMass3` at a step's
+ * first substep gives them back too). A particle at its limit is held there by the body, so the
+ * edges it shares with free particles pulled away (a hand, a collision) correct mostly the free
+ * ones, instead of stretching by what the limit takes back each substep.
  *
  * Velocities, for every particle: v = (x − prev)/h, so a particle stopped at its limit loses its
  * outward speed; a speed above params[P_MAX_SPEED] is scaled down to it, the largest squared
