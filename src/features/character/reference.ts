@@ -126,9 +126,9 @@ function boneMatrices(skin: ClothSkin, bonePoses: Float64Array, mats: Float64Arr
  * Sync phase, for a cloth with motion constraints: the frame's part of this step's reference. A
  * rigid reference needs the frame's transforms at the step's start and end (and its rotation at
  * the end, for normals), from which `blendReference` writes it per particle at the step's first
- * substep (both ends, every step: no continuity to keep track of). A skinned one is blended per particle (`ref`, BLEND values, offsets
- * from the frame's origin at the step's start and end) by `blendReference` at the step's first
- * substep, from the bones' matrices computed here: the start is last step's end while the
+ * substep (both ends, every step: no continuity to keep track of). A skinned one is blended per
+ * particle (`ref`, BLEND values, offsets from the frame's origin at the step's start and end) by
+ * `blendReference` at the step's first substep, from the bones' matrices computed here: the start is last step's end while the
  * reference is continuous (the same origin); otherwise it is blended from the poses at the step's
  * start (the bones' last poses). Bones then remember their poses at the step's end.
  */
