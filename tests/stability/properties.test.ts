@@ -30,6 +30,9 @@ import {
   restoreClothState,
   saveClothState,
   setClothGuard,
+  setClothInertia,
+  setClothMotionConstraints,
+  setClothSkinning,
   setClothQuality,
   setClothTethers,
   setTransform,
@@ -475,7 +478,7 @@ describe('properties', () => {
   it.prop([
     fc.array(
       fc.record({
-        op: fc.nat(23),
+        op: fc.nat(26),
         a: fc.anything({ withBigInt: false }),
         b: fc.oneof(fc.double(), fc.integer(), fc.constantFrom(NaN, Infinity, -Infinity, -1, 0, 1e308)),
         c: fc.nat(200),
@@ -483,7 +486,7 @@ describe('properties', () => {
       { minLength: 1, maxLength: 16 },
     ),
   ], runs(250))(
-    'any sequence of API calls with garbage arguments (colliders, wind zones, tearing, self-collision and grabs included): every error is a ClothError, and the world stays finite',
+    'any sequence of API calls with garbage arguments (colliders, wind zones, tearing, self-collision, grabs and character cloth included): every error is a ClothError, and the world stays finite',
     (ops) => {
       const world = installClothPlugin(createWorld(), { guard: false })
       const hero = addEntity(world)
@@ -611,9 +614,57 @@ describe('properties', () => {
               if (c % 2) moveGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number), c % 3 ? v(b) : v(a))
               else releaseGrab(world, grabs[c % Math.max(1, grabs.length)] ?? (a as number))
               break
-            default:
+            case 23:
               if (c % 2) enableSelfCollision(world, cloth, { thickness: c % 3 ? b : undefined })
               else setClothCollision(world, cloth, { layer: a as number, thickness: b })
+              break
+            // character cloth
+            case 24:
+              setClothInertia(
+                world,
+                cloth,
+                c % 4 === 0 ? null : {
+                  frame: c % 3 ? hero : (a as number),
+                  linear: c % 2 ? b : 0.5,
+                  angular: c % 5 ? 0.5 : b,
+                  centrifugal: 0.5,
+                  teleport: c % 5 ? undefined : { mode: (['keep', 'reset', a] as never[])[c % 3], angle: c % 2 ? b : 1.5 },
+                },
+              )
+              break
+            case 25:
+              setClothMotionConstraints(
+                world,
+                cloth,
+                c % 4 === 0 ? null : {
+                  maxDistance: c % 2 ? Math.abs(b) : (a as number),
+                  backstop: c % 3 ? { distance: 0.02, radius: c % 5 ? 0.4 : b } : undefined,
+                  drive: c % 5 ? undefined : c % 2 ? 0.3 : b,
+                  every: c % 7 ? (c % 4) + 1 : (a as number),
+                },
+              )
+              break
+            default: {
+              const n = (() => {
+                try {
+                  return getClothState(world, cloth).count
+                } catch {
+                  return 4
+                }
+              })()
+              setClothSkinning(
+                world,
+                cloth,
+                c % 3 === 0 ? null : {
+                  bones: c % 2 ? [hero, c % 5 ? hero : (a as number)] : (a as number[]),
+                  joints: Array.from({ length: 4 * n }, (_, k) => (k % 4 === 1 && c % 4 ? 1 : 0)),
+                  weights: Array.from(
+                    { length: 4 * n },
+                    (_, k) => (k % 4 === 0 ? 1 - (c % 3) / 4 : k % 4 === 1 ? (c % 3) / 4 : c % 11 ? 0 : b),
+                  ),
+                },
+              )
+            }
           }
         } catch (e) {
           expect(e).toBeInstanceOf(ClothError)
