@@ -15,6 +15,8 @@ import {
   restoreClothState,
   saveClothState,
   setClothBudget,
+  setClothInertia,
+  setClothMotionConstraints,
   setClothQualityTarget,
   setClothVisible,
   setTransform,
@@ -32,6 +34,8 @@ interface Setup {
   target?: boolean
   /** Toggle the capes' visibility with the frames. */
   visibility?: boolean
+  /** Character cloth on every cape: inertia in its character's frame, painted max distance (every 2nd substep on one), a backstop, a drive on another. */
+  character?: boolean
 }
 
 /** Three capes on three running characters, a viewer walking away and back. */
@@ -50,6 +54,16 @@ function build(setup: Setup) {
       iterations: 2,
     })
     pinRow(world, cape, 0, hero)
+    if (setup.character) {
+      setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { angle: Math.PI / 2 } })
+      const maxDistance = Array.from({ length: 54 }, (_, i) => (i < 6 ? 0 : 0.05 * Math.floor(i / 6)))
+      setClothMotionConstraints(world, cape, {
+        maxDistance,
+        backstop: { distance: 0.02, radius: 0.4 },
+        every: k === 1 ? 2 : 1,
+        drive: k === 2 ? 0.05 : 0,
+      })
+    }
     heroes.push(hero)
     capes.push(cape)
   }
@@ -131,6 +145,14 @@ describe('snapshots under quality targets and level of detail: a rollback replay
     const levels = new Set<string>()
     for (const at of saves) for (const l of rollback(setup, at, 120)) levels.add(l)
     expect([...levels].some((l) => JSON.parse(l)[2] === true)).toBe(true) // some cape froze
+  })
+
+  it('character cloth (inertia in the frame, painted limits, every 2nd substep, a drive) under a budget with farStepEvery 2 and frozen invisible cloths', () => {
+    const setup: Setup = { budget: { near: 6, far: 30, farStepEvery: 2, interval: 7 }, visibility: true, character: true }
+    const levels = new Set<string>()
+    for (const at of saves) for (const l of rollback(setup, at, 120)) levels.add(l)
+    expect([...levels].some((l) => JSON.parse(l)[1] === 2)).toBe(true)
+    expect(levels.size).toBeGreaterThan(2)
   })
 
   it('a snapshot saved without the budget section (older versions) still restores', () => {
