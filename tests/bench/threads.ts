@@ -220,7 +220,9 @@ const spread = (a: number[]): string => `${fmt(Math.min(...a), 2)}–${fmt(Math.
  * main-thread and wall ms per 60 Hz frame (the wall clock: what a frame waits), and the CPU time
  * of all the process's threads per frame (the work done, which waiting for a busy machine's cores
  * does not inflate: with the work shared evenly, two free cores would take about half of it as wall
- * time), one run, interleaved rounds; then one small cape, to show what the handoff costs.
+ * time), one run, interleaved rounds, beside the same crowd split by hand over two plain threads
+ * (`Split`: what this machine's two cores give at that moment, so the threaded mode's own cost shows
+ * apart from the VM's); then one small cape, to show what the handoff costs.
  */
 export async function threadsCost(): Promise<void> {
   const free = await parallelism()
