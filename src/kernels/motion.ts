@@ -210,8 +210,11 @@ export const HELD_WEIGHT = 1 / 16
  * ones, instead of stretching by what the limit takes back each substep.
  *
  * Velocities, for every particle: v = (x − prev)/h, so a particle stopped at its limit loses its
- * outward speed; a speed above params[P_MAX_SPEED] is scaled down to it, the largest squared
- * speed before that goes to params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop
+ * outward speed. When the limits last ran 1/`share` substeps ago (`every`), a correction undoes
+ * that many substeps of drift, and a particle a limit moved from x₀ gets v = (x₀ + (x − x₀)·share
+ * − prev)/h: the correction enters its velocity spread over them (taken as one substep's motion,
+ * seven substeps of drift stretched a running cape's edges by up to 866 %). A speed above
+ * params[P_MAX_SPEED] is scaled down to it, the largest squared speed before that goes to params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop
  * this repeats rather than calls: a second pass over the positions is what this kernel saves).
  * One long function on purpose: the limits written out in full run per particle and substep,
  * where a call per particle would box its doubles.
@@ -227,6 +230,7 @@ export function constrainAndUpdateVelocities(
   lim: Float32Array,
   w: Float64Array,
   params: Float64Array,
+  share: number,
   count: number,
 ): void {
   const f = params[P_STEP_FRACTION], invH = params[P_INV_H]
@@ -295,6 +299,7 @@ export function constrainAndUpdateVelocities(
         }
       }
       if (moved) {
+        const x0 = pos[j], y0 = pos[j + 1], z0 = pos[j + 2]
         pos[j] = x
         pos[j + 1] = y
         pos[j + 2] = z
@@ -303,6 +308,13 @@ export function constrainAndUpdateVelocities(
         invMass3[j + 1] = heavy
         invMass3[j + 2] = heavy
         held[++heldCount] = i
+        if (share !== 1) {
+          // the correction undoes the drift of the `1/share` substeps since the last check: it
+          // enters the velocity spread over them, not as one substep's motion
+          x = x0 + (x - x0) * share
+          y = y0 + (y - y0) * share
+          z = z0 + (z - z0) * share
+        }
       }
     }
     let vx = (x - prev[j]) * invH

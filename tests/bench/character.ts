@@ -24,6 +24,7 @@ export function characterCost(): void {
     ['max distance 0 at the collar, 0.9·u² m below, free at the hem (the demo cape)', demo, 1],
     ['the same, constraints every 2nd substep (every: 2)', demo, 2],
     ['the same, every 4th substep (every: 4)', demo, 4],
+    ["the same, the step's last substep only (every: 8)", demo, 8],
     ['max distance 0 at the collar to 0.6 m at the hem, linear (tighter: more particles at their limit)', linear, 1],
     ['the same, every 4th substep (every: 4)', linear, 4],
   ]
@@ -147,6 +148,7 @@ function kernelCost(): void {
           k.ch.lim,
           k.ch.refParams,
           k.params,
+          1,
           k.c.count,
         )
     }],

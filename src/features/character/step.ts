@@ -221,7 +221,22 @@ export function writebackCharacter(c: ClothState): void {
     return
   }
   if (ch.drive !== null) driveTowardReference(c.pos, c.prev, c.invMass, ch.ref, ch.refParams, ch.drive, c.params, c.count)
-  constrainAndUpdateVelocities(c.pos, c.prev, c.vel, c.invMass, c.invMass3, ch.limitHeld, ch.ref, ch.lim, ch.refParams, c.params, c.count)
+  // the substeps since the last check: `every` (the step's last substep may come sooner); 1 with a drive
+  const since = ch.drive !== null ? 1 : k + 1 - every * Math.floor(k / every)
+  constrainAndUpdateVelocities(
+    c.pos,
+    c.prev,
+    c.vel,
+    c.invMass,
+    c.invMass3,
+    ch.limitHeld,
+    ch.ref,
+    ch.lim,
+    ch.refParams,
+    c.params,
+    1 / since,
+    c.count,
+  )
 }
 
 /**
