@@ -1,4 +1,14 @@
-import { getClothState, setClothInertia, setClothMotionConstraints } from '../../src/index'
+import {
+  clothEvents,
+  clothGuard,
+  clothPhases,
+  clothSubstepCount,
+  clothSync,
+  getClothState,
+  setClothInertia,
+  setClothMotionConstraints,
+  setClothSubstep,
+} from '../../src/index'
 import { predictPositions, updateVelocities } from '../../src/kernels/integrate'
 import { constrainAndUpdateVelocities, predictInFrame } from '../../src/kernels/motion'
 import { capeCrowd } from './budget'
@@ -89,7 +99,67 @@ export function characterCost(): void {
     rows,
   )
   saveJson('character', results)
+  phaseSplit()
   kernelCost()
+}
+
+/**
+ * Where the overhead goes: the 64-cape crowd without and with character cloth (the demo painting
+ * at every substep), stepped phase by phase through the public scheduling API (`clothSync`, then
+ * `clothPhases` per substep, `clothGuard`, `clothEvents`: the same step as `clothFixedStep`),
+ * each phase's wall time summed over 150 frames, the two crowds alternating frame by frame. Each
+ * phase's extra time is given as a share of the whole step without.
+ */
+function phaseSplit(): void {
+  const maxDistance = painted((u) => (u >= 1 ? Infinity : 0.9 * u * u))
+  const names = ['sync', ...clothPhases.map((p) => p.name.replace(/^cloth/, '').toLowerCase()), 'guard and events']
+  const crowds = [
+    capeCrowd(),
+    capeCrowd((world, hero, cape) => {
+      setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { angle: Math.PI / 2 } })
+      setClothMotionConstraints(world, cape, { maxDistance, backstop: { distance: 0.02, radius: 0.5 } })
+    }),
+  ]
+  const times = crowds.map(() => new Float64Array(names.length))
+  let into: Float64Array = times[0]
+  const timed = (world: object) => {
+    let t0 = performance.now()
+    const lap = (q: number) => {
+      const t1 = performance.now()
+      into[q] += t1 - t0
+      t0 = t1
+    }
+    clothSync(world)
+    lap(0)
+    for (let s = 0; s < clothSubstepCount(world); s++) {
+      setClothSubstep(world, s)
+      for (let q = 0; q < clothPhases.length; q++) {
+        clothPhases[q](world)
+        lap(q + 1)
+      }
+    }
+    clothGuard(world)
+    clothEvents(world)
+    lap(names.length - 1)
+  }
+  for (let f = 0; f < 270; f++) {
+    if (f === 120) { for (const t of times) t.fill(0) // after the warm-up
+     }
+    crowds.forEach((crowd, q) => {
+      into = times[q]
+      crowd.step(timed)
+    })
+  }
+  const total = times[0].reduce((a, b) => a + b, 0)
+  table(
+    'Character cloth, by phase: ms per frame of the 64-cape crowd without and with inertia 0.5, the demo painting and a backstop at every substep (150 frames, alternating)',
+    names.map((name, q) => ({
+      phase: name,
+      'without (ms/frame)': fmt(times[0][q] / 150, 2),
+      'with (ms/frame)': fmt(times[1][q] / 150, 2),
+      'extra, share of the step without': `${fmt((100 * (times[1][q] - times[0][q])) / total, 1)} %`,
+    })),
+  )
 }
 
 /**

@@ -76,10 +76,11 @@ export interface ClothMotionConstraints {
   /**
    * Run max distance and backstop at every n-th substep only, and always at the step's last (an
    * integer ≥ 1; default 1: every substep). Each step still ends within the limits; between two
-   * runs a particle may drift past them by what it travels meanwhile. Cheaper: the 64-cape
-   * benchmark costs 1.23–1.24× the crowd without character cloth at every substep and 1.09–1.12×
-   * at 4 (README, Character cloth). A cloth with a drive runs its constraints at every substep
-   * whatever this says.
+   * runs a particle may drift past them by what it travels meanwhile, and what a run takes back
+   * enters its velocity spread over the substeps since the last. Cheaper: the 64-cape benchmark
+   * costs about 1.2× the crowd without character cloth at every substep, 1.11× at 4 and 1.09×
+   * at 8 (its step's last substep only; README, Character cloth). A cloth with a drive runs its
+   * constraints at every substep whatever this says.
    */
   every?: number
 }
