@@ -200,7 +200,9 @@ export const HELD_WEIGHT = 1 / 16
  * the substep and n its reference normal (`ref` and `w`, see above):
  * 1. max distance: x is brought back onto the sphere of that radius around r when outside it;
  * 2. backstop: x is pushed out of the sphere of radius ρ centred at r − n·(distance + ρ), then
- *    step 1 once more (the two regions are not convex together; r itself satisfies both).
+ *    step 1 once more; the two regions are not convex together, so when that straight way back
+ *    cuts into the sphere again, x goes to the nearest point of the circle where the two spheres
+ *    meet (r itself satisfies both).
  * Positions are written only where something moved them. A particle a limit moved is made heavy
  * for the next substep's distance solve: its entries in `invMass3` (the distance loops' inverse
  * masses) become HELD_WEIGHT of its inverse mass and it is listed in `held` ([0] = count, then
@@ -293,6 +295,31 @@ export function constrainAndUpdateVelocities(
               x = rx + ex * s
               y = ry + ey * s
               z = rz + ez * s
+              const qx = x - cx, qy = y - cy, qz = z - cz
+              if (qx * qx + qy * qy + qz * qz < rho * rho) {
+                // the straight way back cut into the sphere again: the nearest point of the circle
+                // where the two spheres meet, a·n behind the reference (a > distance: allowed)
+                const a = (r2 - rho * rho + back * back) / (2 * back)
+                const mx = rx - nx * a, my = ry - ny * a, mz = rz - nz * a
+                let px = x - mx, py = y - my, pz = z - mz
+                const along = px * nx + py * ny + pz * nz
+                px -= along * nx
+                py -= along * ny
+                pz -= along * nz
+                let p2 = px * px + py * py + pz * pz
+                if (!(p2 > 1e-24)) {
+                  // on the axis: any way across it (n × x̂, or n × ŷ when n lies along x)
+                  const useY = Math.abs(nx) > 0.9
+                  px = useY ? -nz : 0
+                  py = useY ? 0 : nz
+                  pz = useY ? nx : -ny
+                  p2 = px * px + py * py + pz * pz
+                }
+                const k = Math.sqrt(Math.max(0, r2 - a * a) / p2)
+                x = mx + px * k
+                y = my + py * k
+                z = mz + pz * k
+              }
             }
             moved = true
           }

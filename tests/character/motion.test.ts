@@ -12,6 +12,7 @@ import {
   getClothStretch,
   setClothInertia,
   setClothMotionConstraints,
+  setClothQuality,
   setTransform,
   stepCloth,
 } from '../../src/index'
@@ -176,6 +177,44 @@ describe('every n-th substep', () => {
 })
 
 describe('backstop', () => {
+  it('where max distance reaches into the backstop sphere, a particle pushed out of the sphere and clamped back ends on neither wrong side (checked every substep, and only at the last of 8 or 16)', () => {
+    // max distance growing 6 cm a row, a 30 cm sphere 5 mm behind the reference: the straight way
+    // back from the sphere's surface to the max-distance sphere cuts into it again
+    const distance = 0.005, radius = 0.3
+    const deepest = (substeps: number, every: number) => {
+      const { world, hero, cape } = capeOnCharacter({ linear: 0.7 }, makeWorld({ sleep: false }))
+      setClothQuality(world, cape, { substeps })
+      const c = getClothState(world, cape)
+      const md = Array.from({ length: c.count }, (_, i) => 0.06 * Math.floor(i / COLS))
+      setClothMotionConstraints(world, cape, { maxDistance: md, every, backstop: { distance, radius } })
+      const rest = positionsNow(world, cape)
+      let inside = -Infinity, excess = -Infinity
+      drive(world, hero, sprintTurnStopJump, 4, (_, t) => {
+        const m = sprintTurnStopJump(t)
+        const ref = carriedRest(rest, [0, 1.6, 0], 0, m.p, m.yaw)
+        for (let i = COLS; i < c.count; i++) {
+          inside = Math.max(inside, backstopOf(c.pos, ref, i, m.yaw, distance, radius).inside)
+          excess = Math.max(excess, dist(c.pos, ref, i) - md[i])
+        }
+      })
+      return { inside, excess }
+    }
+    const runs = [[1, 1], [8, 1], [8, 8], [16, 16]].map(([substeps, every]) => ({ substeps, every, ...deepest(substeps, every) }))
+    console.log(
+      runs.map((r) =>
+        `${r.substeps} substeps, every ${r.every}: deepest in the sphere ${(1000 * r.inside).toExponential(2)} mm, worst excess ${
+          (1000 * r.excess).toExponential(2)
+        } mm`
+      )
+        .join('; '),
+    )
+    // one push and one clamp left particles 0.5 mm (1 substep) to 7.5 mm (every 16th of 16) inside
+    for (const r of runs) {
+      expect(r.inside).toBeLessThan(1e-5)
+      expect(r.excess).toBeLessThan(0.002)
+    }
+  })
+
   it('keeps every particle out of its backstop sphere when a dead stop flings the cape into the body; without it the cape goes deep', () => {
     const md = painted(0.3)
     const distance = 0.02, radius = 0.5
