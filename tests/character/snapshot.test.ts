@@ -217,6 +217,39 @@ describe('character cloth snapshots', () => {
     expect(() => restoreClothState(a, sa.cape, broken)).toThrow(ClothError)
   })
 
+  it('rejects a snapshot whose frame or bone was removed and its id recycled for another entity with a Transform', () => {
+    for (const role of ['frame', 'bone'] as const) {
+      const world = installClothPlugin(createWorld())
+      const follow = addEntity(world)
+      setTransform(world, follow, [0, 1.6, 0])
+      const cloth = createCloth(world, { width: 0.5, height: 0.5, resolution: [5, 5], position: [0, 1.5, 0] })
+      pinRow(world, cloth, 0) // pinned to the world: what it follows is no pin target
+      if (role === 'frame') setClothInertia(world, cloth, { frame: follow })
+      else {
+        setClothSkinning(world, cloth, {
+          bones: [follow],
+          joints: new Array(4 * 25).fill(0),
+          weights: Array.from({ length: 4 * 25 }, (_, q) => (q % 4 === 0 ? 1 : 0)),
+        })
+      }
+      setClothMotionConstraints(world, cloth, { maxDistance: 0.05 })
+      stepCloth(world, 1 / 60)
+      const snap = saveClothState(world, cloth)
+      removeEntity(world, follow)
+      const other = addEntity(world)
+      expect(other).toBe(follow) // (bitECS hands the id out again)
+      setTransform(world, other, [50, 0, 0])
+      let error: unknown
+      try {
+        restoreClothState(world, cloth, snap)
+      } catch (e) {
+        error = e
+      }
+      expect(error, role).toBeInstanceOf(ClothError)
+      expect((error as ClothError).message).toMatch(/lost its Transform/)
+    }
+  })
+
   it('saving into an earlier snapshot reuses its arrays', () => {
     const world = installClothPlugin(createWorld())
     const scene = buildScene(world)

@@ -3,7 +3,7 @@ import { fit32, fit64, fit8 } from '../../core/arrays'
 import { newArray, touchLayout } from '../../core/shared'
 import { ClothError } from '../../core/errors'
 import { BLEND, LIMITS, RIGID } from '../../kernels/motion'
-import { SLOT_DATA, restoreSlot, saveSlot, trackEntity, untrackEntity } from '../../world/kinematics'
+import { SLOT_DATA, restoreSlot, saveSlot, trackEntity, transformGeneration, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { reserveBoneScratch } from './reference'
 import { blankCharacter, blankSkin } from './state'
@@ -28,6 +28,12 @@ export interface CharacterSnapshot {
   characterBoneData: Float64Array
   characterJoints: Int32Array
   characterWeights: Float64Array
+  /**
+   * The Transform generations (see `Kinematics.generation`) of the frame and of each bone at the
+   * save (0 for an untracked frame or a removed bone); a restore refuses an entity that lost its
+   * Transform since, even if its id now names another entity with one.
+   */
+  characterGenerations?: Uint32Array
 }
 
 const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_CONSTRAINED = 3, H_SKIN = 4, HEADER = 5
@@ -47,6 +53,7 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
     s.characterBoneData = fit64(s.characterBoneData, 0)
     s.characterJoints = fit32(s.characterJoints, 0)
     s.characterWeights = fit64(s.characterWeights, 0)
+    s.characterGenerations = fitGenerations(s.characterGenerations, 0)
     return
   }
   const k = state.kinematics
@@ -83,9 +90,12 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   s.characterBoneData = fit64(s.characterBoneData, BONE * nb)
   s.characterJoints = fit32(s.characterJoints, skin === null ? 0 : 4 * n)
   s.characterWeights = fit64(s.characterWeights, skin === null ? 0 : 4 * n)
+  const gens = (s.characterGenerations = fitGenerations(s.characterGenerations, 1 + nb))
+  gens[0] = tracked ? transformGeneration(k, ch.frame) : 0
   if (skin === null) return
   for (let b = 0; b < nb; b++) {
     s.characterBones[b] = skin.bones[b]
+    gens[1 + b] = skin.bones[b] !== 0 ? transformGeneration(k, skin.bones[b]) : 0
     const o = BONE * b
     for (let d = 0; d < 10; d++) {
       s.characterBoneData[o + d] = skin.bind[10 * b + d]
@@ -129,13 +139,37 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   for (let q = 0; q < s.characterJoints.length; q++) {
     if (!(s.characterJoints[q] >= 0 && s.characterJoints[q] < nb)) throw new ClothError(arg, s, 'holds a skin joint out of range')
   }
-  if (tracked && !live(world, state, h[H_FRAME]))
-    throw new ClothError(arg, s, `has entity ${h[H_FRAME]} as the cloth's frame, which no longer exists or has no Transform`)
+  const gens = s.characterGenerations
+  if (gens !== undefined && (!(gens instanceof Uint32Array) || gens.length !== 1 + nb)) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (character cloth array sizes do not match)')
+  }
+  const k = state.kinematics
+  const frame = h[H_FRAME]
+  if (tracked && !live(world, state, frame))
+    throw new ClothError(arg, s, `has entity ${frame} as the cloth's frame, which no longer exists or has no Transform`)
+  if (tracked && gens !== undefined && gens[0] !== transformGeneration(k, frame)) {
+    throw new ClothError(
+      arg,
+      s,
+      `has entity ${frame} as the cloth's frame, which lost its Transform (was removed) after the save: the id now names another entity`,
+    )
+  }
   for (let b = 0; b < nb; b++) {
     const e = s.characterBones[b]
     if (e !== 0 && !live(world, state, e))
       throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
+    if (e !== 0 && gens !== undefined && gens[1 + b] !== transformGeneration(k, e)) {
+      throw new ClothError(
+        arg,
+        s,
+        `has entity ${e} as a bone, which lost its Transform (was removed) after the save: the id now names another entity`,
+      )
+    }
   }
+}
+
+function fitGenerations(a: Uint32Array | undefined, n: number): Uint32Array {
+  return a !== undefined && a.length === n ? a : new Uint32Array(n)
 }
 
 function hasNaN(a: Float64Array): boolean {
