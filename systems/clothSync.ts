@@ -1,13 +1,13 @@
 import { rebuildTethers } from '../src/cloth'
 import { beginKinematicStep, sampleFrame } from '../src/world/kinematics'
 import { getClothWorld } from '../src/world/access'
-import { followTargetJumps } from '../src/features/pins/step'
+import { followTargetJumps, pinTargetJumped } from '../src/features/pins/step'
 import { advanceGrabs, beginGrabFrame } from '../src/features/grab/step'
 import { advanceWind } from '../src/features/wind/step'
 import { sweepColliders } from '../src/features/collision/step'
 import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
 import { wakeSleepers } from '../src/features/sleep/step'
-import { beginCharacterStep, markFrameTeleports, noteIdle, wakeMovedCharacters } from '../src/features/character/step'
+import { beginCharacterStep, characterJumped, markFrameTeleports, noteIdle, wakeMovedCharacters } from '../src/features/character/step'
 
 /**
  * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
@@ -43,8 +43,11 @@ export function clothSync<W extends object>(world: W): W {
     const lod = c.budget
     let idle = c.sleep.asleep || lod.frozen
     if (!idle && lod.stepEvery > 1) {
-      // a far cloth runs one step of stepEvery × the fixed step, then sits the others out
-      if (++lod.phase < lod.stepEvery) idle = true
+      // a far cloth runs one step of stepEvery × the fixed step, then sits the others out; a jump
+      // of what it follows makes it step now, so that it handles the jump (as a teleport) when
+      // it happens rather than being dragged across it by its next step
+      const jumped = frameStart && (pinTargetJumped(state, c) || characterJumped(state, c))
+      if (++lod.phase < lod.stepEvery && !jumped) idle = true
       else lod.phase = 0
     }
     c.idle = idle

@@ -7,6 +7,7 @@ import {
   enableSelfCollision,
   getClothBudgetStats,
   getClothLod,
+  getClothReference,
   getClothState,
   getClothStats,
   getClothStretch,
@@ -14,6 +15,8 @@ import {
   pinRow,
   resetClothStats,
   setClothBudget,
+  setClothInertia,
+  setClothMotionConstraints,
   setClothQuality,
   setClothQualityTarget,
   setClothVisible,
@@ -269,6 +272,76 @@ describe('world budget and level of detail', () => {
     }
     expect(worst).toBeLessThan(0.05)
     expect(getClothStretch(world, cape).max).toBeLessThan(0.05)
+  })
+
+  it('a far cape that thaws steps at once: at the frame it becomes visible its particles lie within max distance of its reference', () => {
+    for (const every of [2, 4]) {
+      const world = makeWorld({ sleep: false })
+      const viewer = addEntity(world)
+      setTransform(world, viewer, [0, 0, 0])
+      const hero = addEntity(world)
+      setTransform(world, hero, [5, 1.6, 0])
+      const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [5, 1.6, -0.15] })
+      pinRow(world, cape, 0, hero)
+      setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: every, adapt: false, interval: 1, calibration: CAL })
+      setClothMotionConstraints(world, cape, { maxDistance: 0.05 })
+      const c = getClothState(world, cape)
+      for (let f = 1; f <= 121; f++) {
+        setTransform(world, hero, [f < 60 ? 5 : 5 + 0.05 * (f - 60), 1.6, 0]) // walks 3 m while invisible
+        if (f === 60) setClothVisible(world, cape, false)
+        if (f === 120) setClothVisible(world, cape, true)
+        stepCloth(world, DT)
+        if (f < 120) continue
+        const ref = getClothReference(world, cape)!
+        let worst = 0
+        for (let i = 0; i < c.count; i++) {
+          worst = Math.max(
+            worst,
+            Math.hypot(c.pos[3 * i] - ref[3 * i], c.pos[3 * i + 1] - ref[3 * i + 1], c.pos[3 * i + 2] - ref[3 * i + 2]),
+          )
+        }
+        // sitting out the thaw's step, it showed the reference of the freeze, 3 m behind
+        expect(worst, `every ${every}, frame ${f}`).toBeLessThan(0.052)
+      }
+    }
+  })
+
+  it("a far cloth stepping every 2nd or 4th step handles its character's 30 m jump as a teleport on whichever step the jump lands", () => {
+    for (const every of [2, 4]) {
+      for (let at = 100; at < 100 + every; at++) {
+        for (const character of [false, true]) {
+          const world = makeWorld({ sleep: false })
+          const viewer = addEntity(world)
+          setTransform(world, viewer, [0, 0, 0])
+          const hero = addEntity(world)
+          setTransform(world, hero, [5, 1.6, 0])
+          const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [5, 1.6, -0.15] })
+          pinRow(world, cape, 0, hero)
+          if (character) setClothInertia(world, cape, { frame: hero, teleport: { mode: 'reset' } })
+          setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: every, adapt: false, interval: 1, calibration: CAL })
+          const c = getClothState(world, cape)
+          let fastest = 0, farthest = 0
+          for (let f = 1; f <= at + 30; f++) {
+            setTransform(world, hero, [f >= at ? 35 : 5, 1.6, 0])
+            stepCloth(world, DT)
+            if (f === at - 1) {
+              expect(getClothLod(world, cape).stepEvery).toBe(every)
+              resetClothStats(world)
+            }
+            if (f < at) continue
+            for (let i = 0; i < c.count; i++) {
+              fastest = Math.max(fastest, Math.hypot(c.vel[3 * i], c.vel[3 * i + 1], c.vel[3 * i + 2]))
+              farthest = Math.max(farthest, Math.hypot(c.pos[3 * i] - 35, c.pos[3 * i + 1] - 1.6, c.pos[3 * i + 2]))
+            }
+          }
+          const what = `every ${every}, jump at ${at}${character ? ', reset by its frame' : ''}`
+          // dragged across the gap by its next step, it flew at the world's speed limit (250 m/s)
+          expect(getClothStats(world).teleports, what).toBe(1)
+          expect(fastest, what).toBeLessThan(3)
+          expect(farthest, what).toBeLessThan(1.2)
+        }
+      }
+    }
   })
 
   it('with fixed cost numbers the levels, and so the run, are deterministic', () => {

@@ -31,7 +31,7 @@ export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array)
   const lod = c.budget
   if (carryFrozen(c, poses)) wakeClothState(state, c)
   lod.frozen = false
-  lod.phase = 0
+  lod.phase = lod.stepEvery - 1 // a far cloth steps at once: where it was carried to is this step's start
   lod.refPin = -1
   lod.refSlot = -1
 }

@@ -90,6 +90,18 @@ export function wakeMovedCharacters(state: ClothWorldState): void {
  * meanwhile, so its next step starts from the frame's pose then (a cloth stepping every n-th step
  * does not: its step spans the steps it skips).
  */
+/** Whether the cloth's frame or one of its bones jumped at this frame's sample. */
+export function characterJumped(state: ClothWorldState, c: ClothState): boolean {
+  const ch = c.character
+  if (ch === null) return false
+  const jumped = state.kinematics.jumped
+  if (ch.frameSlot >= 0 && jumped[ch.frameSlot] === 1) return true
+  const skin = ch.skin
+  if (skin === null) return false
+  for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0 && jumped[skin.slots[b]] === 1) return true
+  return false
+}
+
 export function noteIdle(c: ClothState): void {
   if (c.character !== null && (c.sleep.asleep || c.budget.frozen)) c.character.motion[M_GAP] = 1
 }

@@ -14,6 +14,18 @@ const scale = new Float64Array(3)
  * Returns 1 when it carried the cloth, 2 when `teleportCloth` had moved it by hand (nothing to
  * follow), else 0.
  */
+/** Whether a pin target of the cloth jumped at this frame's sample (see `followTargetJumps`). */
+export function pinTargetJumped(state: ClothWorldState, c: ClothState): boolean {
+  const jumped = state.kinematics.jumped
+  const P = state.components.Pin
+  const pins = c.pins.list
+  for (let q = 0; q < pins.length; q++) {
+    const slot = P.slot[pins[q]]
+    if (slot >= 0 && jumped[slot] === 1) return true
+  }
+  return false
+}
+
 export function followTargetJumps(state: ClothWorldState, c: ClothState): number {
   const k = state.kinematics
   const P = state.components.Pin
