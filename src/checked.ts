@@ -283,7 +283,7 @@ export function solveDihedrals(
   solveDihedralsKernel(pos, invMass, idArr, restAngle, compliance, lambda, side, p, start, end)
 }
 
-/** Checked `solveTethers`. */
+/** Checked `solveTethers` (`restPos`, the rest positions, when the anchors may move apart; see the kernel). */
 export function solveTethers(
   pos: Float64Array,
   invMass: Float64Array,
@@ -291,6 +291,7 @@ export function solveTethers(
   anchor: Int32Array,
   rest: Float64Array,
   m: number,
+  restPos: Float64Array | null = null,
 ): void {
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
@@ -299,7 +300,8 @@ export function solveTethers(
   ids('anchor', anchor, m, n)
   f64('rest', rest, m)
   nonNegative('rest', rest, m)
-  solveTethersKernel(pos, invMass, particle, anchor, rest, m)
+  if (restPos !== null) f64('restPos', restPos, 3 * n)
+  solveTethersKernel(pos, invMass, particle, anchor, rest, restPos, m)
 }
 
 /** Checked `writeRenderMesh`. */

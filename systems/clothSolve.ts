@@ -4,6 +4,7 @@ import { solveCompression, solveDistances, solveDistancesXpbd, spreadInverseMass
 import { solveTethers } from '../src/kernels/tether'
 import { solveGrabs } from '../src/kernels/grab'
 import { beginGrabSubstep, endGrabSubstep } from '../src/features/grab/step'
+import { anchorsMoveTogether } from '../src/features/pins/step'
 import { getClothWorld } from '../src/world/access'
 
 /**
@@ -57,7 +58,10 @@ export function clothSolve<W extends object>(world: W): W {
         solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, p, 0, t.compCount)
       }
     }
-    if (tethers.count > 0) solveTethers(c.pos, c.invMass, tethers.particle, tethers.anchor, tethers.rest, tethers.count)
+    if (tethers.count > 0) {
+      const apart = anchorsMoveTogether(state, c) ? null : t.restPositions
+      solveTethers(c.pos, c.invMass, tethers.particle, tethers.anchor, tethers.rest, apart, tethers.count)
+    }
     if (grabs.count > 0) endGrabSubstep(c)
     stats.dihedralProjections += t.hingeCount * c.iterations
     stats.lineProjections += t.lineCount * c.iterations

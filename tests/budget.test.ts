@@ -275,7 +275,7 @@ describe('world budget and level of detail', () => {
   })
 
   it('a far cape that thaws steps at once: at the frame it becomes visible its particles lie within max distance of its reference', () => {
-    for (const every of [2, 4]) {
+    for (const every of [2, 4] as const) {
       const world = makeWorld({ sleep: false })
       const viewer = addEntity(world)
       setTransform(world, viewer, [0, 0, 0])
@@ -307,7 +307,7 @@ describe('world budget and level of detail', () => {
   })
 
   it("a far cloth stepping every 2nd or 4th step handles its character's 30 m jump as a teleport on whichever step the jump lands", () => {
-    for (const every of [2, 4]) {
+    for (const every of [2, 4] as const) {
       for (let at = 100; at < 100 + every; at++) {
         for (const character of [false, true]) {
           const world = makeWorld({ sleep: false })

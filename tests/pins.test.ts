@@ -204,6 +204,37 @@ describe('pins', () => {
   })
 })
 
+describe('tethers between pins that move apart', () => {
+  it('a sheet held at its top corners by two entities pulled apart stretches less with tethers than without: its tethers lengthen with their anchors', () => {
+    const settled = (pull: number, tethers: boolean) => {
+      const world = makeWorld()
+      const left = addEntity(world), right = addEntity(world)
+      setTransform(world, left, [-0.5, 2, 0])
+      setTransform(world, right, [0.5, 2, 0])
+      const cloth = createCloth(world, { width: 1, height: 1, resolution: 12, position: [0, 2, 0], tethers: { enabled: tethers } })
+      pinParticle(world, cloth, 0, left)
+      pinParticle(world, cloth, 11, right)
+      for (let f = 0; f < 120; f++) {
+        const d = Math.min(pull / 2, f / 60) // apart by `pull` m within the first second, then held
+        setTransform(world, left, [-0.5 - d, 2, 0])
+        setTransform(world, right, [0.5 + d, 2, 0])
+        stepCloth(world, 1 / 60)
+      }
+      expect(allFinite(world, cloth)).toBe(true)
+      return getClothStretch(world, cloth).max
+    }
+    const rows = [0.05, 0.15, 0.3].map((pull) => ({ pull, on: settled(pull, true), off: settled(pull, false) }))
+    console.log(
+      rows.map((r) =>
+        `apart by ${100 * r.pull} %: max stretch ${(100 * r.on).toFixed(1)} % with tethers, ${(100 * r.off).toFixed(1)} % without`
+      ).join('; '),
+    )
+    // with fixed rest lengths, the tether to the far anchor dragged the particle next to each pin
+    // away from it: the corner edge took the whole separation (59 %, 165 %, 330 %)
+    for (const r of rows) expect(r.on).toBeLessThan(r.off)
+  })
+})
+
 describe('capes', () => {
   function capeScene() {
     const world = makeWorld()

@@ -64,7 +64,7 @@ function bareSolver(c: ClothState): () => void {
       predictPositions(pos, prev, vel, invMass, null, p, c.count)
       solveLineBending(pos, invMass, t.lineIds, t.lineRest, t.lineCompliance, null, p, 0, t.lineCount)
       solveDistances(pos, invMass3, t.distOffsets, t.distRest, t.distCompliance, p, 0, t.distCount)
-      solveTethers(pos, invMass, tethers.particle, tethers.anchor, tethers.rest, tethers.count)
+      solveTethers(pos, invMass, tethers.particle, tethers.anchor, tethers.rest, null, tethers.count)
       updateVelocities(pos, prev, vel, p, c.count)
     }
     p[P_STRETCH_DAMP] = 1 - Math.exp(-c.stretchDamping * DT)

@@ -14,6 +14,25 @@ const scale = new Float64Array(3)
  * Returns 1 when it carried the cloth, 2 when `teleportCloth` had moved it by hand (nothing to
  * follow), else 0.
  */
+/**
+ * Whether every anchor of the cloth's tethers follows one and the same thing, so that they keep
+ * their rest distances from each other: all its pins on one target (or all on the world), and the
+ * particles its motion constraints hold (max distance 0) on the same frame without a skin.
+ * Otherwise the tether solve lets tethers lengthen as their anchors move apart (`solveTethers`).
+ */
+export function anchorsMoveTogether(state: ClothWorldState, c: ClothState): boolean {
+  const P = state.components.Pin
+  const pins = c.pins.list
+  let target = -1
+  for (let q = 0; q < pins.length; q++) {
+    const t = P.target[pins[q]]
+    if (target < 0) target = t
+    else if (t !== target) return false
+  }
+  const ch = c.character
+  return ch === null || ch.heldCount === 0 || (ch.skin === null && (target < 0 || ch.frame === target))
+}
+
 /** Whether a pin target of the cloth jumped at this frame's sample (see `followTargetJumps`). */
 export function pinTargetJumped(state: ClothWorldState, c: ClothState): boolean {
   const jumped = state.kinematics.jumped
