@@ -6,6 +6,7 @@ import {
   ClothError,
   beginClothStep,
   createCloth,
+  createWindZone,
   disposeClothWorld,
   endClothStep,
   endClothStepAsync,
@@ -13,6 +14,7 @@ import {
   getClothMesh,
   getClothState,
   getClothStats,
+  gustWind,
   makeTearable,
   onClothTear,
   pinParticle,
@@ -23,6 +25,7 @@ import {
   setClothQuality,
   setClothSkinning,
   setTransform,
+  setWindZone,
   stepCloth,
   unpin,
 } from '../../src/index'
@@ -100,6 +103,7 @@ describe('beginClothStep / endClothStep', () => {
       const s = scene(threads)
       try {
         s.animate(0)
+        const zone = createWindZone(s.world, { direction: [0, 0, 1], strength: 2 })
         stepCloth(s.world, 1 / 60)
         const mesh = getClothMesh(s.world, s.capes[0])
         const before = Float32Array.from(mesh.positions)
@@ -125,6 +129,9 @@ describe('beginClothStep / endClothStep', () => {
         }
         expect(() => setClothSkinning(s.world, s.capes[0], skinning)).toThrow(ClothError)
         expect(() => removeCloth(s.world, s.sheet)).toThrow(ClothError)
+        // a zone changed now would reach this step without workers and the next one with them
+        expect(() => setWindZone(s.world, zone, { strength: 6 })).toThrow(ClothError)
+        expect(() => gustWind(s.world, zone, { strength: 3 })).toThrow(ClothError)
         expect(() => stepCloth(s.world, 1 / 60)).toThrow(ClothError)
         expect(() => beginClothStep(s.world, 1 / 60)).toThrow(ClothError)
         expect(endClothStep(s.world)).toBe(1)

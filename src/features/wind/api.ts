@@ -168,7 +168,7 @@ export function createWindZone(world: object, options: WindZoneOptions): number 
  * `setTransform`). Takes effect at the next step.
  */
 export function setWindZone(world: object, zone: number, options: Partial<Omit<WindZoneOptions, 'shape' | 'position' | 'rotation'>>): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkZone(world, state, zone)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const Z = state.components.WindZone
@@ -183,7 +183,7 @@ export function setWindZone(world: object, zone: number, options: Partial<Omit<W
  * during another one ramps from the current gust speed, without a jump.
  */
 export function gustWind(world: object, zone: number, options: GustOptions): void {
-  const state = getClothWorld(world)
+  const state = getClothWorldForChange(world)
   checkZone(world, state, zone)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   if (typeof options.strength !== 'number' || !Number.isFinite(options.strength) || Math.abs(options.strength) > MAX_WIND) {
