@@ -2,6 +2,7 @@ import { createAnchorScratch, loosenTethers, nearestAnchorsAlongMesh, type Ancho
 import type { ClothState, ClothWorldState } from '../../world/state'
 import type { ClothTear } from './types'
 import { newArray, touchLayout } from '../../core/shared'
+import { anchorsMoveTogether } from '../pins/step'
 
 /**
  * Rebuilds a tearable cloth's tethers without allocating: each free particle is tied to the
@@ -53,7 +54,9 @@ export function rebuildTearTethers(state: ClothWorldState, c: ClothState): void 
     }
   }
   out.count = m
-  if (ct.loosen) loosenTethers(out, c.pos)
+  // pins on things that move apart may have lengthened the old tethers (see `solveTethers`): the
+  // new ones start no tighter than the cloth is, or a tear would snap it back at once
+  if (ct.loosen || !anchorsMoveTogether(state, c)) loosenTethers(out, c.pos)
   ct.loosen = false
 }
 
