@@ -54,6 +54,9 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
     grown.set(k.slotOf)
     k.slotOf = grown
   }
+  // the generations grow with the slots, when an entity is first tracked, rather than when it is
+  // removed: code that reads them (snapshots) is optimized against the array it will keep using
+  growGenerations(k, eid)
   let slot = k.slotOf[eid]
   if (slot >= 0) {
     k.refs[slot]++
@@ -88,14 +91,17 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
 /** Called when `eid` loses its transform (see `Kinematics.generation`). */
 export function transformLost(state: ClothWorldState, eid: number): void {
   const k = state.kinematics
-  if (eid >= k.generation.length) {
-    let n = k.generation.length
-    while (n <= eid) n *= 2
-    const grown = new Uint32Array(n)
-    grown.set(k.generation)
-    k.generation = grown
-  }
+  growGenerations(k, eid)
   k.generation[eid]++
+}
+
+function growGenerations(k: Kinematics, eid: number): void {
+  if (eid < k.generation.length) return
+  let n = k.generation.length
+  while (n <= eid) n *= 2
+  const grown = new Uint32Array(n)
+  grown.set(k.generation)
+  k.generation = grown
 }
 
 /** `Kinematics.generation` of an entity id (0 for an id never seen to lose its transform). */

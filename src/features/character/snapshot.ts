@@ -16,30 +16,29 @@ import { MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
  * when the cloth has no character state.
  */
 export interface CharacterSnapshot {
-  /** Header (inertia, frame, frame tracked, constrained, skin), settings, motion, then the frame's slot history when tracked. */
+  /**
+   * Header (inertia, frame, frame tracked, constrained, skin, the frame's Transform generation),
+   * settings, motion, then the frame's slot history when tracked. The generations (here and per
+   * bone, see `Kinematics.generation`) let a restore refuse an entity that lost its Transform since
+   * the save, even if its id now names another entity with one.
+   */
   character: Float64Array
   /** Per particle: rest, rest normal, limits, then the reference data (RIGID values, or BLEND when skinned). */
   characterParticles: Float64Array
   /** Drive frequency per particle, or empty when no particle has a drive. */
   characterDrive: Float64Array
   characterHeld: Uint8Array
-  /** Bone entities (0: removed), and per bone: bind pose, last pose (10 each), slot history (SLOT_DATA, when tracked). */
+  /** Bone entities (0: removed), and per bone: bind pose, last pose (10 each), slot history (SLOT_DATA, when tracked), Transform generation. */
   characterBones: Int32Array
   characterBoneData: Float64Array
   characterJoints: Int32Array
   characterWeights: Float64Array
-  /**
-   * The Transform generations (see `Kinematics.generation`) of the frame and of each bone at the
-   * save (0 for an untracked frame or a removed bone); a restore refuses an entity that lost its
-   * Transform since, even if its id now names another entity with one.
-   */
-  characterGenerations?: Uint32Array
 }
 
-const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_CONSTRAINED = 3, H_SKIN = 4, HEADER = 5
+const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_CONSTRAINED = 3, H_SKIN = 4, H_GEN = 5, HEADER = 6
 /** Values per particle of `characterParticles` before the reference data: rest, rest normal, limits. */
 const PER = 6 + LIMITS
-const BONE = 20 + SLOT_DATA
+const BONE_GEN = 20 + SLOT_DATA, BONE = BONE_GEN + 1
 
 export function saveCharacter(state: ClothWorldState, c: ClothState, s: CharacterSnapshot): void {
   const ch = c.character
@@ -53,7 +52,6 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
     s.characterBoneData = fit64(s.characterBoneData, 0)
     s.characterJoints = fit32(s.characterJoints, 0)
     s.characterWeights = fit64(s.characterWeights, 0)
-    s.characterGenerations = fitGenerations(s.characterGenerations, 0)
     return
   }
   const k = state.kinematics
@@ -64,6 +62,7 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   h[H_TRACKED] = tracked ? 1 : 0
   h[H_CONSTRAINED] = ch.constrained ? 1 : 0
   h[H_SKIN] = ch.skin !== null ? 1 : 0
+  h[H_GEN] = tracked ? transformGeneration(k, ch.frame) : 0
   h.set(ch.settings, HEADER)
   h.set(ch.motion, HEADER + SETTINGS)
   if (tracked) saveSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
@@ -90,12 +89,10 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   s.characterBoneData = fit64(s.characterBoneData, BONE * nb)
   s.characterJoints = fit32(s.characterJoints, skin === null ? 0 : 4 * n)
   s.characterWeights = fit64(s.characterWeights, skin === null ? 0 : 4 * n)
-  const gens = (s.characterGenerations = fitGenerations(s.characterGenerations, 1 + nb))
-  gens[0] = tracked ? transformGeneration(k, ch.frame) : 0
   if (skin === null) return
   for (let b = 0; b < nb; b++) {
     s.characterBones[b] = skin.bones[b]
-    gens[1 + b] = skin.bones[b] !== 0 ? transformGeneration(k, skin.bones[b]) : 0
+    s.characterBoneData[BONE * b + BONE_GEN] = skin.bones[b] !== 0 ? transformGeneration(k, skin.bones[b]) : 0
     const o = BONE * b
     for (let d = 0; d < 10; d++) {
       s.characterBoneData[o + d] = skin.bind[10 * b + d]
@@ -139,15 +136,11 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   for (let q = 0; q < s.characterJoints.length; q++) {
     if (!(s.characterJoints[q] >= 0 && s.characterJoints[q] < nb)) throw new ClothError(arg, s, 'holds a skin joint out of range')
   }
-  const gens = s.characterGenerations
-  if (gens !== undefined && (!(gens instanceof Uint32Array) || gens.length !== 1 + nb)) {
-    throw new ClothError(arg, s, 'is not a complete snapshot (character cloth array sizes do not match)')
-  }
   const k = state.kinematics
   const frame = h[H_FRAME]
   if (tracked && !live(world, state, frame))
     throw new ClothError(arg, s, `has entity ${frame} as the cloth's frame, which no longer exists or has no Transform`)
-  if (tracked && gens !== undefined && gens[0] !== transformGeneration(k, frame)) {
+  if (tracked && h[H_GEN] !== transformGeneration(k, frame)) {
     throw new ClothError(
       arg,
       s,
@@ -158,7 +151,7 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
     const e = s.characterBones[b]
     if (e !== 0 && !live(world, state, e))
       throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
-    if (e !== 0 && gens !== undefined && gens[1 + b] !== transformGeneration(k, e)) {
+    if (e !== 0 && s.characterBoneData[BONE * b + BONE_GEN] !== transformGeneration(k, e)) {
       throw new ClothError(
         arg,
         s,
@@ -166,10 +159,6 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
       )
     }
   }
-}
-
-function fitGenerations(a: Uint32Array | undefined, n: number): Uint32Array {
-  return a !== undefined && a.length === n ? a : new Uint32Array(n)
 }
 
 function hasNaN(a: Float64Array): boolean {
