@@ -216,8 +216,9 @@ export const HELD_WEIGHT = 1 / 16
  * that many substeps of drift, and a particle a limit moved from x₀ gets v = (x₀ + (x − x₀)·share
  * − prev)/h: the correction enters its velocity spread over them (taken as one substep's motion,
  * seven substeps of drift stretched a running cape's edges by up to 866 %). A speed above
- * params[P_MAX_SPEED] is scaled down to it, the largest squared speed before that goes to params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop
- * this repeats rather than calls: a second pass over the positions is what this kernel saves).
+ * params[P_MAX_SPEED] is scaled down to it, the largest squared speed before that goes to
+ * params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop this repeats rather than
+ * calls: a second pass over the positions is what this kernel saves).
  * One long function on purpose: the limits written out in full run per particle and substep,
  * where a call per particle would box its doubles.
  */

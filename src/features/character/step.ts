@@ -85,11 +85,6 @@ export function wakeMovedCharacters(state: ClothWorldState): void {
   }
 }
 
-/**
- * Sync phase, for a cloth that sits this step out: asleep or frozen, it misses its frame's motion
- * meanwhile, so its next step starts from the frame's pose then (a cloth stepping every n-th step
- * does not: its step spans the steps it skips).
- */
 /** Whether the cloth's frame or one of its bones jumped at this frame's sample. */
 export function characterJumped(state: ClothWorldState, c: ClothState): boolean {
   const ch = c.character
@@ -102,6 +97,11 @@ export function characterJumped(state: ClothWorldState, c: ClothState): boolean 
   return false
 }
 
+/**
+ * Sync phase, for a cloth that sits this step out: asleep or frozen, it misses its frame's motion
+ * meanwhile, so its next step starts from the frame's pose then (a cloth stepping every n-th step
+ * does not: its step spans the steps it skips).
+ */
 export function noteIdle(c: ClothState): void {
   if (c.character !== null && (c.sleep.asleep || c.budget.frozen)) c.character.motion[M_GAP] = 1
 }

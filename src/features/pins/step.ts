@@ -8,13 +8,6 @@ const pose = new Float64Array(7)
 const scale = new Float64Array(3)
 
 /**
- * At a frame sample: if one of the cloth's pin targets jumped (teleported), carry the whole cloth
- * along by the same rigid transform, keeping its shape and (rotated) velocity. The kinematics
- * module has already moved the target's earlier poses, so the pins continue from the new place.
- * Returns 1 when it carried the cloth, 2 when `teleportCloth` had moved it by hand (nothing to
- * follow), else 0.
- */
-/**
  * Whether every anchor of the cloth's tethers follows one and the same thing, so that they keep
  * their rest distances from each other: all its pins on one target (or all on the world), and the
  * particles its motion constraints hold (max distance 0) on the same frame without a skin.
@@ -45,6 +38,13 @@ export function pinTargetJumped(state: ClothWorldState, c: ClothState): boolean 
   return false
 }
 
+/**
+ * At a frame sample: if one of the cloth's pin targets jumped (teleported), carry the whole cloth
+ * along by the same rigid transform, keeping its shape and (rotated) velocity. The kinematics
+ * module has already moved the target's earlier poses, so the pins continue from the new place.
+ * Returns 1 when it carried the cloth, 2 when `teleportCloth` had moved it by hand (nothing to
+ * follow), else 0.
+ */
 export function followTargetJumps(state: ClothWorldState, c: ClothState): number {
   const k = state.kinematics
   const P = state.components.Pin
