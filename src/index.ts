@@ -78,15 +78,19 @@ export type { PinStore } from '../components/Pin'
 export type { ClothStore } from '../components/Cloth'
 export type { WindZoneStore } from '../components/WindZone'
 export type { TearableStore } from '../components/Tearable'
-export { clothSync } from '../systems/clothSync'
-export { clothForces } from '../systems/clothForces'
-export { clothPredict } from '../systems/clothPredict'
-export { clothSolve } from '../systems/clothSolve'
-export { clothCollide } from '../systems/clothCollide'
-export { clothTear } from '../systems/clothTear'
-export { clothWriteback } from '../systems/clothWriteback'
-export { clothPhases, clothFixedStep, clothSubstepCount, setClothSubstep } from '../systems/pipeline'
-export { clothEvents } from '../systems/clothEvents'
+export {
+  clothSync,
+  clothForces,
+  clothPredict,
+  clothSolve,
+  clothCollide,
+  clothTear,
+  clothWriteback,
+  clothGuard,
+  clothEvents,
+  clothPhases,
+} from '../systems/scheduled'
+export { clothFixedStep, clothSubstepCount, setClothSubstep } from '../systems/pipeline'
 
 // Kernels: plain functions over typed arrays, usable without a world. The exported versions check
 // their arguments (ClothError); the plugin's systems call the unchecked ones in src/kernels/.
@@ -102,7 +106,6 @@ export { buildTethers } from './checked'
 // Explosion guard and snapshots (hard cases stay numerically stable).
 export { onClothReset, drainClothResets, setClothGuard, getClothGuard } from './features/guard/api'
 export type { ClothGuardOptions, ClothResetEvent, ClothResetReason } from './features/guard/types'
-export { clothGuard } from '../systems/clothGuard'
 export { checkClothHealth } from './checked'
 export { saveClothState, restoreClothState, type ClothSnapshot } from './snapshot'
 

@@ -34,12 +34,9 @@ import { collectClothStep, dispatchClothStep } from './threaded'
  *                             before the renderer, the listeners or the next step read it
  *   events                    after the step: tear listeners see a finished step and may change the world
  *
- * `clothPhases` lists the per-substep phases in that order for engines that schedule systems
- * themselves; such an engine runs `clothSync`, then each phase once per `clothSubstepCount(world)`
- * with `setClothSubstep(world, s)` before each round, then `clothGuard` and `clothEvents`, or simply calls
- * `clothFixedStep`.
+ * `clothPhases` (`scheduled.ts`) lists the per-substep phases in that order for engines that
+ * schedule systems themselves, each checking that no frame is open.
  */
-export const clothPhases = [clothForces, clothPredict, clothSolve, clothCollide, clothTear, clothWriteback] as const
 
 /** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
 export function clothFixedStep<W extends object>(world: W): W {

@@ -5,6 +5,10 @@ import { describe, expect, it } from 'vitest'
 import {
   ClothError,
   beginClothStep,
+  clothEvents,
+  clothGuard,
+  clothPhases,
+  clothSync,
   createCloth,
   createWindZone,
   disposeClothWorld,
@@ -132,6 +136,9 @@ describe('beginClothStep / endClothStep', () => {
         // a zone changed now would reach this step without workers and the next one with them
         expect(() => setWindZone(s.world, zone, { strength: 6 })).toThrow(ClothError)
         expect(() => gustWind(s.world, zone, { strength: 3 })).toThrow(ClothError)
+        // a custom scheduler's phases would race the workers for the particles
+        for (const phase of [clothSync, ...clothPhases, clothGuard, clothEvents])
+          expect(() => phase(s.world), phase.name).toThrow(ClothError)
         expect(() => stepCloth(s.world, 1 / 60)).toThrow(ClothError)
         expect(() => beginClothStep(s.world, 1 / 60)).toThrow(ClothError)
         expect(endClothStep(s.world)).toBe(1)
