@@ -212,8 +212,8 @@ export const HELD_WEIGHT = 1 / 16
  * ones, instead of stretching by what the limit takes back each substep.
  *
  * Velocities, for every particle: v = (x − prev)/h, so a particle stopped at its limit loses its
- * outward speed. When the limits last ran 1/`share` substeps ago (`every`), a correction undoes
- * that many substeps of drift, and a particle a limit moved from x₀ gets v = (x₀ + (x − x₀)·share
+ * outward speed. When the limits last ran `since` substeps ago (`every`), a correction undoes
+ * that many substeps of drift, and a particle a limit moved from x₀ gets v = (x₀ + (x − x₀)/since
  * − prev)/h: the correction enters its velocity spread over them (taken as one substep's motion,
  * seven substeps of drift stretched a running cape's edges by up to 866 %). A speed above
  * params[P_MAX_SPEED] is scaled down to it, the largest squared speed before that goes to
@@ -233,9 +233,10 @@ export function constrainAndUpdateVelocities(
   lim: Float32Array,
   w: Float64Array,
   params: Float64Array,
-  share: number,
+  since: number,
   count: number,
 ): void {
+  const share = 1 / since // (an integer argument: a fraction passed to a call would be boxed)
   const f = params[P_STEP_FRACTION], invH = params[P_INV_H]
   let heldCount = 0
   const maxSpeed = params[P_MAX_SPEED]
@@ -336,8 +337,8 @@ export function constrainAndUpdateVelocities(
         invMass3[j + 1] = heavy
         invMass3[j + 2] = heavy
         held[++heldCount] = i
-        if (share !== 1) {
-          // the correction undoes the drift of the `1/share` substeps since the last check: it
+        if (since !== 1) {
+          // the correction undoes the drift of the `since` substeps since the last check: it
           // enters the velocity spread over them, not as one substep's motion
           x = x0 + (x - x0) * share
           y = y0 + (y - y0) * share

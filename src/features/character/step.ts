@@ -234,7 +234,7 @@ export function writebackCharacter(c: ClothState): void {
   }
   if (ch.drive !== null) driveTowardReference(c.pos, c.prev, c.invMass, ch.ref, ch.refParams, ch.drive, c.params, c.count)
   // the substeps since the last check: `every` (the step's last substep may come sooner); 1 with a drive
-  const since = ch.drive !== null ? 1 : k + 1 - every * Math.floor(k / every)
+  const since = ch.drive !== null ? 1 : (k % every) + 1
   constrainAndUpdateVelocities(
     c.pos,
     c.prev,
@@ -246,7 +246,7 @@ export function writebackCharacter(c: ClothState): void {
     ch.lim,
     ch.refParams,
     c.params,
-    1 / since,
+    since,
     c.count,
   )
 }
