@@ -27,50 +27,34 @@ function outsideFrame(world: object): void {
   }
 }
 
-export function clothSync<W extends object>(world: W): W {
-  outsideFrame(world)
-  return sync(world)
+/** `phase`, first checking that no frame is open; it keeps the phase's name. */
+function checked(phase: <W extends object>(world: W) => W): <W extends object>(world: W) => W {
+  const run = <W extends object>(world: W): W => {
+    outsideFrame(world)
+    return phase(world)
+  }
+  Object.defineProperty(run, 'name', { value: phase.name })
+  return run
 }
 
-export function clothForces<W extends object>(world: W): W {
-  outsideFrame(world)
-  return forces(world)
-}
-
-export function clothPredict<W extends object>(world: W): W {
-  outsideFrame(world)
-  return predict(world)
-}
-
-export function clothSolve<W extends object>(world: W): W {
-  outsideFrame(world)
-  return solve(world)
-}
-
-export function clothCollide<W extends object>(world: W): W {
-  outsideFrame(world)
-  return collide(world)
-}
-
-export function clothTear<W extends object>(world: W): W {
-  outsideFrame(world)
-  return tear(world)
-}
-
-export function clothWriteback<W extends object>(world: W): W {
-  outsideFrame(world)
-  return writeback(world)
-}
-
-export function clothGuard<W extends object>(world: W): W {
-  outsideFrame(world)
-  return guard(world)
-}
-
-export function clothEvents<W extends object>(world: W): W {
-  outsideFrame(world)
-  return events(world)
-}
+/** The sync phase, once per fixed step before the substeps (reads the Transforms). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothSync = checked(sync)
+/** The forces phase of a substep (wind and other accelerations). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothForces = checked(forces)
+/** The predict phase of a substep (integration; pinned and held particles placed). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothPredict = checked(predict)
+/** The solve phase of a substep (bending, distance constraints, tethers). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothSolve = checked(solve)
+/** The collide phase of a substep (colliders, self-collision). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothCollide = checked(collide)
+/** The tear phase of a substep (overstretched edges split at the step's last substep). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothTear = checked(tear)
+/** The writeback phase of a substep (motion constraints, velocities, sleep). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothWriteback = checked(writeback)
+/** The guard phase, once after the substeps (explosion guard). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothGuard = checked(guard)
+/** The events phase, after the step (tear and reset listeners). Throws a ClothError between `beginClothStep` and `endClothStep`. */
+export const clothEvents = checked(events)
 
 /**
  * The per-substep phases in the pipeline's order (see `pipeline.ts`), for engines that schedule
