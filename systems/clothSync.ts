@@ -1,7 +1,7 @@
 import { rebuildTethers } from '../src/cloth'
 import { beginKinematicStep, sampleFrame } from '../src/world/kinematics'
 import { getClothWorld } from '../src/world/access'
-import { followTargetJumps, pinTargetJumped } from '../src/features/pins/step'
+import { followTargetJumps, jumpedPinTarget } from '../src/features/pins/step'
 import { advanceGrabs, beginGrabFrame } from '../src/features/grab/step'
 import { advanceWind } from '../src/features/wind/step'
 import { sweepColliders } from '../src/features/collision/step'
@@ -46,7 +46,7 @@ export function clothSync<W extends object>(world: W): W {
       // a far cloth runs one step of stepEvery × the fixed step, then sits the others out; a jump
       // of what it follows makes it step now, so that it handles the jump (as a teleport) when
       // it happens rather than being dragged across it by its next step
-      const jumped = frameStart && (pinTargetJumped(state, c) || characterJumped(state, c))
+      const jumped = frameStart && (jumpedPinTarget(state, c) >= 0 || characterJumped(state, c))
       if (++lod.phase < lod.stepEvery && !jumped) idle = true
       else lod.phase = 0
     }

@@ -48,6 +48,19 @@ function sheet(world: object, x: number, n = 12, options: { substeps?: number; i
   return cloth
 }
 
+/** A cape pinned to a character 5 m from the viewer, beyond `far`: a far cloth stepping every `every`-th step. */
+function farCape(every: 2 | 4) {
+  const world = makeWorld({ sleep: false })
+  const viewer = addEntity(world)
+  setTransform(world, viewer, [0, 0, 0])
+  const hero = addEntity(world)
+  setTransform(world, hero, [5, 1.6, 0])
+  const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [5, 1.6, -0.15] })
+  pinRow(world, cape, 0, hero)
+  setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: every, adapt: false, interval: 1, calibration: CAL })
+  return { world, hero, cape, c: getClothState(world, cape) }
+}
+
 function steps(world: object, n: number): void {
   for (let f = 0; f < n; f++) stepCloth(world, DT)
 }
@@ -276,21 +289,14 @@ describe('world budget and level of detail', () => {
 
   it('a far cape that thaws steps at once: at the frame it becomes visible its particles lie within max distance of its reference', () => {
     for (const every of [2, 4] as const) {
-      const world = makeWorld({ sleep: false })
-      const viewer = addEntity(world)
-      setTransform(world, viewer, [0, 0, 0])
-      const hero = addEntity(world)
-      setTransform(world, hero, [5, 1.6, 0])
-      const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [5, 1.6, -0.15] })
-      pinRow(world, cape, 0, hero)
-      setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: every, adapt: false, interval: 1, calibration: CAL })
+      const { world, hero, cape, c } = farCape(every)
       setClothMotionConstraints(world, cape, { maxDistance: 0.05 })
-      const c = getClothState(world, cape)
       for (let f = 1; f <= 121; f++) {
         setTransform(world, hero, [f < 60 ? 5 : 5 + 0.05 * (f - 60), 1.6, 0]) // walks 3 m while invisible
         if (f === 60) setClothVisible(world, cape, false)
         if (f === 120) setClothVisible(world, cape, true)
         stepCloth(world, DT)
+        if (f === 119) expect(getClothLod(world, cape).frozen).toBe(true)
         if (f < 120) continue
         const ref = getClothReference(world, cape)!
         let worst = 0
@@ -310,16 +316,8 @@ describe('world budget and level of detail', () => {
     for (const every of [2, 4] as const) {
       for (let at = 100; at < 100 + every; at++) {
         for (const character of [false, true]) {
-          const world = makeWorld({ sleep: false })
-          const viewer = addEntity(world)
-          setTransform(world, viewer, [0, 0, 0])
-          const hero = addEntity(world)
-          setTransform(world, hero, [5, 1.6, 0])
-          const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [5, 1.6, -0.15] })
-          pinRow(world, cape, 0, hero)
+          const { world, hero, cape, c } = farCape(every)
           if (character) setClothInertia(world, cape, { frame: hero, teleport: { mode: 'reset' } })
-          setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: every, adapt: false, interval: 1, calibration: CAL })
-          const c = getClothState(world, cape)
           let fastest = 0, farthest = 0
           for (let f = 1; f <= at + 30; f++) {
             setTransform(world, hero, [f >= at ? 35 : 5, 1.6, 0])

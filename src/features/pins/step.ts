@@ -26,16 +26,16 @@ export function anchorsMoveTogether(state: ClothWorldState, c: ClothState): bool
   return ch === null || ch.heldCount === 0 || (ch.skin === null && (target < 0 || ch.frame === target))
 }
 
-/** Whether a pin target of the cloth jumped at this frame's sample (see `followTargetJumps`). */
-export function pinTargetJumped(state: ClothWorldState, c: ClothState): boolean {
+/** The slot of the first of the cloth's pin targets that jumped at this frame's sample, or −1. */
+export function jumpedPinTarget(state: ClothWorldState, c: ClothState): number {
   const jumped = state.kinematics.jumped
   const P = state.components.Pin
   const pins = c.pins.list
   for (let q = 0; q < pins.length; q++) {
     const slot = P.slot[pins[q]]
-    if (slot >= 0 && jumped[slot] === 1) return true
+    if (slot >= 0 && jumped[slot] === 1) return slot
   }
-  return false
+  return -1
 }
 
 /**
@@ -47,34 +47,29 @@ export function pinTargetJumped(state: ClothWorldState, c: ClothState): boolean 
  */
 export function followTargetJumps(state: ClothWorldState, c: ClothState): number {
   const k = state.kinematics
-  const P = state.components.Pin
-  const pins = c.pins.list
   if (c.pins.skipTeleport) {
     c.pins.skipTeleport = false
     return 2
   }
-  for (let q = 0; q < pins.length; q++) {
-    const slot = P.slot[pins[q]]
-    if (slot < 0 || k.jumped[slot] === 0) continue
-    const j = 10 * slot
-    const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
-    moveClothRigidly(
-      c,
-      cx,
-      cy,
-      cz,
-      k.jump[j + 3],
-      k.jump[j + 4],
-      k.jump[j + 5],
-      k.jump[j + 6],
-      cx + k.jump[j + 7],
-      cy + k.jump[j + 8],
-      cz + k.jump[j + 9],
-    )
-    state.stats.teleports++
-    return 1
-  }
-  return 0
+  const slot = jumpedPinTarget(state, c)
+  if (slot < 0) return 0
+  const j = 10 * slot
+  const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
+  moveClothRigidly(
+    c,
+    cx,
+    cy,
+    cz,
+    k.jump[j + 3],
+    k.jump[j + 4],
+    k.jump[j + 5],
+    k.jump[j + 6],
+    cx + k.jump[j + 7],
+    cy + k.jump[j + 8],
+    cz + k.jump[j + 9],
+  )
+  state.stats.teleports++
+  return 1
 }
 
 /**
