@@ -38,7 +38,7 @@ const NO_WORLD = new Set([
 function firstParameter(fn: (...args: unknown[]) => unknown): string | undefined {
   const src = Function.prototype.toString.call(fn)
   if (src.startsWith('class')) return undefined
-  const m = /^(?:async\s+)?function\s*\*?\s*[\w$]*\s*\(\s*([A-Za-z_$][\w$]*)/.exec(src)
+  const m = /^(?:async\s+)?function\s*\*?\s*[\w$]*\s*\(\s*([A-Za-z_$][\w$]*)/.exec(src) ?? /^\(\s*([A-Za-z_$][\w$]*)[^)]*\)\s*=>/.exec(src) // (or an arrow)
   return m?.[1]
 }
 
