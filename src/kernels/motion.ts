@@ -116,6 +116,8 @@ export const REF_PARAMS = 6
 /**
  * Places the listed particles (`list` null: particles 0 to listCount − 1) on their reference
  * positions at the end of the substep (particles held with max distance 0; a teleport's reset).
+ * With `holds` (each particle's pins, plus 1 when held: `ClothState.pinCount`), a listed held
+ * particle that a pin holds too (holds > 1) is left where its pin put it: a pin wins.
  */
 export function placeOnReference(
   pos: Float64Array,
@@ -124,11 +126,13 @@ export function placeOnReference(
   ref: Float32Array,
   w: Float64Array,
   params: Float64Array,
+  holds: Uint16Array | null,
 ): void {
   const f = params[P_STEP_FRACTION]
   const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
   for (let q = 0; q < listCount; q++) {
     const i = list === null ? q : list[q]
+    if (holds !== null && holds[i] > 1) continue
     const j = 3 * i, o = BLEND * i
     pos[j] = tx + ref[o] + (ref[o + 3] - ref[o]) * f
     pos[j + 1] = ty + ref[o + 1] + (ref[o + 4] - ref[o + 1]) * f
@@ -225,6 +229,7 @@ export const HELD_WEIGHT = 1 / 16
 export function constrainAndUpdateVelocities(
   pos: Float64Array,
   prev: Float64Array,
+  start: Float64Array,
   vel: Float64Array,
   invMass: Float64Array,
   invMass3: Float64Array,
@@ -237,12 +242,13 @@ export function constrainAndUpdateVelocities(
   count: number,
 ): void {
   const share = 1 / since // (an integer argument: a fraction passed to a call would be boxed)
-  const f = params[P_STEP_FRACTION], invH = params[P_INV_H]
+  const f = params[P_STEP_FRACTION], f0 = params[P_STEP_START], invH = params[P_INV_H]
   let heldCount = 0
   const maxSpeed = params[P_MAX_SPEED]
   const max2 = maxSpeed * maxSpeed
   let top = 0
   const tx = w[W_T], ty = w[W_T + 1], tz = w[W_T + 2]
+  const sx = w[W_T0], sy = w[W_T0 + 1], sz = w[W_T0 + 2]
   for (let i = 0; i < count; i++) {
     const j = 3 * i
     let x = pos[j], y = pos[j + 1], z = pos[j + 2]
@@ -343,6 +349,22 @@ export function constrainAndUpdateVelocities(
           x = x0 + (x - x0) * share
           y = y0 + (y - y0) * share
           z = z0 + (z - z0) * share
+        }
+        // it leaves no faster, relative to its reference, than it moved since the substep's start:
+        // where a collider and a limit disagree, each takes back the other's correction (the
+        // collider as no motion, moving prev along), and a particle wedged between them kept the
+        // velocity it came in with (8 m/s on a still cape whose capsule reached 2 cm behind it)
+        const qx = rx - sx - ref[o] - (ref[o + 3] - ref[o]) * f0
+        const qy = ry - sy - ref[o + 1] - (ref[o + 4] - ref[o + 1]) * f0
+        const qz = rz - sz - ref[o + 2] - (ref[o + 5] - ref[o + 2]) * f0
+        const ux = x - prev[j] - qx, uy = y - prev[j + 1] - qy, uz = z - prev[j + 2] - qz
+        const ax = pos[j] - start[j] - qx, ay = pos[j + 1] - start[j + 1] - qy, az = pos[j + 2] - start[j + 2] - qz
+        const u2 = ux * ux + uy * uy + uz * uz, a2 = ax * ax + ay * ay + az * az
+        if (u2 > a2) {
+          const k = Math.sqrt(a2 / u2)
+          x = prev[j] + qx + ux * k
+          y = prev[j + 1] + qy + uy * k
+          z = prev[j + 2] + qz + uz * k
         }
       }
     }

@@ -210,6 +210,7 @@ function kernelCost(): void {
         constrainAndUpdateVelocities(
           k.pos,
           k.prev,
+          k.ch.start,
           k.vel,
           k.c.invMass,
           k.inv3,

@@ -422,6 +422,7 @@ export function reserveCharacter(c: ClothState, P: number): void {
   ch.ref = grownArray(ch.ref, BLEND * P)
   ch.bind = grownArray(ch.bind, RIGID * P)
   ch.limitHeld = grownArray(ch.limitHeld, P + 1)
+  ch.start = grownArray(ch.start, 3 * P)
   if (ch.lim.length < LIMITS * P) {
     const lim = unconstrained(newArray(Float32Array, LIMITS * P))
     lim.set(ch.lim)

@@ -175,7 +175,7 @@ function resyncJumpedBones(state: ClothWorldState, ch: ClothCharacter): void {
 function resetToReference(c: ClothState, ch: ClothCharacter): void {
   blendReference(c, ch)
   referenceSubstep(c, ch, -1, c.substeps) // (the reference at the step's start)
-  placeOnReference(c.pos, null, c.count, ch.ref, ch.refParams, c.params)
+  placeOnReference(c.pos, null, c.count, ch.ref, ch.refParams, c.params, null)
   const w = ch.work
   const { pos, prev, vel } = c
   const vx = w[W_V], vy = w[W_V + 1], vz = w[W_V + 2], ox = w[W_FROM], oy = w[W_FROM + 1], oz = w[W_FROM + 2]
@@ -203,7 +203,11 @@ function resetToReference(c: ClothState, ch: ClothCharacter): void {
 export function predictCharacter(c: ClothState, k: number): boolean {
   const ch = c.character!
   if (k === 0) blendReference(c, ch)
-  if (ch.constrained) referenceSubstep(c, ch, k, c.substeps)
+  if (ch.constrained) {
+    referenceSubstep(c, ch, k, c.substeps)
+    const { pos, count } = c, start = ch.start
+    for (let j = 0; j < 3 * count; j++) start[j] = pos[j]
+  }
   const inFrame = ch.inertia
   if (inFrame) {
     frameSubstep(c, ch, k, c.substeps)
@@ -215,7 +219,7 @@ export function predictCharacter(c: ClothState, k: number): boolean {
 /** Predict phase, after the predict: held particles onto their reference at the substep's end. */
 export function placeHeld(c: ClothState): void {
   const ch = c.character!
-  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params)
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, null) // (pins, placed next, win)
 }
 
 /**
@@ -238,6 +242,7 @@ export function writebackCharacter(c: ClothState): void {
   constrainAndUpdateVelocities(
     c.pos,
     c.prev,
+    ch.start,
     c.vel,
     c.invMass,
     c.invMass3,
@@ -259,7 +264,7 @@ export function placeHeldAfterReset(c: ClothState): void {
   const ch = c.character!
   if (ch.heldCount === 0) return
   referenceSubstep(c, ch, c.substeps - 1, c.substeps)
-  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params)
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount) // (the reset placed the pins)
   for (let q = 0; q < ch.heldCount; q++) {
     const j = 3 * ch.heldList[q]
     c.prev[j] = c.pos[j]
