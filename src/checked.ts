@@ -15,7 +15,14 @@ import {
   solveDistancesXpbd as solveDistancesXpbdKernel,
   spreadInverseMasses as spreadInverseMassesKernel,
 } from './kernels/distance'
-import { GUARD_PARAM_COUNT, checkClothHealth as checkClothHealthKernel } from './kernels/guard'
+import {
+  G_ANCHOR,
+  G_OUT_EXCESS,
+  G_OUT_SPEED2,
+  GUARD_PARAM_COUNT,
+  checkClothHealth as checkClothHealthKernel,
+  clearGuardAnchor,
+} from './kernels/guard'
 import { predictPositions as predictKernel, updateVelocities as updateKernel } from './kernels/integrate'
 import { measureStretch as measureStretchKernel, writeRenderMesh as writeRenderMeshKernel } from './kernels/mesh'
 import { PARAM_COUNT } from './kernels/params'
@@ -341,9 +348,13 @@ export function measureStretch(
   return measureStretchKernel(pos, edges, edgeRest, edgeCount, out)
 }
 
+/** A full threshold block for a caller's block without the anchor box (its first G_ANCHOR slots). */
+const shortGuard = new Float64Array(GUARD_PARAM_COUNT)
+
 /**
  * Checked `checkClothHealth` (see `src/kernels/guard.ts`); non-finite positions are its subject, so
- * they pass. `skip` (optional, one byte per particle): particles marked 1 are left out.
+ * they pass. `skip` (optional, one byte per particle): particles marked 1 are left out. A block of
+ * only the first 5 slots (without the anchor box) is read with the box empty.
  */
 export function checkClothHealth(
   pos: Float64Array,
@@ -357,10 +368,16 @@ export function checkClothHealth(
   masses('invMass', invMass, n)
   f64('pos', pos, 3 * n, false)
   f64('vel', vel, 3 * n, false)
-  f64('guard', g, GUARD_PARAM_COUNT)
+  f64('guard', g, G_ANCHOR)
   if (skip !== null && (!(skip instanceof Uint8Array) || skip.length < n))
     throw new ClothError('skip', skip, `must be null or a Uint8Array of at least ${n} entries`)
-  return checkClothHealthKernel(pos, vel, invMass, n, g, skip)
+  if (g.length >= GUARD_PARAM_COUNT) return checkClothHealthKernel(pos, vel, invMass, n, g, skip)
+  for (let k = 0; k < G_ANCHOR; k++) shortGuard[k] = g[k]
+  clearGuardAnchor(shortGuard)
+  const health = checkClothHealthKernel(pos, vel, invMass, n, shortGuard, skip)
+  g[G_OUT_SPEED2] = shortGuard[G_OUT_SPEED2]
+  g[G_OUT_EXCESS] = shortGuard[G_OUT_EXCESS]
+  return health
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,7 +1,7 @@
 import { HEALTH_OK } from '../src/kernels/guard'
 import type { ClothThreads, ClothWorldState } from '../src/world/state'
 import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guard/step'
-import { placeHeldAfterReset } from '../src/features/character/step'
+import { placeHeldAfterReset, setGuardAnchor } from '../src/features/character/step'
 import { EV } from '../src/features/tearing/types'
 import { Q_MEASURED } from '../src/features/budget/types'
 import { refreshBindings } from '../src/threads/bind'
@@ -161,7 +161,9 @@ export function runWorkerStep(ww: WorkerWorld, list: Int32Array, out: Float64Arr
   const n = list[0]
   for (let i = 1; i <= n; i++) {
     const io = ww.ios[list[i]]!
-    io[IO_HEALTH] = guardCheck(state, ww.cloths[list[i]]!)
+    const c = ww.cloths[list[i]]!
+    if (c.subIndex >= 0) setGuardAnchor(c)
+    io[IO_HEALTH] = guardCheck(state, c)
   }
   for (let i = 1; i <= n; i++) writeClothHandoff(ww.cloths[list[i]]!, ww.ios[list[i]]!)
   takeStats(state.stats, out, 0)

@@ -5,7 +5,8 @@
  *
  * - finite: every position and velocity is a finite number;
  * - bounds: every particle lies within `G_REACH` metres of the box around the pinned particles
- *   (inverse mass 0); a cloth without pins may span at most `G_REACH` along each axis;
+ *   (inverse mass 0) and the `G_ANCHOR` box (a character cloth's reference pose: where its motion
+ *   constraints hold it); a cloth without either may span at most `G_REACH` along each axis;
  * - speed: the rms particle speed relative to the cloth's mean velocity is at most √`G_SPEED2`.
  *   (Relative: a cape on a fast vehicle moves fast as a whole; an exploding one moves apart.)
  *
@@ -23,7 +24,19 @@ export const G_SPEED2 = 2
 export const G_OUT_SPEED2 = 3
 /** Measured by the last check: how far the cloth reached beyond the allowed region, m (≤ 0: inside). */
 export const G_OUT_EXCESS = 4
-export const GUARD_PARAM_COUNT = 5
+/**
+ * A box the cloth is held to besides its pins (min xyz, max xyz, m): a cloth with motion
+ * constraints, its reference pose at the end of the step. Empty (min > max) otherwise.
+ */
+export const G_ANCHOR = 5
+export const GUARD_PARAM_COUNT = 11
+
+/** Empties the `G_ANCHOR` box of a threshold block; returns the block. */
+export function clearGuardAnchor(g: Float64Array): Float64Array {
+  g[G_ANCHOR] = g[G_ANCHOR + 1] = g[G_ANCHOR + 2] = Infinity
+  g[G_ANCHOR + 3] = g[G_ANCHOR + 4] = g[G_ANCHOR + 5] = -Infinity
+  return g
+}
 
 /** Check results. */
 export const HEALTH_OK = 0
@@ -45,8 +58,8 @@ export function checkClothHealth(
   let bad = 0
   let minX = Infinity, minY = Infinity, minZ = Infinity
   let maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity
-  let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity
-  let pMaxX = -Infinity, pMaxY = -Infinity, pMaxZ = -Infinity
+  let pMinX = g[G_ANCHOR], pMinY = g[G_ANCHOR + 1], pMinZ = g[G_ANCHOR + 2]
+  let pMaxX = g[G_ANCHOR + 3], pMaxY = g[G_ANCHOR + 4], pMaxZ = g[G_ANCHOR + 5]
   let sx = 0, sy = 0, sz = 0, s2 = 0
   let n = 0
   for (let i = 0; i < count; i++) {
@@ -114,7 +127,7 @@ export const PIECE_STRIDE = 11
  * cloth; the speed test on each particle's speed relative to its own piece's mean velocity (pieces
  * blown apart by a storm fly at their own speeds; a runaway shows as motion within a piece); and
  * the bounds test per piece: a piece holding pinned particles must stay within
- * `G_REACH` of the box around all the cloth's pinned particles (as the whole cloth did before it
+ * `G_REACH` of the box around all the cloth's pinned particles and its `G_ANCHOR` box (as the whole cloth did before it
  * tore, so a piece that has just torn off one pin while stretched toward another is not flagged),
  * and a piece without pins may span at most `G_REACH` along each axis: a piece torn off and falling
  * away is judged by its own shape, not by its distance from the pins it no longer hangs from.
@@ -149,8 +162,8 @@ export function checkPieceHealth(
         0
   }
   let bad = 0
-  let pMinX = Infinity, pMinY = Infinity, pMinZ = Infinity
-  let pMaxX = -Infinity, pMaxY = -Infinity, pMaxZ = -Infinity
+  let pMinX = g[G_ANCHOR], pMinY = g[G_ANCHOR + 1], pMinZ = g[G_ANCHOR + 2]
+  let pMaxX = g[G_ANCHOR + 3], pMaxY = g[G_ANCHOR + 4], pMaxZ = g[G_ANCHOR + 5]
   let s2 = 0
   let n = 0
   for (let i = 0; i < count; i++) {

@@ -117,6 +117,38 @@ describe('max distance', () => {
   })
 })
 
+describe('a scaled reference', () => {
+  it('a character scaled 3× carries the reference with it: the cloth follows within max distance (+2 mm) and the explosion guard does not take that for flying off', () => {
+    // the guard allowed twice the cloth's size around its pins only: from a scale of 3 on, the
+    // limits pulled the cloth out of that every step and the guard put it back every step
+    // (90 resets in 90 steps, 1.4 m past max distance)
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cape = createCloth(world, {
+      width: 0.5,
+      height: 0.8,
+      resolution: [COLS, ROWS],
+      position: [-0.15, 1.55, 0],
+      rotation: yawQuat(-Math.PI / 2),
+    })
+    pinRow(world, cape, 0, hero)
+    const md = painted(0.3)
+    setClothMotionConstraints(world, cape, { maxDistance: md, backstop: { distance: 0.02, radius: 0.5 } })
+    const c = getClothState(world, cape)
+    let worst = 0
+    for (let f = 0; f < 120; f++) {
+      setTransform(world, hero, [0, 1.6, 0], [0, 0, 0, 1], f >= 30 ? [3, 3, 3] : [1, 1, 1])
+      stepCloth(world, DT)
+      const ref = getClothReference(world, cape)!
+      for (let i = 0; i < c.count; i++) worst = Math.max(worst, dist(c.pos, ref, i) - md[i])
+    }
+    expect(getClothStats(world).guardResets).toBe(0)
+    expect(worst).toBeLessThan(0.002)
+    expect(allFinite(world, cape)).toBe(true)
+  })
+})
+
 describe('held and pinned', () => {
   it('a particle pinned and held by max distance 0 stays on its pin after an explosion-guard reset, when the pin target moves apart from the frame', () => {
     // the frame is the character's root, the pins follow its chest, which bobs: a pin wins over

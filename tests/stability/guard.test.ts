@@ -41,6 +41,8 @@ import {
   HEALTH_SPEED,
   PIECE_STRIDE,
   checkPieceHealth,
+  GUARD_PARAM_COUNT,
+  clearGuardAnchor,
 } from '../../src/kernels/guard'
 import { getClothWorld } from '../../src/world/access'
 import { hashBytes } from '../helpers'
@@ -126,7 +128,8 @@ describe('health check of a torn cloth (per piece)', () => {
     const invMass = Float64Array.from([0, 0, 1, 1, 1, 1, 1])
     const piece = Int32Array.from([0, 0, 0, 1, 1, 1, 2])
     const box = new Float64Array(PIECE_STRIDE * 3)
-    const g = Float64Array.from([1, 2, 100 * 100, 0, 0]) // finite on, 2 m of reach, 100 m/s
+    const g = clearGuardAnchor(new Float64Array(GUARD_PARAM_COUNT)) // (no anchor box)
+    g.set([1, 2, 100 * 100]) // finite on, 2 m of reach, 100 m/s
     const check = () => checkPieceHealth(pos, vel, invMass, 7, piece, 3, box, g)
     // piece 1 lies 12 m below the pins and particle 6 far off: each is judged by its own shape
     expect(check()).toBe(HEALTH_OK)

@@ -1,6 +1,8 @@
 import { rotateVecAt } from '../../core/math'
+import { G_ANCHOR, clearGuardAnchor } from '../../kernels/guard'
 import { updateVelocities } from '../../kernels/integrate'
 import {
+  BLEND,
   constrainAndUpdateVelocities,
   driveTowardReference,
   placeOnReference,
@@ -27,6 +29,7 @@ import {
   S_TELEPORT_DISTANCE,
   S_TELEPORT_MODE,
   W_FROM,
+  W_TO,
   W_V,
   W_W,
   type ClothCharacter,
@@ -271,4 +274,36 @@ export function placeHeldAfterReset(c: ClothState): void {
     c.prev[j + 1] = c.pos[j + 1]
     c.prev[j + 2] = c.pos[j + 2]
   }
+}
+
+/**
+ * Guard phase, before the check: the box around a constrained cloth's reference pose at the
+ * step's end, as the guard's anchor box (`G_ANCHOR`, with the pins): its motion constraints hold
+ * it there, so a cloth that follows its reference (a character scaled up, bones far apart) is not
+ * taken for one flying off. Empty for a cloth without motion constraints.
+ */
+export function setGuardAnchor(c: ClothState): void {
+  const g = c.guard.params
+  const ch = c.character
+  clearGuardAnchor(g)
+  if (ch === null || !ch.constrained) return
+  const ref = ch.ref, w = ch.work
+  let minX = Infinity, minY = Infinity, minZ = Infinity
+  let maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity
+  for (let o = 0; o < BLEND * c.count; o += BLEND) {
+    const x = ref[o + 3], y = ref[o + 4], z = ref[o + 5]
+    if (x < minX) minX = x
+    if (x > maxX) maxX = x
+    if (y < minY) minY = y
+    if (y > maxY) maxY = y
+    if (z < minZ) minZ = z
+    if (z > maxZ) maxZ = z
+  }
+  if (!(minX <= maxX)) return
+  g[G_ANCHOR] = w[W_TO] + minX
+  g[G_ANCHOR + 1] = w[W_TO + 1] + minY
+  g[G_ANCHOR + 2] = w[W_TO + 2] + minZ
+  g[G_ANCHOR + 3] = w[W_TO] + maxX
+  g[G_ANCHOR + 4] = w[W_TO + 1] + maxY
+  g[G_ANCHOR + 5] = w[W_TO + 2] + maxZ
 }

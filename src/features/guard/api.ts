@@ -8,7 +8,7 @@
  * reaches `getClothMesh`, and a broken cloth recovers in the same frame instead of flying apart.
  */
 import { ClothError, checkInteger, checkPositive } from '../../core/errors'
-import { G_FINITE, G_REACH, G_SPEED2, GUARD_PARAM_COUNT, PIECE_STRIDE } from '../../kernels/guard'
+import { G_FINITE, G_REACH, G_SPEED2, GUARD_PARAM_COUNT, PIECE_STRIDE, clearGuardAnchor } from '../../kernels/guard'
 import type { ClothTopology } from '../../model/topology'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
@@ -69,7 +69,7 @@ export function createGuardWorld(defaults: GuardSettings): GuardWorld {
 export function createClothGuard(topology: ClothTopology, pos: Float64Array, settings: GuardSettings): ClothGuardState {
   const g: ClothGuardState = {
     settings,
-    params: newArray(Float64Array, GUARD_PARAM_COUNT),
+    params: clearGuardAnchor(newArray(Float64Array, GUARD_PARAM_COUNT)),
     size: restSize(topology),
     safe: arrayOf(Float64Array, pos),
     safeCount: topology.particleCount,
