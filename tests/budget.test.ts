@@ -19,6 +19,7 @@ import {
   setClothMotionConstraints,
   setClothQuality,
   setClothQualityTarget,
+  setClothSkinning,
   setClothVisible,
   setTransform,
   stepCloth,
@@ -285,6 +286,48 @@ describe('world budget and level of detail', () => {
     }
     expect(worst).toBeLessThan(0.05)
     expect(getClothStretch(world, cape).max).toBeLessThan(0.05)
+  })
+
+  it('a character cloth without pins (held by max distance 0 on its skin or frame) thaws carried along by its bones or frame: no yank', () => {
+    // it was only carried by a pin: held by its skin instead, the frozen cloth stayed where it
+    // froze, 20 m behind, and its held row yanked the rest across at the speed limit (250 m/s, 89 %)
+    for (const by of ['skin', 'frame'] as const) {
+      const world = makeWorld({ sleep: false })
+      const b1 = addEntity(world), b2 = addEntity(world)
+      setTransform(world, b1, [-0.3, 1.6, 0])
+      setTransform(world, b2, [0.3, 1.6, 0])
+      const cl = createCloth(world, { width: 0.6, height: 0.9, resolution: 8, position: [0, 1.6, -0.15] })
+      if (by === 'skin') {
+        const joints: number[] = [], weights: number[] = []
+        for (let i = 0; i < 64; i++) {
+          const u = (i % 8) / 7
+          joints.push(0, 1, 0, 0)
+          weights.push(1 - u, u, 0, 0)
+        }
+        setClothSkinning(world, cl, { bones: [b1, b2], joints, weights })
+      } else setClothInertia(world, cl, { frame: b1, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+      setClothMotionConstraints(world, cl, { maxDistance: Array.from({ length: 64 }, (_, i) => (i < 8 ? 0 : Infinity)) })
+      setClothBudget(world, { calibration: CAL, adapt: false, interval: 1 })
+      for (let f = 0; f < 60; f++) stepCloth(world, DT)
+      setClothVisible(world, cl, false)
+      stepCloth(world, DT)
+      expect(getClothLod(world, cl).frozen).toBe(true)
+      for (let f = 1; f <= 60; f++) {
+        // (the frame also turns; the bones move together, so their skin stays the same shape)
+        const a = by === 'frame' ? f / 120 : 0
+        setTransform(world, b1, [-0.3 + f / 3, 1.6, 0], [0, Math.sin(a), 0, Math.cos(a)])
+        setTransform(world, b2, [0.3 + f / 3, 1.6, 0])
+        stepCloth(world, DT)
+      }
+      setClothVisible(world, cl, true)
+      stepCloth(world, DT)
+      const c = getClothState(world, cl)
+      let v = 0
+      for (let i = 0; i < c.count; i++) v = Math.max(v, Math.hypot(c.vel[3 * i], c.vel[3 * i + 1], c.vel[3 * i + 2]))
+      expect(v, by).toBeLessThan(1)
+      expect(getClothStretch(world, cl).max, by).toBeLessThan(0.05)
+      expect(getClothStats(world).guardResets, by).toBe(0)
+    }
   })
 
   it('a far cape that thaws steps at once: at the frame it becomes visible its particles lie within max distance of its reference', () => {

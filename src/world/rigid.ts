@@ -65,7 +65,7 @@ const CARRY = new Float64Array(4)
  */
 export function carryFrozen(c: ClothState, poses: Float64Array): boolean {
   const lod = c.budget
-  if (!lod.frozen || lod.refPin < 0) return false
+  if (!lod.frozen || lod.refSlot < 0) return false
   const ref = lod.refPose
   const o = 7 * lod.refSlot
   // R = q_now · q_ref⁻¹ about the old position, then to the new one

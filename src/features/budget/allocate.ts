@@ -210,7 +210,7 @@ function measureCentre(state: ClothWorldState, c: ClothState): void {
   if (lod.frozen) {
     const k = state.kinematics
     const slot = lod.refSlot
-    if (lod.refPin >= 0) {
+    if (slot >= 0) {
       const o = 7 * slot
       // centre moved by the target's translation since the freeze (rotation ignored: an estimate)
       for (let a = 0; a < 3; a++) centre[a] = lod.frozenCentre[a] + k.stepTo[o + a] - lod.refPose[a]

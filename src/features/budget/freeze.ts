@@ -11,8 +11,24 @@ import { wakeClothState } from '../../world/wake'
  * reference pin goes (unpinned, or its target removed, whose id another entity may then reuse),
  * the cloth is carried by the motion until then (it hung from that target until then) and another
  * pin with a target becomes the reference, from its target's pose now; with none left the cloth
- * stays where it was let go, and a pin added later becomes the reference.
+ * stays where it was let go, and a pin added later becomes the reference. A character cloth
+ * without a pin with a target (held by its motion constraints) is carried the same way by its
+ * character frame, or its first skin bone (`ANCHOR_REF`); when that entity goes, by its motion
+ * until then.
  */
+
+/** `refPin` of a frozen cloth carried by its character frame or first bone instead of a pin. */
+export const ANCHOR_REF = -2
+
+/** The kinematic slot of a character cloth's frame, else of its first tracked skin bone; −1 without. */
+export function anchorSlot(c: ClothState): number {
+  const ch = c.character
+  if (ch === null) return -1
+  if (ch.frameSlot >= 0) return ch.frameSlot
+  const skin = ch.skin
+  if (skin !== null) { for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) return skin.slots[b] }
+  return -1
+}
 
 /** Freezes a cloth, taking its first pin with a target as the reference. */
 export function freezeCloth(state: ClothWorldState, c: ClothState): void {
@@ -39,7 +55,7 @@ export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array)
 /** Called when a pin is added: a frozen cloth without a reference takes it (when it has a target). */
 export function adoptReference(state: ClothWorldState, pin: number): void {
   const c = state.components.Cloth.state[state.components.Pin.cloth[pin]]
-  if (!c || !c.budget.frozen || c.budget.refPin >= 0) return
+  if (!c || !c.budget.frozen || c.budget.refSlot >= 0) return
   const slot = state.components.Pin.slot[pin]
   if (slot >= 0) setReference(state, c, pin, slot)
 }
@@ -60,8 +76,26 @@ export function releaseReference(state: ClothWorldState, pin: number): void {
   pickReference(state, c, pin)
 }
 
-/** The cloth's first pin with a target (other than `except`) becomes the reference, from its target's pose now. */
-function pickReference(state: ClothWorldState, c: ClothState, except: number): void {
+/**
+ * Called when a character cloth's frame or bone is about to go (before its slot is freed): if the
+ * frozen cloth was carried by it, it is carried by its motion until now and another reference
+ * takes over (`skip`: the slot going).
+ */
+export function releaseAnchor(state: ClothWorldState, c: ClothState, skip: number): void {
+  const lod = c.budget
+  if (!lod.frozen || lod.refPin !== ANCHOR_REF || lod.refSlot !== skip) return
+  if (carryFrozen(c, state.kinematics.stepTo)) {
+    particleBounds(c.pos, c.count, lod.measure, 0, c.topology.unused)
+    for (let a = 0; a < 3; a++) lod.frozenCentre[a] = 0.5 * (lod.measure[a] + lod.measure[a + 3])
+  }
+  pickReference(state, c, -1, skip)
+}
+
+/**
+ * The cloth's first pin with a target (other than `except`) becomes the reference, from its
+ * target's pose now; without one, its character anchor (other than slot `skip`).
+ */
+function pickReference(state: ClothWorldState, c: ClothState, except: number, skip = -1): void {
   c.budget.refPin = -1
   c.budget.refSlot = -1
   const P = state.components.Pin
@@ -72,6 +106,8 @@ function pickReference(state: ClothWorldState, c: ClothState, except: number): v
     setReference(state, c, pins[q], slot)
     return
   }
+  const slot = anchorSlot(c)
+  if (slot >= 0 && slot !== skip) setReference(state, c, ANCHOR_REF, slot)
 }
 
 function setReference(state: ClothWorldState, c: ClothState, pin: number, slot: number): void {

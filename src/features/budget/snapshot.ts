@@ -1,6 +1,7 @@
 import { allFinite, fit64 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
 import type { ClothState, ClothWorldState } from '../../world/state'
+import { ANCHOR_REF, anchorSlot } from './freeze'
 import { Q_FACTOR, Q_MEASURED, Q_PREDICTED } from './types'
 
 /**
@@ -45,7 +46,7 @@ export function saveBudget(state: ClothWorldState, c: ClothState, s: BudgetSnaps
     b[15 + a] = lod.centre[a]
     b[18 + a] = lod.frozenCentre[a]
   }
-  b[21] = lod.refPin >= 0 ? c.pins.list.indexOf(lod.refPin) : -1
+  b[21] = lod.refPin >= 0 ? c.pins.list.indexOf(lod.refPin) : lod.refPin === ANCHOR_REF && lod.refSlot >= 0 ? ANCHOR_REF : -1
   for (let j = 0; j < 7; j++) b[22 + j] = lod.refPose[j]
 }
 
@@ -58,7 +59,7 @@ export function checkBudget(s: BudgetSnapshot, arg: string, pinCount: number): v
   const int = (v: number, min: number) => Number.isInteger(v) && v >= min
   if (
     !int(b[0], -1e9) || !(b[1] > 0) || !int(b[4], 1) || !int(b[5], 1) || !int(b[6], 1) || !int(b[7], 0) || !int(b[10], 0) ||
-    !int(b[11], -1) || !int(b[12], -1) || !int(b[21], -1) || b[21] >= pinCount
+    !int(b[11], -1) || !int(b[12], -1) || !int(b[21], ANCHOR_REF) || b[21] >= pinCount
   ) {
     throw new ClothError(`${arg}.budget`, b, 'must be the budget state saved by saveClothState (counts, levels, a pin index in range)')
   }
@@ -104,5 +105,12 @@ export function restoreBudget(state: ClothWorldState, c: ClothState, s: BudgetSn
   const slot = pin >= 0 ? state.components.Pin.slot[pin] : -1
   lod.refPin = slot >= 0 ? pin : -1
   lod.refSlot = slot
+  // carried by its character frame or bone: the one tracked now (the character section, restored
+  // next, refuses a frame or bone that is not the saved entity)
+  const anchor = lod.frozen && ref === ANCHOR_REF ? anchorSlot(c) : -1
+  if (anchor >= 0) {
+    lod.refPin = ANCHOR_REF
+    lod.refSlot = anchor
+  }
   for (let j = 0; j < 7; j++) lod.refPose[j] = b[22 + j]
 }

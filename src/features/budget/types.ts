@@ -80,8 +80,9 @@ export interface ClothBudget {
   centre: Float64Array
   frozenCentre: Float64Array
   /**
-   * While frozen: the reference pin (−1: none), its target's kinematic slot, and the target's pose
-   * (px py pz qx qy qz qw) when it became the reference (see `freeze.ts`).
+   * While frozen: the reference pin (−1: none; `ANCHOR_REF`: the character frame or bone whose
+   * slot is `refSlot`), its target's kinematic slot, and the target's pose (px py pz qx qy qz qw)
+   * when it became the reference (see `freeze.ts`).
    */
   refPin: number
   refSlot: number

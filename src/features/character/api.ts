@@ -7,6 +7,7 @@ import { trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
+import { releaseAnchor } from '../budget/freeze'
 import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
 import { blankCharacter, blankSkin, unconstrained } from './state'
 import { bindRigid, currentReference, identityPose, lastReference, reserveBoneScratch, restNormals, trackedPose } from './reference'
@@ -192,7 +193,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     const ch = c.character
     if (ch === null || ch.skin === null) return
     rebindRest(state, c, ch) // the reference stays where the skin put it, now carried by the frame
-    releaseBones(state, ch)
+    releaseBones(state, c, ch)
     ch.skin = null
     touchLayout()
     bindRigid(c, ch)
@@ -229,7 +230,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
   }
   const ch = ensureCharacter(state, c)
   rebindRest(state, c, ch)
-  releaseBones(state, ch)
+  releaseBones(state, c, ch)
   const B = bones.length
   const skin = blankSkin(B, ch.held.length)
   for (let b = 0; b < B; b++) {
@@ -309,7 +310,10 @@ function defaultFrame(state: ClothWorldState, c: ClothState): number {
 function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number): void {
   if (eid === ch.frame && (eid === 0 || ch.frameSlot >= 0)) return
   if (ch.skin === null) rebindRest(state, c, ch)
-  if (ch.frameSlot >= 0) untrackEntity(state, ch.frame)
+  if (ch.frameSlot >= 0) {
+    releaseAnchor(state, c, ch.frameSlot)
+    untrackEntity(state, ch.frame)
+  }
   ch.frame = eid
   ch.frameSlot = eid !== 0 ? trackEntity(state, eid) : -1
   const m = ch.motion
@@ -331,11 +335,14 @@ function rebindRest(state: ClothWorldState, c: ClothState, ch: ClothCharacter): 
   ch.motion.copyWithin(M_BIND, M_POSE, M_POSE + 10)
 }
 
-function releaseBones(state: ClothWorldState, ch: ClothCharacter): void {
+function releaseBones(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
   const skin = ch.skin
   if (skin === null) return
   for (let b = 0; b < skin.bones.length; b++) {
-    if (skin.slots[b] >= 0) untrackEntity(state, skin.bones[b])
+    if (skin.slots[b] >= 0) {
+      releaseAnchor(state, c, skin.slots[b])
+      untrackEntity(state, skin.bones[b])
+    }
     skin.slots[b] = -1
   }
 }
@@ -378,8 +385,11 @@ export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
   const ch = c.character
   if (ch === null) return
   for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
-  releaseBones(state, ch)
-  if (ch.frameSlot >= 0) untrackEntity(state, ch.frame)
+  releaseBones(state, c, ch)
+  if (ch.frameSlot >= 0) {
+    releaseAnchor(state, c, ch.frameSlot)
+    untrackEntity(state, ch.frame)
+  }
   ch.frameSlot = -1
   c.character = null
   touchLayout()
@@ -396,6 +406,7 @@ export function installCharacter(world: object, state: ClothWorldState): void {
       const ch = c.character
       if (ch === null) continue
       if (ch.frame === eid && ch.frameSlot >= 0) {
+        releaseAnchor(state, c, ch.frameSlot)
         untrackEntity(state, eid)
         ch.frameSlot = -1
         ch.frame = 0
@@ -404,6 +415,7 @@ export function installCharacter(world: object, state: ClothWorldState): void {
       if (skin === null) continue
       for (let b = 0; b < skin.bones.length; b++) {
         if (skin.bones[b] !== eid || skin.slots[b] < 0) continue
+        releaseAnchor(state, c, skin.slots[b])
         untrackEntity(state, eid)
         skin.slots[b] = -1
         skin.bones[b] = 0

@@ -125,7 +125,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const m = ch.motion
   const slot = ch.frameSlot
   const jumped = frameStart && slot >= 0 && k.jumped[slot] === 1
-  if (frameStart) resyncJumpedBones(state, ch)
+  if (frameStart || m[M_GAP] === 1) resyncBones(state, ch, m[M_GAP] === 1)
   if (jumped || m[M_GAP] === 1) {
     // start from the frame's pose now (a jump moved the tracked poses; a gap left them behind).
     // The frame's last velocities stay: they are what the cloth's own velocities were carried with
@@ -161,14 +161,17 @@ function turnVelocities(m: Float64Array, q: Float64Array, qo: number): void {
   rotateVecAt(q, qo, m, M_WC, m, M_WC)
 }
 
-/** Bones that jumped at this frame sample continue from their new place. */
-function resyncJumpedBones(state: ClothWorldState, ch: ClothCharacter): void {
+/**
+ * Bones that jumped at this frame sample continue from their new place; after a gap (the cloth sat
+ * steps out asleep or frozen, and was carried) every bone does.
+ */
+function resyncBones(state: ClothWorldState, ch: ClothCharacter, all: boolean): void {
   const skin = ch.skin
   if (skin === null) return
   const jumped = state.kinematics.jumped
   for (let b = 0; b < skin.slots.length; b++) {
     const slot = skin.slots[b]
-    if (slot < 0 || jumped[slot] === 0) continue
+    if (slot < 0 || (!all && jumped[slot] === 0)) continue
     trackedStartPose(state, slot, skin.bones[b], skin.pose, 10 * b)
     ch.motion[M_REF_VALID] = 0
   }
