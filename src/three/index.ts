@@ -30,11 +30,15 @@
  * @module bitecs-cloth/three
  */
 import { BufferAttribute, BufferGeometry, Box3, DoubleSide, DynamicDrawUsage, Mesh, MeshStandardMaterial, Sphere } from 'three'
-import type { Material } from 'three'
+import type { Material, NormalBufferAttributes } from 'three'
 import { ClothError, getClothMesh, updateRenderProxy, type ClothMesh, type ClothRenderProxy } from '../index'
 
-/** The attributes of a cloth geometry (and its index, `geometry.index`). */
-export type ClothGeometryAttributes = {
+/**
+ * The attributes of a cloth geometry (and its index, `geometry.index`); a geometry takes others of
+ * your own too (vertex colours, tangents), which you keep the length of `position` yourself (a
+ * tear can grow the cloth's arrays: compare `position.count` after an update).
+ */
+export type ClothGeometryAttributes = NormalBufferAttributes & {
   /** xyz per vertex, m (Float32Array). */
   position: BufferAttribute
   /** Unit normal per vertex, area-weighted (Float32Array). */

@@ -1,5 +1,5 @@
 import { addEntity } from 'bitecs'
-import { BufferGeometry, DoubleSide, MeshBasicMaterial, MeshStandardMaterial, Vector3 } from 'three'
+import { BufferAttribute, BufferGeometry, DoubleSide, MeshBasicMaterial, MeshStandardMaterial, Vector3 } from 'three'
 import { describe, expect, it } from 'vitest'
 import {
   ClothError,
@@ -149,6 +149,19 @@ describe('bitecs-cloth/three', () => {
     const other = createClothMesh(world, cloth, red)
     expect(other.material).toBe(red)
     expect(other.geometry).not.toBe(mesh.geometry)
+  })
+
+  it('takes attributes of your own (vertex colours): the geometry type allows them and updates keep them', () => {
+    const world = makeWorld()
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 5 })
+    const mesh = createClothMesh(world, cloth, new MeshBasicMaterial({ vertexColors: true }))
+    const count = mesh.geometry.attributes.position.count
+    // (a type error before: the geometry's attribute map named only position, normal and uv)
+    mesh.geometry.setAttribute('color', new BufferAttribute(new Float32Array(3 * count).fill(0.5), 3))
+    stepCloth(world, 1 / 60)
+    updateClothGeometry(world, cloth, mesh.geometry)
+    expectFollows(world, cloth, mesh.geometry)
+    expect(mesh.geometry.getAttribute('color').count).toBe(count)
   })
 
   it('bad input is a ClothError naming the argument', () => {
