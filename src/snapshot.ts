@@ -12,7 +12,7 @@
  * start from zero every substep. With colliders and wind zones in
  * the world it also holds the motion history of the entities they follow, the wind clock and each
  * zone's gust and turbulence drift (world state, like the frame timing); for a tearable cloth its
- * tear counters and tethers; for a self-colliding one which particles rest on a collider; for a
+ * tear counters, tear clock (crack tips, last splits) and tethers; for a self-colliding one which particles rest on a collider; for a
  * character cloth its settings, its frame's motion history, its reference pose, motion
  * constraints, held particles and skin (and the tracked history of its frame and bones).
  *

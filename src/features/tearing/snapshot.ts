@@ -14,7 +14,20 @@ export interface TearSnapshot {
   /** Tearable cloths: their tethers (particle, anchor per tether; rest lengths), rebuilt in place as they tear. */
   tearTethers: Int32Array
   tearTetherRest: Float64Array
+  /**
+   * Tearable cloths: the tear clock, [steps run, the step a crack last grew] (empty for other
+   * cloths), which decides whether a new crack may start. Absent in older snapshots (the three
+   * fields come together): the cloth's own clock is kept.
+   */
+  tearClock?: Float64Array
+  /** Tearable cloths, per particle: 1 at a crack's tip. */
+  tearTip?: Uint8Array
+  /** Tearable cloths, per particle: the tear step it last split in (on the clock of `tearClock`). */
+  tearSplitAt?: Int32Array
 }
+
+/** Latest tear step a clock may hold (`splitAt` stamps are int32). */
+const MAX_TEAR_STEP = 0x7fffffff
 
 export function saveTearing(state: ClothWorldState, c: ClothState, s: TearSnapshot): void {
   const T = c.tear
@@ -24,10 +37,20 @@ export function saveTearing(state: ClothWorldState, c: ClothState, s: TearSnapsh
   s.tearOver = fit8(s.tearOver, edges)
   s.tearTethers = fit32(s.tearTethers, 2 * ntt)
   s.tearTetherRest = fit64(s.tearTetherRest, ntt)
+  const n = T === null ? 0 : c.count
+  s.tearClock = fit64(s.tearClock, T === null ? 0 : 2)
+  s.tearTip = fit8(s.tearTip, n)
+  s.tearSplitAt = fit32(s.tearSplitAt, n)
   if (T === null) return
   s.tear[0] = state.components.Tearable.tears[c.eid]
   s.tear[1] = meshFingerprint(c)
   s.tear[2] = c.count
+  s.tearClock[0] = T.stepCount
+  s.tearClock[1] = T.grewAt
+  for (let i = 0; i < n; i++) {
+    s.tearTip[i] = T.tip[i]
+    s.tearSplitAt[i] = T.splitAt[i]
+  }
   for (let e = 0; e < edges; e++) s.tearOver[e] = T.over[e]
   for (let q = 0; q < ntt; q++) {
     s.tearTethers[2 * q] = T.tethers.particle[q]
@@ -48,6 +71,37 @@ export function checkTearing(s: TearSnapshot, arg: string, n: number): void {
   if (!allFinite(s.tear) || !allFinite(s.tearTetherRest)) throw new ClothError(arg, s, 'holds a non-finite number')
   for (let q = 0; q < s.tearTethers.length; q++) {
     if (!(s.tearTethers[q] >= 0 && s.tearTethers[q] < n)) throw new ClothError(arg, s, 'holds a tether on a particle out of range')
+  }
+  checkTearClock(s, arg, n)
+}
+
+/** Throws ClothError unless the tear clock is absent (an older snapshot) or complete and consistent. */
+function checkTearClock(s: TearSnapshot, arg: string, n: number): void {
+  const clock = s.tearClock, tip = s.tearTip, splitAt = s.tearSplitAt
+  if (clock === undefined && tip === undefined && splitAt === undefined) return
+  const tearable = s.tear.length > 0
+  if (
+    !(clock instanceof Float64Array) || !(tip instanceof Uint8Array) || !(splitAt instanceof Int32Array) ||
+    clock.length !== (tearable ? 2 : 0) || tip.length !== (tearable ? n : 0) || splitAt.length !== tip.length
+  ) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (collider, wind or tearing state missing)')
+  }
+  if (!tearable) return
+  const steps = clock[0], grewAt = clock[1]
+  if (
+    !(Number.isInteger(steps) && steps >= 0 && steps <= MAX_TEAR_STEP && Number.isInteger(grewAt) && grewAt >= -2 && grewAt <= steps)
+  ) {
+    throw new ClothError(
+      `${arg}.tearClock`,
+      clock,
+      'must be the tear clock saved by saveClothState (steps ≥ 0, a crack grown at −2..steps)',
+    )
+  }
+  for (let i = 0; i < n; i++) {
+    if (tip[i] > 1) throw new ClothError(`${arg}.tearTip[${i}]`, tip[i], 'must be 0 or 1')
+    if (!(splitAt[i] >= 0 && splitAt[i] <= steps)) {
+      throw new ClothError(`${arg}.tearSplitAt[${i}]`, splitAt[i], `must be a tear step within 0..${steps} (the saved clock)`)
+    }
   }
 }
 
@@ -90,6 +144,14 @@ export function restoreTearing(state: ClothWorldState, c: ClothState, s: TearSna
     tt.rest[q] = s.tearTetherRest[q]
   }
   if (c.tethers.enabled) c.tethers.set = tt
+  // the clock decides whether a crack may start and which particles split this step already
+  if (s.tearClock === undefined || s.tearTip === undefined || s.tearSplitAt === undefined) return
+  T.stepCount = s.tearClock[0] | 0 // integers back as integers (see restoreCore)
+  T.grewAt = s.tearClock[1] | 0
+  for (let i = 0; i < s.tearTip.length; i++) {
+    T.tip[i] = s.tearTip[i]
+    T.splitAt[i] = s.tearSplitAt[i]
+  }
 }
 
 /**
