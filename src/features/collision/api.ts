@@ -29,7 +29,8 @@ export function createCollisionWorld(capacity: number): CollisionWorld<ClothStat
 
 /**
  * Registers the collision observers (called by `installClothPlugin`): removing a Collider or SelfCollision component (or its entity)
- * releases what it held; removing a body's Transform removes the colliders following it.
+ * releases what it held; removing a body's Transform removes the colliders following it, its own
+ * collider included (a collider on an entity without a Transform would follow a stale pose).
  */
 export function installCollision(world: object, state: ClothWorldState): void {
   const cw = state.collision
@@ -48,11 +49,13 @@ export function installCollision(world: object, state: ClothWorldState): void {
     if (c) releaseSelfCollision(state, c)
   })
   observe(w, onRemove(cw.Collider), (eid: number) => releaseCollider(state, eid))
+  // (the Transform's observers run before any Collider query's, as the Transform store is older:
+  // when the whole entity is removed, removing its Collider here notifies each of those once)
   observe(w, onRemove(state.transforms.component), (eid: number) => {
     const C = cw.Collider
     for (let k = cw.colliders.length - 1; k >= 0; k--) {
       const e = cw.colliders[k]
-      if (e !== eid && C.body[e] === eid && entityExists(w, e) && hasComponent(w, e, C)) removeComponent(w, e, C)
+      if (C.body[e] === eid && entityExists(w, e) && hasComponent(w, e, C)) removeComponent(w, e, C)
     }
   })
 }

@@ -1,4 +1,4 @@
-import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, onRemove, removeEntity } from 'bitecs'
+import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, onRemove, removeComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
 import {
   ClothError,
@@ -97,6 +97,14 @@ export function installWind(world: object, state: ClothWorldState): void {
     untrackEntity(state, eid)
     state.wind.compiled = false
     if (zones.length === 0) { for (const c of state.cloths) c.accel = null }
+  })
+  // a zone whose entity loses its Transform is removed, as if its entity were (it would blow from
+  // a stale pose); the Transform's observers run before the WindZone's, so removing the whole
+  // entity still notifies each WindZone observer once
+  observe(w, onRemove(state.transforms.component), (eid: number) => {
+    if (state.wind.zones.indexOf(eid) >= 0 && hasComponent(w, eid, state.components.WindZone)) {
+      removeComponent(w, eid, state.components.WindZone)
+    }
   })
 }
 
