@@ -169,6 +169,89 @@ describe('sleeping', () => {
     expect(lowestY(world, cloth)).toBeLessThan(rest - 0.5)
   })
 
+  it('a collider teleported out from under a sleeping cloth wakes it, and it falls; a jump far from it does not', () => {
+    // a sheet asleep on a ball; the ball jumps farther than teleportDistance (2 m) in one frame
+    const world = makeWorld()
+    const ball = addEntity(world)
+    setTransform(world, ball, [0, 0, 0])
+    addSphereCollider(world, ball, { radius: 0.5 })
+    const cloth = createCloth(world, {
+      width: 1.2,
+      height: 1.2,
+      resolution: 12,
+      position: [0, 0.7, -0.6],
+      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+    })
+    stepUntilAsleep(world, cloth)
+    const top = () => {
+      const c = getClothState(world, cloth)
+      let y = -Infinity
+      for (let i = 0; i < c.count; i++) y = Math.max(y, c.pos[3 * i + 1])
+      return y
+    }
+    expect(top()).toBeCloseTo(0.5, 2) // resting on the ball
+    setTransform(world, ball, [3, 0, 0])
+    stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    for (let k = 0; k < 59; k++) stepCloth(world, DT)
+    expect(top()).toBeLessThan(-1) // fell where the ball was
+
+    // a ball jumping from far away to elsewhere far away leaves a sleeping cloth asleep
+    const far = makeWorld()
+    const rock = addEntity(far)
+    setTransform(far, rock, [5, 0, 0])
+    addSphereCollider(far, rock, { radius: 0.5 })
+    const hung = createCloth(far, { width: 1, height: 1, resolution: 12, position: [0, 2, 0] })
+    pinRow(far, hung, 0)
+    stepUntilAsleep(far, hung)
+    resetClothStats(far)
+    setTransform(far, rock, [-5, 0, 3])
+    for (let k = 0; k < 30; k++) stepCloth(far, DT)
+    expect(isClothSleeping(far, hung)).toBe(true)
+    expect(getClothStats(far).wakes).toBe(0)
+  })
+
+  it('a cloth asleep on a turned, offset collider wakes when its body jumps away (the pose before the jump is tested)', () => {
+    // the ball sits 2 m in front of its body, which faces −x: it is at the origin. The body then
+    // jumps 4 m and turns to face −z, which puts the ball at [2, 0, 2]; where the ball was before
+    // the jump takes the jump's rotation undone (its pivot with the new rotation would be [2, 0, −2])
+    const world = makeWorld()
+    const body = addEntity(world)
+    setTransform(world, body, [2, 0, 0], [0, Math.SQRT1_2, 0, Math.SQRT1_2])
+    const ball = addEntity(world)
+    addSphereCollider(world, ball, { body, offset: [0, 0, -2], radius: 0.5 })
+    const cloth = createCloth(world, {
+      width: 1.2,
+      height: 1.2,
+      resolution: 12,
+      position: [0, 0.7, -0.6],
+      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+    })
+    stepUntilAsleep(world, cloth)
+    expect(lowestY(world, cloth)).toBeGreaterThan(-0.2) // draped over the ball
+    setTransform(world, body, [2, 0, 4], [0, 0, 0, 1])
+    stepCloth(world, DT)
+    expect(isClothSleeping(world, cloth)).toBe(false)
+    for (let k = 0; k < 59; k++) stepCloth(world, DT)
+    expect(lowestY(world, cloth)).toBeLessThan(-1)
+  })
+
+  it('wakeCloth after writing the arrays refreshes the render mesh at once, asleep or awake', () => {
+    const { world, cloth, c } = hangingSheet()
+    for (const asleep of [true, false]) {
+      if (asleep) stepUntilAsleep(world, cloth)
+      else stepCloth(world, DT)
+      expect(isClothSleeping(world, cloth)).toBe(asleep)
+      const mesh = getClothMesh(world, cloth) // the render, cached until something moves the cloth
+      const x0 = mesh.positions[0]
+      for (let i = 0; i < c.count; i++) c.pos[3 * i] += 1 // moved 1 m along x by hand
+      wakeCloth(world, cloth)
+      const after = getClothMesh(world, cloth)
+      expect(after.positions[0]).toBeCloseTo(x0 + 1, 5)
+      for (let i = 0; i < c.count; i++) expect(after.positions[3 * i]).toBe(Math.fround(c.pos[3 * i]))
+    }
+  })
+
   it('a wind zone reaching it wakes it; a cloth in the wind does not fall asleep', () => {
     const { world, cloth } = hangingSheet()
     stepUntilAsleep(world, cloth)

@@ -1,4 +1,5 @@
 import type { ColliderStore } from '../../../components/Collider'
+import { multiplyQuatAt, rotateVecAt } from '../../core/math'
 import { SHAPE_PLANE } from '../../core/shapes'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -13,11 +14,76 @@ import { newArray } from '../../core/shared'
  * pose, is nearer than the thickness.
  */
 export function colliderReaches(C: ColliderStore, e: number, b: Float64Array, c: ClothState): boolean {
+  return boundsReach(C.swept, 8 * e, C.shape[e] === SHAPE_PLANE, b, c)
+}
+
+/**
+ * Whether collider `e`, whose body jumped farther than the teleport distance at this frame's
+ * sample, came within the cloth's thickness of the box `b` at its pose before the jump (the body's
+ * previous frame sample). A jump does not sweep: the step's swept bounds start at the new place,
+ * so without this a collider teleported out from under a sleeping cloth would never be seen to
+ * leave it. False for a collider whose body did not jump.
+ */
+export function colliderReachedBeforeJump(state: ClothWorldState, e: number, b: Float64Array, c: ClothState): boolean {
+  const k = state.kinematics
+  const C = state.collision.Collider
+  const slot = C.slot[e]
+  if (slot < 0 || k.jumped[slot] !== 1) return false
+  const t = before
+  // the body before the jump: sampleFrom is its previous sample moved by the jump (p' = pivot + t
+  // + R(p − pivot), q' = R·q), and that sample's position is the jump's pivot
+  const j = 10 * slot
+  t[0] = k.jump[j]
+  t[1] = k.jump[j + 1]
+  t[2] = k.jump[j + 2]
+  t[7] = -k.jump[j + 3]
+  t[8] = -k.jump[j + 4]
+  t[9] = -k.jump[j + 5]
+  t[10] = k.jump[j + 6]
+  multiplyQuatAt(t, 7, k.sampleFrom, 7 * slot + 3, t, 3) // q = R⁻¹·q'
+  // the collider on it: p = pb + qb·(s ⊙ offset), q = qb·ql (the scale of that sample)
+  const so = 3 * slot
+  t[7] = C.offset[3 * e] * k.scaleSampleFrom[so]
+  t[8] = C.offset[3 * e + 1] * k.scaleSampleFrom[so + 1]
+  t[9] = C.offset[3 * e + 2] * k.scaleSampleFrom[so + 2]
+  rotateVecAt(t, 3, t, 7, t, 11)
+  t[0] += t[11]
+  t[1] += t[12]
+  t[2] += t[13]
+  multiplyQuatAt(t, 3, C.rotation, 4 * e, t, 3)
+  // its bounds there, in the layout of `Collider.swept` (the same pose at both ends)
+  const plane = C.shape[e] === SHAPE_PLANE
+  const r4 = 4 * e
+  if (plane) {
+    rotateVecAt(t, 3, C.size, r4, t, 11)
+    const d = t[11] * t[0] + t[12] * t[1] + t[13] * t[2] + C.size[r4 + 3]
+    for (let h = 0; h < 8; h += 4) {
+      box[h] = t[11]
+      box[h + 1] = t[12]
+      box[h + 2] = t[13]
+      box[h + 3] = d
+    }
+  } else {
+    rotateVecAt(t, 3, C.bound, r4, t, 11)
+    const rad = C.bound[r4 + 3]
+    for (let a = 0; a < 3; a++) {
+      box[a] = t[a] + t[11 + a] - rad
+      box[3 + a] = t[a] + t[11 + a] + rad
+    }
+  }
+  return boundsReach(box, 0, plane, b, c)
+}
+
+/** Pose scratch of `colliderReachedBeforeJump`: position, rotation, a vector, a rotated vector. */
+const before = new Float64Array(14)
+/** Bounds scratch of `colliderReachedBeforeJump`, laid out as `Collider.swept`. */
+const box = new Float64Array(8)
+
+/** The reach test of `colliderReaches` on bounds sw[o..o + 8) laid out as `Collider.swept`. */
+function boundsReach(sw: Float64Array, o: number, plane: boolean, b: Float64Array, c: ClothState): boolean {
   const cc = c.collision
   const r = cc.thickness > 0 ? cc.thickness : c.material.thickness
-  const o = 8 * e
-  const sw = C.swept
-  if (C.shape[e] === SHAPE_PLANE) {
+  if (plane) {
     const cx = 0.5 * (b[0] + b[3]), cy = 0.5 * (b[1] + b[4]), cz = 0.5 * (b[2] + b[5])
     const ex = 0.5 * (b[3] - b[0]), ey = 0.5 * (b[4] - b[1]), ez = 0.5 * (b[5] - b[2])
     const d0 = sw[o] * cx + sw[o + 1] * cy + sw[o + 2] * cz - Math.abs(sw[o]) * ex - Math.abs(sw[o + 1]) * ey - Math.abs(sw[o + 2]) * ez -

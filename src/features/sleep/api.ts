@@ -10,7 +10,7 @@ import { newArray } from '../../core/shared'
  * few checks per step instead of a simulation. It wakes, at the start of a step, when
  * - a pin target of it moves, jumps or is scaled;
  * - a collider whose layers match moves (or appears, or goes away, or its body is scaled) within
- *   reach of its bounds;
+ *   reach of its bounds, or jumps (teleports) from or to a place within reach;
  * - a wind zone reaches its bounds (a cloth in the wind never falls asleep either);
  * - a self-colliding cloth it can collide with comes within reach;
  * - the world's gravity changes;
@@ -65,10 +65,16 @@ export function setClothSleep(world: object, cloth: number, options: boolean | C
   wakeClothState(state, c)
 }
 
-/** Wakes a sleeping cloth (call it after writing a cloth's arrays directly). */
+/**
+ * Wakes a sleeping cloth (call it after writing a cloth's arrays directly). It also marks the
+ * cloth's render data stale, so `getClothMesh` and the render helpers show the written positions
+ * at once, before the next step.
+ */
 export function wakeCloth(world: object, cloth: number): void {
   const state = getClothWorldForChange(world)
-  wakeClothState(state, getCloth(state, cloth))
+  const c = getCloth(state, cloth)
+  c.version++
+  wakeClothState(state, c)
 }
 
 /** Whether the cloth is asleep. */

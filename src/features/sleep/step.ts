@@ -2,7 +2,7 @@ import { P_MAX_V2 } from '../../kernels/params'
 import { particleBounds } from '../../kernels/mesh'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
-import { clothLayersMatch, colliderLayersMatch, colliderReaches } from '../collision/reach'
+import { clothLayersMatch, colliderLayersMatch, colliderReachedBeforeJump, colliderReaches } from '../collision/reach'
 import { windReaches } from '../wind/step'
 
 /**
@@ -67,7 +67,11 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
     const cc = c.collision
     for (let q = 0; q < colliders.length; q++) {
       const e = colliders[q]
-      if (k.moved[C.slot[e]] === 1 && colliderLayersMatch(C, e, cc) && colliderReaches(C, e, b, c)) return true
+      // a collider that jumped is tested where it was before the jump too (the jump does not sweep)
+      if (
+        k.moved[C.slot[e]] === 1 && colliderLayersMatch(C, e, cc) &&
+        (colliderReaches(C, e, b, c) || colliderReachedBeforeJump(state, e, b, c))
+      ) return true
     }
   }
   if (state.wind.zones.length > 0 && windReaches(state, b)) return true
