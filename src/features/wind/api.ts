@@ -220,7 +220,8 @@ export function getWindZones(world: object): number[] {
 
 /**
  * The air velocity at a world point now (all zones summed, turbulence and gusts included), into
- * `out` (m/s). For gameplay: smoke, leaves, sails. Returns `out`.
+ * `out` (m/s). For gameplay: smoke, leaves, sails. Returns `out`. Zones are where the last step
+ * saw their Transforms: a zone moved since blows from its new place from the next step on.
  */
 export function sampleWind(world: object, position: Readonly<vec3> | ArrayLike<number>, out: vec3 | number[] = [0, 0, 0]): vec3 | number[] {
   const state = getClothWorld(world)
