@@ -107,7 +107,8 @@ export function endClothStep(world: object): number {
 
 /**
  * `endClothStep` for a thread that may not block (a browser's main thread): resolves when the frame
- * is finished, its events delivered. Allocates a promise per call.
+ * is finished, its events delivered. Allocates a promise per call, and holds a timer while it waits (in
+ * Node that keeps the process alive until the workers finish).
  */
 export function endClothStepAsync(world: object): Promise<number> {
   // (a wrong world throws here, not in the promise)

@@ -179,28 +179,42 @@ function stuck(pool: WorkerPool): ClothError {
   )
 }
 
-/** Resolves when every worker finished step `step` (Atomics.waitAsync where there is one). */
+/**
+ * Resolves when every worker finished step `step` (Atomics.waitAsync where there is one). While it
+ * waits, a timer keeps the event loop alive: in Node neither a pending Atomics.waitAsync nor the
+ * (unref'd) workers do, so an awaited step would otherwise let the process end mid-frame. The timer
+ * goes when the wait settles, so an idle world still never holds a process open.
+ */
 export async function waitForWorkersAsync(pool: WorkerPool, step: number): Promise<void> {
   const c = pool.control
   const waitAsync =
     (Atomics as { waitAsync?: (a: Int32Array, i: number, v: number, t?: number) => { async: boolean; value: Promise<string> | string } })
       .waitAsync
   const t0 = performance.now()
-  for (let w = 0; w < pool.workers.length; w++) {
-    for (;;) {
-      const done = Atomics.load(c, C_DONE + w)
-      if (done === step) break
-      if (Atomics.load(c, C_STATE + w) === 2) throw workerFailure(pool, w)
-      if (performance.now() - t0 > 50 * STUCK_WAITS) throw stuck(pool)
-      if (typeof waitAsync === 'function') {
-        const r = waitAsync(c, C_DONE + w, done, 50)
-        if (r.async) await r.value
-      } else {
-        await new Promise((resolve) => setTimeout(resolve, 0))
+  let alive: ReturnType<typeof setInterval> | null = null
+  try {
+    for (let w = 0; w < pool.workers.length; w++) {
+      for (;;) {
+        const done = Atomics.load(c, C_DONE + w)
+        if (done === step) break
+        if (Atomics.load(c, C_STATE + w) === 2) throw workerFailure(pool, w)
+        if (performance.now() - t0 > 50 * STUCK_WAITS) throw stuck(pool)
+        if (alive === null) alive = setInterval(keepAlive, 1 << 30)
+        if (typeof waitAsync === 'function') {
+          const r = waitAsync(c, C_DONE + w, done, 50)
+          if (r.async) await r.value
+        } else {
+          await new Promise((resolve) => setTimeout(resolve, 0))
+        }
       }
     }
+  } finally {
+    if (alive !== null) clearInterval(alive)
   }
 }
+
+/** The callback of the timer that keeps the event loop alive while a wait is pending (it never fires in practice). */
+function keepAlive(): void {}
 
 function workerFailure(pool: WorkerPool, w: number): Error {
   const c = pool.control

@@ -22,6 +22,16 @@ buildSync({
   logLevel: 'error',
 })
 
+const asyncScript = join(mkdtempSync(join(tmpdir(), 'cloth-async-')), 'asyncEnd.mjs')
+buildSync({
+  entryPoints: [join(__dirname, 'asyncEndProcess.ts')],
+  bundle: true,
+  platform: 'node',
+  format: 'esm',
+  outfile: asyncScript,
+  logLevel: 'error',
+})
+
 function run(mode: string, flags: string[] = []) {
   const t0 = performance.now()
   const r = spawnSync(process.execPath, [...flags, script, workerUrl().href, mode], { encoding: 'utf8', timeout: 60_000 })
@@ -35,6 +45,17 @@ describe('worker lifecycle', () => {
     expect(r.status).toBe(0)
     expect(r.stdout).toMatch(/STEPPED [1-9]\d*/)
     expect(r.stdout).toContain('EXITED 0') // still running when the process ended, and it ended anyway
+  })
+
+  it('await endClothStepAsync keeps a Node process alive until the workers finish, and the idle world then lets it exit', () => {
+    const t0 = performance.now()
+    const r = spawnSync(process.execPath, [asyncScript, workerUrl().href, '5'], { encoding: 'utf8', timeout: 60_000 })
+    const ms = performance.now() - t0
+    expect(r.stderr).toBe('')
+    expect(r.stdout).toContain('begun 4')
+    expect(r.stdout).toContain('async ok 5') // five frames of one fixed step each, all awaited
+    expect(r.status).toBe(0) // (before: exit code 13, the loop ended while the first wait was pending)
+    expect(ms).toBeLessThan(30_000) // it exited by itself, not by the spawn's timeout
   })
 
   it('disposeClothWorld stops the workers; the world then steps on the calling thread', () => {
