@@ -3,9 +3,9 @@ import { FRAME_SIZE, updateProxySeams, updateProxyVertices } from './kernels/pro
 import { bindProxy, type ProxyBinding } from './model/proxy'
 import { checkMeshInput } from './model/options'
 import { checkUvs } from './model/uvs'
-import { checkStepFinished, getCloth, getClothWorld } from './world/access'
+import { getCloth, getClothWorld } from './world/access'
 import type { ClothState, ClothWorldState } from './world/state'
-import { refreshClothRender } from './mesh'
+import { notReadBeforeFrame, refreshClothRender } from './mesh'
 
 /** Options of `createRenderProxy`: the render mesh, in the cloth's rest frame. */
 export interface RenderProxyOptions {
@@ -66,6 +66,12 @@ interface ProxyState extends ClothRenderProxy {
 const live = new WeakSet<object>()
 
 /**
+ * Each world's proxies, for `refreshFrameProxies` (weakly held: a proxy dropped without
+ * `removeRenderProxy` is still collected).
+ */
+const proxiesOf = new WeakMap<ClothWorldState, WeakRef<ProxyState>[]>()
+
+/**
  * Drives a finer render mesh with a cloth. Each render vertex is embedded once, here, in the cloth's
  * rest triangle closest to it (barycentric weights of the closest point, plus its offset from that
  * point and its rest normal in the frame of the interpolated normal there); `updateRenderProxy`
@@ -116,18 +122,31 @@ export function createRenderProxy(world: object, cloth: number, options: RenderP
   )
   const proxy: ProxyState = { cloth, mesh, binding, world: state, state: c, version: -1, frame: new Float64Array(FRAME_SIZE) }
   live.add(proxy)
+  let list = proxiesOf.get(state)
+  if (list === undefined) proxiesOf.set(state, list = [])
+  list.push(new WeakRef(proxy))
   return proxy
 }
 
 /**
  * Brings a proxy's render mesh up to date with its cloth and returns it: the same arrays every
- * call, rewritten only when the cloth moved since the last call. Allocates nothing.
+ * call, rewritten only when the cloth moved since the last call. Allocates nothing. Between
+ * `beginClothStep` and `endClothStep` it gives the mesh of the last finished step (the frame's
+ * start brought it up to date, see `refreshFrameProxies`), in every mode; a proxy never updated
+ * before the frame began has none to give then (a ClothError).
  */
 export function updateRenderProxy(world: object, proxy: ClothRenderProxy): RenderProxyMesh {
   const p = liveProxy(world, proxy)
   const c = p.state
   if (p.version === c.version) return p.mesh
-  checkStepFinished(p.world, world, p.cloth) // (the positions may be half written)
+  // the workers may be writing the particles
+  if (p.world.frame.open && !p.world.frame.delivering) throw notReadBeforeFrame(world, p.cloth, 'render proxy')
+  return writeProxy(p)
+}
+
+/** Rewrites a proxy's render mesh from its cloth's particles. */
+function writeProxy(p: ProxyState): RenderProxyMesh {
+  const c = p.state
   const r = refreshClothRender(c)
   const b = p.binding, m = p.mesh
   const tris = c.topology.triangles
@@ -142,6 +161,25 @@ export function updateRenderProxy(world: object, proxy: ClothRenderProxy): Rende
 export function removeRenderProxy(world: object, proxy: ClothRenderProxy): void {
   liveProxy(world, proxy, true)
   live.delete(proxy)
+}
+
+/**
+ * The proxies' part of `refreshFrameMeshes` (same moment, same reason): brings every live proxy
+ * that was updated before and is stale up to date, so that reads until the step's finish give the
+ * last finished step; forgets the proxies that were removed, collected or whose cloth is gone.
+ * Allocates nothing.
+ */
+export function refreshFrameProxies(state: ClothWorldState): void {
+  const list = proxiesOf.get(state)
+  if (list === undefined) return
+  const cloths = state.components.Cloth.state
+  for (let i = list.length - 1; i >= 0; i--) {
+    const p = list[i].deref()
+    if (p === undefined || !live.has(p) || cloths[p.cloth] !== p.state) {
+      list[i] = list[list.length - 1]
+      list.pop()
+    } else if (p.version !== -1 && p.version !== p.state.version) writeProxy(p)
+  }
 }
 
 function liveProxy(world: object, proxy: ClothRenderProxy, removing = false): ProxyState {

@@ -12,6 +12,9 @@ import { clothEvents } from './clothEvents'
 import { Q_MEASURED, Q_T0 } from '../src/features/budget/types'
 import { waitForWorkers } from '../src/threads/pool'
 import { collectClothStep, dispatchClothStep } from './threaded'
+import { refreshFrameMeshes } from '../src/mesh'
+import { refreshFrameProxies } from '../src/proxy'
+import { deliverResets } from '../src/features/guard/step'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -49,17 +52,22 @@ export function clothFixedStep<W extends object>(world: W): W {
 
 /**
  * First half of a fixed step: the sync phase (the only one that reads transforms), then the
- * substeps and the guard. `blocking` (the caller finishes the step right away): they run now, on
- * this thread or, in a threaded world, on the workers unless the step is too small to pay for the
- * handoff. Otherwise (`beginClothStep`) they go to the workers, or without workers wait for
- * `finishFixedStep`, so that in every mode the step's results appear at its finish.
+ * substeps and the guard go to the workers, or wait for `finishFixedStep` and run there on this
+ * thread: in every mode the step's results appear, and its listeners run, at its finish. In a
+ * threaded world, `blocking` (the caller finishes the step right away) keeps a step too small to
+ * pay for the handoff on this thread; otherwise (`beginClothStep`, and `endClothStepAsync` between
+ * steps) the game may read meshes before the finish, so the meshes read before are brought up to
+ * date first (the last finished step's, see `refreshFrameMeshes`).
  */
 export function startFixedStep(world: object, blocking: boolean): void {
   const state = getClothWorld(world)
   clothSync(world)
+  if (!blocking) {
+    refreshFrameMeshes(state)
+    refreshFrameProxies(state)
+  }
   if (state.threads !== null && dispatchClothStep(state, state.threads, blocking)) return
-  if (blocking) runSubsteps(world)
-  else state.frame.deferred = true
+  state.frame.deferred = true
 }
 
 /** The substeps of every cloth here on this thread, then the guard (timed when the budget asks). */
@@ -83,9 +91,10 @@ function runSubsteps(world: object): void {
 }
 
 /**
- * Second half: waits for the workers if they have the step (or runs the substeps it deferred),
- * takes their results (the guard's resets, tear events), then counts the substeps and delivers the
- * step's events.
+ * Second half: waits for the workers if they have the step and takes their results (the guard's
+ * resets, tear events), or runs the substeps and the guard here; then delivers the guard's resets,
+ * counts the substeps and delivers the tear events. In every mode the listeners run here, with a
+ * frame (`stepCloth`'s too) still open: they may change the world, as between frames, but not step it.
  */
 export function finishFixedStep(world: object): void {
   const state = getClothWorld(world)
@@ -100,6 +109,7 @@ export function finishFixedStep(world: object): void {
       f.deferred = false
       runSubsteps(world)
     }
+    deliverResets(state) // (the workers' resets; the guard here has delivered its own)
     state.stats.substeps += state.substepCount
     clothEvents(world)
   } finally {

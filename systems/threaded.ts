@@ -1,6 +1,6 @@
 import { HEALTH_OK } from '../src/kernels/guard'
 import type { ClothThreads, ClothWorldState } from '../src/world/state'
-import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guard/step'
+import { guardCheck, restoreSafePose } from '../src/features/guard/step'
 import { placeHeldAfterReset, setGuardAnchor } from '../src/features/character/step'
 import { EV } from '../src/features/tearing/types'
 import { Q_MEASURED } from '../src/features/budget/types'
@@ -67,9 +67,10 @@ export function dispatchClothStep(state: ClothWorldState, th: ClothThreads, bloc
 }
 
 /**
- * After every worker finished: reads the cloths back, adds the workers' counters, then the guard's
- * resets and the tear events in creation order (workers step their cloths in creation order, so
- * their events merge by cloth).
+ * After every worker finished: reads the cloths back, adds the workers' counters, then puts the
+ * cloths the guard failed back into a safe pose and queues the tear events, in creation order
+ * (workers step their cloths in creation order, so their events merge by cloth). The reset
+ * listeners are called by `finishFixedStep`, as in every mode.
  */
 export function collectClothStep(state: ClothWorldState, th: ClothThreads): void {
   th.phase = 0
@@ -101,7 +102,6 @@ export function collectClothStep(state: ClothWorldState, th: ClothThreads): void
       if (c.character !== null) placeHeldAfterReset(c)
     }
   }
-  deliverResets(state)
   mergeTearEvents(state, th)
 }
 

@@ -36,17 +36,3 @@ export function getClothWorldForChange(world: object): ClothWorldState {
   }
   return state
 }
-
-/**
- * Throws ClothError between `beginClothStep` and `endClothStep` (but while the finished step's
- * listeners run): reading a cloth's particles then could see a step half written by the workers.
- */
-export function checkStepFinished(state: ClothWorldState, world: object, cloth: number): void {
-  if (state.frame.open && !state.frame.delivering) {
-    throw new ClothError(
-      'world',
-      world,
-      `is between beginClothStep and endClothStep, and cloth ${cloth}'s mesh was not read since its last finished step: read meshes after endClothStep (and before the next beginClothStep)`,
-    )
-  }
-}
