@@ -3,10 +3,11 @@ import { ClothError, checkObject, checkOneOf, isArrayLike } from '../../core/err
 import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
-import { trackEntity, untrackEntity } from '../../world/kinematics'
+import { readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
+import { multiplyQuatAt, rotateVecAt } from '../../core/math'
 import { releaseAnchor } from '../budget/freeze'
 import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
 import { blankCharacter, blankSkin, unconstrained } from './state'
@@ -236,6 +237,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
   for (let b = 0; b < B; b++) {
     skin.bones[b] = bones[b]
     skin.slots[b] = trackEntity(state, skin.bones[b])
+    backdate(state, skin.slots[b], skin.bones[b], ch.frameSlot, ch.frame)
     trackedPose(state, skin.slots[b], skin.bones[b], skin.bind, 10 * b)
   }
   skin.pose.set(skin.bind)
@@ -310,12 +312,15 @@ function defaultFrame(state: ClothWorldState, c: ClothState): number {
 function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number): void {
   if (eid === ch.frame && (eid === 0 || ch.frameSlot >= 0)) return
   if (ch.skin === null) rebindRest(state, c, ch)
-  if (ch.frameSlot >= 0) {
-    releaseAnchor(state, c, ch.frameSlot)
-    untrackEntity(state, ch.frame)
+  const oldFrame = ch.frame, oldSlot = ch.frameSlot
+  const slot = eid !== 0 ? trackEntity(state, eid) : -1
+  if (slot >= 0) backdate(state, slot, eid, oldSlot, oldFrame)
+  if (oldSlot >= 0) {
+    releaseAnchor(state, c, oldSlot)
+    untrackEntity(state, oldFrame)
   }
   ch.frame = eid
-  ch.frameSlot = eid !== 0 ? trackEntity(state, eid) : -1
+  ch.frameSlot = slot
   const m = ch.motion
   if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, eid, m, M_POSE)
   // (the world, or a frame gone: the last pose stays)
@@ -324,6 +329,39 @@ function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid
   m[M_REF_VALID] = 0
   if (ch.skin === null) bindRigid(c, ch)
 }
+
+/**
+ * An entity tracked just now for the first time (slot `slot`, `eid`) has no history: its slot
+ * starts at its Transform now, which the game may already have moved for the coming step, while
+ * the cloth's reference is where the last step left it (so a frame or bone bound there was off by
+ * that motion for good: a running cape's held rows stretched 74 % from its new frame's pinned row).
+ * It takes the history of the entity the cloth follows (`via`, slot `viaSlot`, −1: none), offset
+ * as the two are now: as if it had moved rigidly with it.
+ */
+function backdate(state: ClothWorldState, slot: number, eid: number, viaSlot: number, via: number): void {
+  const k = state.kinematics
+  if (viaSlot < 0 || viaSlot === slot || k.refs[slot] !== 1) return
+  const t = backdateScratch
+  readPoseInto(state, via, t) // via now: t[0..6]
+  readPoseInto(state, eid, t.subarray(7, 14)) // it now: t[7..13]
+  // its pose relative to via's: q = q_via⁻¹·q, p = q_via⁻¹·(p − p_via)
+  t[3] = -t[3]
+  t[4] = -t[4]
+  t[5] = -t[5]
+  multiplyQuatAt(t, 3, t, 10, t, 17)
+  for (let a = 0; a < 3; a++) t[21 + a] = t[7 + a] - t[a]
+  rotateVecAt(t, 3, t, 21, t, 14)
+  // via's history, moved by that offset: p = p_via + q_via·p_rel, q = q_via·q_rel
+  for (const poses of [k.sampleFrom, k.sampleTo, k.stepFrom, k.stepTo]) {
+    const o = 7 * viaSlot, d = 7 * slot
+    rotateVecAt(poses, o + 3, t, 14, t, 21)
+    for (let a = 0; a < 3; a++) poses[d + a] = poses[o + a] + t[21 + a]
+    multiplyQuatAt(poses, o + 3, t, 17, poses, d + 3)
+  }
+}
+
+/** Scratch of `backdate`: via's pose, the entity's pose, the relative position and rotation, a vector. */
+const backdateScratch = new Float64Array(24)
 
 /** rest ← the reference as it stands now (and its normals), so a rebind does not move it. */
 function rebindRest(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
