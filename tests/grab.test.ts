@@ -22,11 +22,14 @@ import {
   removeCloth,
   restoreClothState,
   saveClothState,
+  setClothInertia,
   setTransform,
   stepCloth,
   unpin,
 } from '../src/index'
 import { allFinite, hashBytes, makeWorld, momentum } from './helpers'
+
+const DT = 1 / 60
 
 const G0 = 9.81
 
@@ -161,6 +164,56 @@ describe('grab: a hand on a moving cloth', () => {
     seen['pin 2 m'] = `${(100 * pinned).toFixed(0)} %`
     console.log('largest stretch holding a flag in gusty wind', seen)
     expect(pinned).toBeGreaterThan(10)
+  })
+})
+
+describe('grab: across a teleport', () => {
+  it('a hand that follows its character across a 10 m teleport does not drag the carried cape back over the gap', () => {
+    // the cape is carried by the teleport; the grab's target glided from where it was before the
+    // jump, pulling the hem back across the gap (5.3 m/s relative to the character, 9.7 % stretch,
+    // against 0.5 m/s and 6.5 % in the same run without the jump)
+    const C = 10, R = 16
+    const run = (jump: boolean, inertia: boolean) => {
+      const world = makeWorld({ sleep: false })
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 0, 0])
+      const cape = createCloth(world, {
+        width: 0.55,
+        height: 1.05,
+        resolution: [C, R],
+        position: [0, 1.47, -0.2],
+        rotation: [0, 1, 0, 0],
+        material: 'wool',
+      })
+      pinRow(world, cape, 0, hero)
+      if (inertia) setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+      const c = getClothState(world, cape)
+      const hem = C * (R - 1) + 4
+      let grab = -1, relative = 0, stretch = 0
+      for (let f = 1; f <= 70; f++) {
+        const x = jump && f >= 61 ? 10 : 0, z = (3 * f) / 60
+        setTransform(world, hero, [x, 0, z])
+        if (f === 30) grab = grabParticle(world, cape, hem, [x, 0.6, z - 0.6])
+        if (f > 30) moveGrab(world, grab, [x, 0.6, z - 0.6])
+        stepCloth(world, DT)
+        if (f === 61) {
+          relative = Math.hypot(c.vel[3 * hem], c.vel[3 * hem + 1], c.vel[3 * hem + 2] - 3)
+          stretch = getClothStretch(world, cape).max
+        }
+      }
+      expect(allFinite(world, cape)).toBe(true)
+      return { relative, stretch }
+    }
+    for (const inertia of [false, true]) {
+      const still = run(false, inertia), jumped = run(true, inertia)
+      console.log(
+        `${inertia ? 'inertia 0.5' : 'world space'}: hem ${jumped.relative.toFixed(2)} m/s relative to the character at the teleport (${
+          still.relative.toFixed(2)
+        } without it), stretch ${(100 * jumped.stretch).toFixed(1)} % (${(100 * still.stretch).toFixed(1)} %)`,
+      )
+      expect(jumped.relative).toBeLessThan(still.relative + 0.1)
+      expect(jumped.stretch).toBeLessThan(still.stretch + 0.01)
+    }
   })
 })
 

@@ -1,4 +1,5 @@
 import { quatToMatrix, relativeRotationAt } from '../core/math'
+import { GRAB_STRIDE, G_AT, G_FRAME, G_STEP_FROM, G_STEP_TO } from '../kernels/grab'
 import type { ClothState } from './state'
 
 /** Scratch of moveClothRigidly: the rotation matrix in [0, 9), the quaternion in [9, 13). */
@@ -6,7 +7,9 @@ const ROTATION = new Float64Array(13)
 
 /**
  * Moves a cloth rigidly: x' = to + R·(x − from) for positions and previous positions, v' = R·v,
- * so the motion carries no velocity and the shape is kept exactly. Used by teleports (explicit and
+ * so the motion carries no velocity and the shape is kept exactly. Its grabs' targets so far (where
+ * each glides from, not the target asked for last) move with it: a hand that follows the character
+ * across a teleport does not drag the cloth back over the gap. Used by teleports (explicit and
  * detected), by a frozen cloth that thaws, and by the guard's rigid placement.
  */
 export function moveClothRigidly(
@@ -48,6 +51,16 @@ export function moveClothRigidly(
     vel[i] = m00 * x + m01 * y + m02 * z
     vel[i + 1] = m10 * x + m11 * y + m12 * z
     vel[i + 2] = m20 * x + m21 * y + m22 * z
+  }
+  const G = c.grab
+  for (let g = 0; g < G.count; g++) {
+    for (let q = 0; q < 4; q++) {
+      const o = GRAB_STRIDE * g + (q === 0 ? G_FRAME : q === 1 ? G_STEP_FROM : q === 2 ? G_STEP_TO : G_AT)
+      const x = G.data[o] - fromX, y = G.data[o + 1] - fromY, z = G.data[o + 2] - fromZ
+      G.data[o] = toX + m00 * x + m01 * y + m02 * z
+      G.data[o + 1] = toY + m10 * x + m11 * y + m12 * z
+      G.data[o + 2] = toZ + m20 * x + m21 * y + m22 * z
+    }
   }
   c.version++
 }
