@@ -243,6 +243,66 @@ describe('a frame or bone chosen mid-run', () => {
   })
 })
 
+describe('limits changed mid-run', () => {
+  it("tightening a swinging cape's painted max distance holds the new limits at once, with the kick the README's known limits give (every substep, and every 4th)", () => {
+    const C = 10, R = 16
+    const paint = (k: number) =>
+      Array.from({ length: C * R }, (_, i) => {
+        const r = Math.floor(i / C)
+        return r === R - 1 ? Infinity : r <= 1 ? 0 : k * (r / (R - 1)) ** 2
+      })
+    for (const every of [1, 4]) {
+      const world = makeWorld({ sleep: false })
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 0, 0])
+      const cape = createCloth(world, {
+        width: 0.55,
+        height: 1.05,
+        resolution: [C, R],
+        position: [0, 1.47, -0.2],
+        rotation: [0, 1, 0, 0],
+        material: 'wool',
+      })
+      pinRow(world, cape, 0, hero)
+      setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+      setClothMotionConstraints(world, cape, { maxDistance: paint(0.9), every })
+      const c = getClothState(world, cape)
+      const fastest = () => {
+        let v = 0
+        for (let j = 0; j < 3 * c.count; j += 3) v = Math.max(v, Math.hypot(c.vel[j], c.vel[j + 1], c.vel[j + 2]))
+        return v
+      }
+      let before = 0, after = 0, stretchBefore = 0, stretchAfter = 0, worst = 0
+      const tight = paint(0.2)
+      for (let f = 1; f <= 100; f++) {
+        setTransform(world, hero, [0, 0, (6 * Math.min(f, 60)) / 60]) // runs at 6 m/s, stops dead
+        if (f === 91) setClothMotionConstraints(world, cape, { maxDistance: tight, every })
+        stepCloth(world, DT)
+        if (f >= 85 && f <= 90) {
+          before = Math.max(before, fastest())
+          stretchBefore = Math.max(stretchBefore, getClothStretch(world, cape).max)
+        }
+        if (f > 90) {
+          after = Math.max(after, fastest())
+          stretchAfter = Math.max(stretchAfter, getClothStretch(world, cape).max)
+          const ref = getClothReference(world, cape)!
+          for (let i = 0; i < c.count; i++) worst = Math.max(worst, dist(c.pos, ref, i) - tight[i])
+        }
+      }
+      console.log(
+        `every ${every}: fastest ${before.toFixed(1)} m/s before, ${after.toFixed(1)} after; stretch ${
+          (100 * stretchBefore).toFixed(1)
+        } % before, ${(100 * stretchAfter).toFixed(1)} % after`,
+      )
+      expect(worst).toBeLessThan(0.002)
+      expect(allFinite(world, cape)).toBe(true)
+      // the known limit: what the new limits take back becomes velocity
+      expect(after).toBeGreaterThan(4 * before)
+      expect(after).toBeLessThan(60)
+    }
+  })
+})
+
 describe('every n-th substep', () => {
   it('with constraints every 3rd substep (and the last), every step still ends within max distance (+2 mm) and outside the backstop; every: 1 is the default, byte for byte', () => {
     const md = painted(0.3)
