@@ -219,7 +219,10 @@ export const HELD_WEIGHT = 1 / 16
  * outward speed. When the limits last ran `since` substeps ago (`every`), a correction undoes
  * that many substeps of drift, and a particle a limit moved from x₀ gets v = (x₀ + (x − x₀)/since
  * − prev)/h: the correction enters its velocity spread over them (taken as one substep's motion,
- * seven substeps of drift stretched a running cape's edges by up to 866 %). A speed above
+ * seven substeps of drift stretched a running cape's edges by up to 866 %). Where a collider
+ * moved `prev` this substep (its push-out is no motion), a particle a limit moved leaves no faster,
+ * relative to its reference, than it moved since the substep's start (`start`): the two would
+ * otherwise each take back the other's correction while its velocity stayed. A speed above
  * params[P_MAX_SPEED] is scaled down to it, the largest squared speed before that goes to
  * params[P_MAX_V2] (as `updateVelocities` in integrate.ts, whose loop this repeats rather than
  * calls: a second pass over the positions is what this kernel saves).
@@ -354,17 +357,20 @@ export function constrainAndUpdateVelocities(
         // where a collider and a limit disagree, each takes back the other's correction (the
         // collider as no motion, moving prev along), and a particle wedged between them kept the
         // velocity it came in with (8 m/s on a still cape whose capsule reached 2 cm behind it)
-        const qx = rx - sx - ref[o] - (ref[o + 3] - ref[o]) * f0
-        const qy = ry - sy - ref[o + 1] - (ref[o + 4] - ref[o + 1]) * f0
-        const qz = rz - sz - ref[o + 2] - (ref[o + 5] - ref[o + 2]) * f0
-        const ux = x - prev[j] - qx, uy = y - prev[j + 1] - qy, uz = z - prev[j + 2] - qz
-        const ax = pos[j] - start[j] - qx, ay = pos[j + 1] - start[j + 1] - qy, az = pos[j + 2] - start[j + 2] - qz
-        const u2 = ux * ux + uy * uy + uz * uz, a2 = ax * ax + ay * ay + az * az
-        if (u2 > a2) {
-          const k = Math.sqrt(a2 / u2)
-          x = prev[j] + qx + ux * k
-          y = prev[j + 1] + qy + uy * k
-          z = prev[j + 2] + qz + uz * k
+        // (only where a collider moved prev: elsewhere prev is the start)
+        if (prev[j] !== start[j] || prev[j + 1] !== start[j + 1] || prev[j + 2] !== start[j + 2]) {
+          const qx = rx - sx - ref[o] - (ref[o + 3] - ref[o]) * f0
+          const qy = ry - sy - ref[o + 1] - (ref[o + 4] - ref[o + 1]) * f0
+          const qz = rz - sz - ref[o + 2] - (ref[o + 5] - ref[o + 2]) * f0
+          const ux = x - prev[j] - qx, uy = y - prev[j + 1] - qy, uz = z - prev[j + 2] - qz
+          const ax = pos[j] - start[j] - qx, ay = pos[j + 1] - start[j + 1] - qy, az = pos[j + 2] - start[j + 2] - qz
+          const u2 = ux * ux + uy * uy + uz * uz, a2 = ax * ax + ay * ay + az * az
+          if (u2 > a2) {
+            const k = Math.sqrt(a2 / u2)
+            x = prev[j] + qx + ux * k
+            y = prev[j + 1] + qy + uy * k
+            z = prev[j + 2] + qz + uz * k
+          }
         }
       }
     }

@@ -211,8 +211,9 @@ export function predictCharacter(c: ClothState, k: number): boolean {
   if (k === 0) blendReference(c, ch)
   if (ch.constrained) {
     referenceSubstep(c, ch, k, c.substeps)
-    const { pos, count } = c, start = ch.start
-    for (let j = 0; j < 3 * count; j++) start[j] = pos[j]
+    // (a copy of the whole buffer is a memmove: cheaper than a loop over the live particles)
+    if (ch.start.length === c.pos.length) ch.start.set(c.pos)
+    else for (let j = 0; j < 3 * c.count; j++) ch.start[j] = c.pos[j]
   }
   const inFrame = ch.inertia
   if (inFrame) {
