@@ -27,6 +27,7 @@ import {
   stepCloth,
   unpin,
 } from '../src/index'
+import { RUN_COLS, RUN_ROWS, runningCape as capeOnRunner } from './character/scenes'
 import { allFinite, hashBytes, makeWorld, momentum } from './helpers'
 
 const DT = 1 / 60
@@ -172,23 +173,11 @@ describe('grab: across a teleport', () => {
     // the cape is carried by the teleport; the grab's target glided from where it was before the
     // jump, pulling the hem back across the gap (5.3 m/s relative to the character, 9.7 % stretch,
     // against 0.5 m/s and 6.5 % in the same run without the jump)
-    const C = 10, R = 16
     const run = (jump: boolean, inertia: boolean) => {
-      const world = makeWorld({ sleep: false })
-      const hero = addEntity(world)
-      setTransform(world, hero, [0, 0, 0])
-      const cape = createCloth(world, {
-        width: 0.55,
-        height: 1.05,
-        resolution: [C, R],
-        position: [0, 1.47, -0.2],
-        rotation: [0, 1, 0, 0],
-        material: 'wool',
-      })
-      pinRow(world, cape, 0, hero)
-      if (inertia) setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+      const { world, hero, cape } = capeOnRunner(null)
+      if (!inertia) setClothInertia(world, cape, null)
       const c = getClothState(world, cape)
-      const hem = C * (R - 1) + 4
+      const hem = RUN_COLS * (RUN_ROWS - 1) + 4
       let grab = -1, relative = 0, stretch = 0
       for (let f = 1; f <= 70; f++) {
         const x = jump && f >= 61 ? 10 : 0, z = (3 * f) / 60

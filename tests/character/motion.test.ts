@@ -21,7 +21,18 @@ import {
   stepCloth,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
-import { DT, capeOnCharacter, carriedRest, drive, expectClothErrors, positionsNow, sprintTurnStopJump, yawQuat } from './scenes'
+import {
+  DT,
+  capeOnCharacter,
+  carriedRest,
+  drive,
+  expectClothErrors,
+  paintRows,
+  positionsNow,
+  runningCape,
+  sprintTurnStopJump,
+  yawQuat,
+} from './scenes'
 
 const ROWS = 12, COLS = 8
 
@@ -123,17 +134,7 @@ describe('a scaled reference', () => {
     // the guard allowed twice the cloth's size around its pins only: from a scale of 3 on, the
     // limits pulled the cloth out of that every step and the guard put it back every step
     // (90 resets in 90 steps, 1.4 m past max distance)
-    const world = makeWorld({ sleep: false })
-    const hero = addEntity(world)
-    setTransform(world, hero, [0, 1.6, 0])
-    const cape = createCloth(world, {
-      width: 0.5,
-      height: 0.8,
-      resolution: [COLS, ROWS],
-      position: [-0.15, 1.55, 0],
-      rotation: yawQuat(-Math.PI / 2),
-    })
-    pinRow(world, cape, 0, hero)
+    const { world, hero, cape } = capeOnCharacter(undefined, makeWorld({ sleep: false }))
     const md = painted(0.3)
     setClothMotionConstraints(world, cape, { maxDistance: md, backstop: { distance: 0.02, radius: 0.5 } })
     const c = getClothState(world, cape)
@@ -191,26 +192,9 @@ describe('a frame or bone chosen mid-run', () => {
   it("switching a running cape to a new frame, or skinning it to a new bone, after this frame's Transforms were written keeps its held row by its pinned row (no lasting stretch)", () => {
     // a new entity had no history: bound at the coming frame's pose against the last step's
     // reference, the held row stayed one frame of running (10 cm) off the pinned row: 74 % stretch for good
-    const C = 10, R = 16
-    const paint = Array.from({ length: C * R }, (_, i) => {
-      const r = Math.floor(i / C)
-      return r === R - 1 ? Infinity : r <= 1 ? 0 : 0.9 * (r / (R - 1)) ** 2
-    })
+    const paint = paintRows(0.9)
     const worstAfter = (how: 'frame' | 'bone' | 'none') => {
-      const world = makeWorld({ sleep: false })
-      const hero = addEntity(world)
-      setTransform(world, hero, [0, 0, 0])
-      const cape = createCloth(world, {
-        width: 0.55,
-        height: 1.05,
-        resolution: [C, R],
-        position: [0, 1.47, -0.2],
-        rotation: [0, 1, 0, 0],
-        material: 'wool',
-      })
-      pinRow(world, cape, 0, hero)
-      setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
-      setClothMotionConstraints(world, cape, { maxDistance: paint })
+      const { world, hero, cape } = runningCape(paint)
       const chest = addEntity(world)
       setTransform(world, chest, [0, 1.3, 0])
       let worst = 0
@@ -245,27 +229,8 @@ describe('a frame or bone chosen mid-run', () => {
 
 describe('limits changed mid-run', () => {
   it("tightening a swinging cape's painted max distance holds the new limits at once, with the kick the README's known limits give (every substep, and every 4th)", () => {
-    const C = 10, R = 16
-    const paint = (k: number) =>
-      Array.from({ length: C * R }, (_, i) => {
-        const r = Math.floor(i / C)
-        return r === R - 1 ? Infinity : r <= 1 ? 0 : k * (r / (R - 1)) ** 2
-      })
     for (const every of [1, 4]) {
-      const world = makeWorld({ sleep: false })
-      const hero = addEntity(world)
-      setTransform(world, hero, [0, 0, 0])
-      const cape = createCloth(world, {
-        width: 0.55,
-        height: 1.05,
-        resolution: [C, R],
-        position: [0, 1.47, -0.2],
-        rotation: [0, 1, 0, 0],
-        material: 'wool',
-      })
-      pinRow(world, cape, 0, hero)
-      setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
-      setClothMotionConstraints(world, cape, { maxDistance: paint(0.9), every })
+      const { world, hero, cape } = runningCape(paintRows(0.9), every)
       const c = getClothState(world, cape)
       const fastest = () => {
         let v = 0
@@ -273,7 +238,7 @@ describe('limits changed mid-run', () => {
         return v
       }
       let before = 0, after = 0, stretchBefore = 0, stretchAfter = 0, worst = 0
-      const tight = paint(0.2)
+      const tight = paintRows(0.2)
       for (let f = 1; f <= 100; f++) {
         setTransform(world, hero, [0, 0, (6 * Math.min(f, 60)) / 60]) // runs at 6 m/s, stops dead
         if (f === 91) setClothMotionConstraints(world, cape, { maxDistance: tight, every })

@@ -6,6 +6,7 @@ import {
   getClothState,
   pinRow,
   setClothInertia,
+  setClothMotionConstraints,
   setTransform,
   stepCloth,
   type ClothInertiaOptions,
@@ -148,4 +149,33 @@ export function expectClothErrors<T>(cases: [T, string][], call: (input: T) => v
     expect(error, arg).toBeInstanceOf(ClothError)
     expect((error as ClothError).argument, arg).toBe(arg)
   }
+}
+
+/**
+ * The README's cape (wool, 10 × 16, row 0 pinned along the collar) on a character at the origin
+ * with inertia 0.5, row 1 held by max distance 0 and `paint(k)` below (k·v² m, v from the collar
+ * to the hem, free at the hem): the scene of the mid-run changes in motion.test.ts.
+ */
+export const RUN_COLS = 10, RUN_ROWS = 16
+export function paintRows(k: number): number[] {
+  return Array.from({ length: RUN_COLS * RUN_ROWS }, (_, i) => {
+    const r = Math.floor(i / RUN_COLS)
+    return r === RUN_ROWS - 1 ? Infinity : r <= 1 ? 0 : k * (r / (RUN_ROWS - 1)) ** 2
+  })
+}
+export function runningCape(maxDistance: number[] | null, every = 1, world = makeWorld({ sleep: false })) {
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 0, 0])
+  const cape = createCloth(world, {
+    width: 0.55,
+    height: 1.05,
+    resolution: [RUN_COLS, RUN_ROWS],
+    position: [0, 1.47, -0.2],
+    rotation: [0, 1, 0, 0],
+    material: 'wool',
+  })
+  pinRow(world, cape, 0, hero)
+  setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+  if (maxDistance !== null) setClothMotionConstraints(world, cape, { maxDistance, every })
+  return { world, hero, cape }
 }
