@@ -28,6 +28,7 @@ import {
 } from '../src/index'
 import { getClothWorld } from '../src/world/access'
 import { hashBytes, lowestY, makeWorld } from './helpers'
+import { SHEET_OVER_BALL } from './fixtures/drape'
 
 const DT = 1 / 60
 
@@ -175,13 +176,7 @@ describe('sleeping', () => {
     const ball = addEntity(world)
     setTransform(world, ball, [0, 0, 0])
     addSphereCollider(world, ball, { radius: 0.5 })
-    const cloth = createCloth(world, {
-      width: 1.2,
-      height: 1.2,
-      resolution: 12,
-      position: [0, 0.7, -0.6],
-      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-    })
+    const cloth = createCloth(world, SHEET_OVER_BALL)
     stepUntilAsleep(world, cloth)
     const top = () => {
       const c = getClothState(world, cloth)
@@ -220,13 +215,7 @@ describe('sleeping', () => {
     setTransform(world, body, [2, 0, 0], [0, Math.SQRT1_2, 0, Math.SQRT1_2])
     const ball = addEntity(world)
     addSphereCollider(world, ball, { body, offset: [0, 0, -2], radius: 0.5 })
-    const cloth = createCloth(world, {
-      width: 1.2,
-      height: 1.2,
-      resolution: 12,
-      position: [0, 0.7, -0.6],
-      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-    })
+    const cloth = createCloth(world, SHEET_OVER_BALL)
     stepUntilAsleep(world, cloth)
     expect(lowestY(world, cloth)).toBeGreaterThan(-0.2) // draped over the ball
     setTransform(world, body, [2, 0, 4], [0, 0, 0, 1])

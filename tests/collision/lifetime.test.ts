@@ -12,6 +12,7 @@ import {
   setTransform,
   stepCloth,
 } from '../../src/index'
+import { SHEET_OVER_BALL } from '../fixtures/drape'
 
 /** A sheet draped over a ball on its own entity, for one second. */
 function draped() {
@@ -19,13 +20,7 @@ function draped() {
   const ball = addEntity(world)
   setTransform(world, ball, [0, 0, 0])
   addSphereCollider(world, ball, { radius: 0.5 })
-  const cloth = createCloth(world, {
-    width: 1.2,
-    height: 1.2,
-    resolution: 12,
-    position: [0, 0.7, -0.6],
-    rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-  })
+  const cloth = createCloth(world, SHEET_OVER_BALL)
   for (let f = 0; f < 60; f++) stepCloth(world, 1 / 60)
   return { world, ball, cloth }
 }
