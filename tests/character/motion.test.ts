@@ -36,6 +36,15 @@ import {
 
 const ROWS = 12, COLS = 8
 
+/** The cape of `capeOnCharacter` (scenes.ts) at the default iterations, without pins: behind a character at [0, 1.6, 0]. */
+const CAPE = {
+  width: 0.5,
+  height: 0.8,
+  resolution: [COLS, ROWS] as [number, number],
+  position: [-0.15, 1.55, 0],
+  rotation: yawQuat(-Math.PI / 2),
+}
+
 /** Max distance painted by row: 0 at the collar, growing linearly to `hem` m at the hem. */
 function painted(hem: number): number[] {
   return Array.from({ length: ROWS * COLS }, (_, i) => (hem * Math.floor(i / COLS)) / (ROWS - 1))
@@ -100,13 +109,7 @@ describe('max distance', () => {
     const world = makeWorld({ sleep: false })
     const hero = addEntity(world)
     setTransform(world, hero, [0, 1.6, 0])
-    const cape = createCloth(world, {
-      width: 0.5,
-      height: 0.8,
-      resolution: [COLS, ROWS],
-      position: [-0.15, 1.55, 0],
-      rotation: yawQuat(-Math.PI / 2),
-    })
+    const cape = createCloth(world, CAPE)
     const rest = positionsNow(world, cape)
     setClothInertia(world, cape, { frame: hero, linear: 0.3, angular: 0.3, centrifugal: 0.3 })
     const md = Array.from({ length: ROWS * COLS }, (_, i) => (i < COLS ? 0 : Infinity))
@@ -159,14 +162,8 @@ describe('held and pinned', () => {
     const root = addEntity(world), chest = addEntity(world)
     setTransform(world, root, [0, 0, 0])
     setTransform(world, chest, [0, 1.6, 0])
-    const cape = createCloth(world, {
-      width: 0.5,
-      height: 0.8,
-      resolution: [COLS, ROWS],
-      position: [-0.15, 1.55, 0],
-      rotation: yawQuat(-Math.PI / 2),
-      guard: { speed: 0.5 }, // a speed limit low enough that the bobbing trips it now and then
-    })
+    // a speed limit low enough that the bobbing trips it now and then
+    const cape = createCloth(world, { ...CAPE, guard: { speed: 0.5 } })
     const rest = positionsNow(world, cape)
     pinRow(world, cape, 0, chest)
     setClothInertia(world, cape, { frame: root, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
