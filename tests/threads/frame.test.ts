@@ -19,7 +19,6 @@ import {
   getClothState,
   getClothStats,
   gustWind,
-  makeTearable,
   onClothTear,
   pinParticle,
   pinRow,
@@ -34,7 +33,7 @@ import {
   unpin,
 } from '../../src/index'
 import { hashBytes } from '../helpers'
-import { threadedWorld } from './scene'
+import { sheetOnHands, threadedWorld } from './scene'
 
 /** Two capes on a running character and a tearable sheet pulled apart by its corners. */
 function scene(threads: number) {
@@ -46,13 +45,7 @@ function scene(threads: number) {
     pinRow(world, c, 0, hero)
     return c
   })
-  const hands = [addEntity(world), addEntity(world)]
-  setTransform(world, hands[0], [2.5, 2, 0])
-  setTransform(world, hands[1], [3.5, 2, 0])
-  const sheet = createCloth(world, { width: 1, height: 1, resolution: 8, position: [3, 2, 0] })
-  pinParticle(world, sheet, 0, hands[0])
-  pinParticle(world, sheet, 7, hands[1])
-  makeTearable(world, sheet, { strain: 0.2, maxTearsPerStep: 2 })
+  const { hands, sheet } = sheetOnHands(world, 0.2)
   const tears: number[] = []
   onClothTear(world, (e) => tears.push(e.particle))
   const cloths = [...capes, sheet]

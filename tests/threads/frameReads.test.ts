@@ -13,7 +13,6 @@ import {
   endClothStep,
   endClothStepAsync,
   getClothMesh,
-  makeTearable,
   pinParticle,
   pinRow,
   setTransform,
@@ -22,7 +21,7 @@ import {
 } from '../../src/index'
 import { createClothMesh, createProxyMesh, updateClothGeometry, updateProxyGeometry } from '../../src/three/index'
 import { hashBytes } from '../helpers'
-import { threadedWorld } from './scene'
+import { sheetOnHands, threadedWorld } from './scene'
 
 const FRAMES = 12
 
@@ -33,13 +32,7 @@ function scene(threads: number) {
   setTransform(world, hero, [0, 1.6, 0])
   const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: [8, 10], position: [0, 1.5, -0.15] })
   pinRow(world, cape, 0, hero)
-  const hands = [addEntity(world), addEntity(world)]
-  setTransform(world, hands[0], [2.5, 2, 0])
-  setTransform(world, hands[1], [3.5, 2, 0])
-  const sheet = createCloth(world, { width: 1, height: 1, resolution: 8, position: [3, 2, 0] })
-  pinParticle(world, sheet, 0, hands[0])
-  pinParticle(world, sheet, 7, hands[1])
-  makeTearable(world, sheet, { strain: 0.15, maxTearsPerStep: 2 })
+  const { hands, sheet } = sheetOnHands(world, 0.15)
   const mesh = createClothMesh(world, cape)
   const sheetMesh = createClothMesh(world, sheet)
   const proxy = createRenderProxy(world, cape, buildGridMesh({ width: 0.6, height: 0.9, resolution: [15, 19] }))
