@@ -13,7 +13,6 @@ import {
   endClothStep,
   endClothStepAsync,
   getClothMesh,
-  pinParticle,
   pinRow,
   setTransform,
   stepCloth,
