@@ -5,6 +5,9 @@ import type { ClothState } from './state'
 /** Scratch of moveClothRigidly: the rotation matrix in [0, 9), the quaternion in [9, 13). */
 const ROTATION = new Float64Array(13)
 
+/** The grab targets a rigid move carries: where each glides from (the target asked for stays). */
+const CARRIED_TARGETS = [G_FRAME, G_STEP_FROM, G_STEP_TO, G_AT] as const
+
 /**
  * Moves a cloth rigidly: x' = to + R·(x − from) for positions and previous positions, v' = R·v,
  * so the motion carries no velocity and the shape is kept exactly. Its grabs' targets so far (where
@@ -54,8 +57,8 @@ export function moveClothRigidly(
   }
   const G = c.grab
   for (let g = 0; g < G.count; g++) {
-    for (let q = 0; q < 4; q++) {
-      const o = GRAB_STRIDE * g + (q === 0 ? G_FRAME : q === 1 ? G_STEP_FROM : q === 2 ? G_STEP_TO : G_AT)
+    for (let q = 0; q < CARRIED_TARGETS.length; q++) {
+      const o = GRAB_STRIDE * g + CARRIED_TARGETS[q]
       const x = G.data[o] - fromX, y = G.data[o + 1] - fromY, z = G.data[o + 2] - fromZ
       G.data[o] = toX + m00 * x + m01 * y + m02 * z
       G.data[o + 1] = toY + m10 * x + m11 * y + m12 * z

@@ -211,9 +211,7 @@ export function predictCharacter(c: ClothState, k: number): boolean {
   if (k === 0) blendReference(c, ch)
   if (ch.constrained) {
     referenceSubstep(c, ch, k, c.substeps)
-    // (a copy of the whole buffer is a memmove: cheaper than a loop over the live particles)
-    if (ch.start.length === c.pos.length) ch.start.set(c.pos)
-    else for (let j = 0; j < 3 * c.count; j++) ch.start[j] = c.pos[j]
+    ch.start.set(c.pos) // (same capacity: one memmove, cheaper than a loop over the live particles)
   }
   const inFrame = ch.inertia
   if (inFrame) {
@@ -226,7 +224,7 @@ export function predictCharacter(c: ClothState, k: number): boolean {
 /** Predict phase, after the predict: held particles onto their reference at the substep's end. */
 export function placeHeld(c: ClothState): void {
   const ch = c.character!
-  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, null) // (pins, placed next, win)
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount)
 }
 
 /**
@@ -271,7 +269,7 @@ export function placeHeldAfterReset(c: ClothState): void {
   const ch = c.character!
   if (ch.heldCount === 0) return
   referenceSubstep(c, ch, c.substeps - 1, c.substeps)
-  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount) // (the reset placed the pins)
+  placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount)
   for (let q = 0; q < ch.heldCount; q++) {
     const j = 3 * ch.heldList[q]
     c.prev[j] = c.pos[j]
