@@ -201,7 +201,7 @@ export function solveDistancesXpbd(
 
 /** Checked `spreadInverseMasses`: `invMass3` must hold 3 × count numbers. */
 export function spreadInverseMasses(invMass: Float64Array, invMass3: Float64Array, n: number): void {
-  count('count', n)
+  count('n', n)
   masses('invMass', invMass, n)
   f64('invMass3', invMass3, 3 * n, false)
   spreadInverseMassesKernel(invMass, invMass3, n)
@@ -302,7 +302,7 @@ export function solveTethers(
 ): void {
   const n = masses('invMass', invMass)
   positionsFor('pos', pos, n)
-  count('count', m)
+  count('m', m)
   ids('particle', particle, m, n)
   ids('anchor', anchor, m, n)
   f64('rest', rest, m)

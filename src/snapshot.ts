@@ -23,7 +23,7 @@
  * the mesh it was saved with (no tear since); otherwise restoring throws.
  */
 import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
-import { ClothError } from './core/errors'
+import { ClothError, MAX_COORDINATE } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorldForChange } from './world/access'
 import {
@@ -209,6 +209,13 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.world[4] = k.framed ? 1 : 0
 }
 
+/** Throws unless every value of `a` lies within ±MAX_COORDINATE. */
+function checkBounded(a: Float64Array, arg: string, name: string): void {
+  for (let j = 0; j < a.length; j++) {
+    if (!(Math.abs(a[j]) <= MAX_COORDINATE)) throw new ClothError(`${arg}.${name}[${j}]`, a[j], `must lie within ±${MAX_COORDINATE}`)
+  }
+}
+
 function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
   const x = s as ClothSnapshot
   if (
@@ -231,13 +238,25 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
   ) {
     throw new ClothError(arg, s, 'holds a non-finite number')
   }
-  for (let i = 0; i < n; i++) if (!(x.invMass[i] >= 0)) throw new ClothError(`${arg}.invMass[${i}]`, x.invMass[i], 'must be ≥ 0')
+  // what the API accepts: points within ±MAX_COORDINATE (speeds too: a step moves at most that),
+  // inverse masses 0 (pinned) or normal numbers whose inverse is finite
+  checkBounded(x.pos, arg, 'pos')
+  checkBounded(x.prev, arg, 'prev')
+  checkBounded(x.vel, arg, 'vel')
+  for (let i = 0; i < n; i++) {
+    const w = x.invMass[i]
+    if (!(w === 0 || (w >= 1e-300 && w <= 1e300))) throw new ClothError(`${arg}.invMass[${i}]`, w, 'must be 0 or within [1e-300, 1e300]')
+  }
   const v = x.settings
   if (
-    !(Number.isInteger(v[0]) && v[0] >= 1 && Number.isInteger(v[1]) && v[1] >= 1 && v[2] > 0 && v[3] >= 0 && v[4] >= 0 && v[6] >= 0 &&
-      Number.isInteger(v[7]) && v[7] >= 1)
+    !(Number.isInteger(v[0]) && v[0] >= 1 && v[0] <= 256 && Number.isInteger(v[1]) && v[1] >= 1 && v[1] <= 256 && v[2] > 0 && v[2] <= 1e6 &&
+      v[3] >= 0 && v[4] >= 0 && v[6] >= 0 && Number.isInteger(v[7]) && v[7] >= 1 && v[7] <= 16)
   ) {
-    throw new ClothError(`${arg}.settings`, v, 'must be the settings saved by saveClothState (substeps, iterations ≥ 1, h > 0, ...)')
+    throw new ClothError(
+      `${arg}.settings`,
+      v,
+      'must be the settings saved by saveClothState (substeps and iterations 1…256, h in (0, 1e6] s, 1…16 tethers per particle, ...)',
+    )
   }
   const t = x.tethers
   if (

@@ -3,7 +3,8 @@
  * anything reaches the solver, and the message names the argument and the value it got.
  *
  * Common limits: positions and offsets within ±1e9 m; rotations non-zero quaternions; scales
- * finite, above 0 and at most 1e6; `iterations` and `substeps` 1…256; grid `resolution` 2…4096; a
+ * finite, above 0 and at most 1e6; `iterations` and `substeps` 1…256; grid `resolution` 2…4096;
+ * a material's thickness at most 1e9 m, its drag and lift at most 1000; out arrays long enough; a
  * world must carry the plugin (`argument: 'world'`) and a cloth must be a cloth entity of it. A
  * Transform written straight into the stores with NaN, ±∞, a position beyond ±1e9 m or a scale above
  * 1e6 makes `stepCloth` throw with `argument: 'transform of entity N'` before it takes any of that
@@ -128,6 +129,13 @@ export function checkOneOf<T extends string>(argument: string, value: unknown, a
     throw new ClothError(argument, value, `must be one of ${allowed.map((a) => `'${a}'`).join(', ')}`)
   }
   return value as T
+}
+
+/** An array the caller gives to be written into: writable and at least `length` long (typed, plain or gl-matrix). */
+export function checkOut(argument: string, value: unknown, length: number): void {
+  if (!isArrayLike(value) || typeof value === 'string' || value.length < length) {
+    throw new ClothError(argument, value, `must be an array of at least ${length} numbers to write into`)
+  }
 }
 
 export function isArrayLike(value: unknown): value is ArrayLike<unknown> {

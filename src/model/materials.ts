@@ -1,4 +1,4 @@
-import { ClothError, checkNonNegative, checkPositive } from '../core/errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkNonNegative, checkPositive } from '../core/errors'
 
 /**
  * A cloth material in physical units. Compliance is inverse stiffness (XPBD, Macklin et al. 2016):
@@ -47,11 +47,11 @@ export interface ClothMaterialSpec {
   readonly friction: number
   /** Engineering strain at which a tearable edge breaks (0.2 = 20 % longer than rest). */
   readonly tearStrain: number
-  /** Aerodynamic drag coefficient (along the triangle normal), dimensionless. */
+  /** Aerodynamic drag coefficient (along the triangle normal), dimensionless, at most 1000. */
   readonly drag: number
-  /** Aerodynamic lift coefficient (across the relative wind), dimensionless. */
+  /** Aerodynamic lift coefficient (across the relative wind), dimensionless, at most 1000. */
   readonly lift: number
-  /** Collision thickness (particle radius), m. */
+  /** Collision thickness (particle radius), m, at most 1e9. */
   readonly thickness: number
 }
 
@@ -217,6 +217,9 @@ export const ClothMaterial = Object.freeze({
 
 export type ClothMaterialName = keyof typeof ClothMaterial
 
+/** Largest accepted drag or lift coefficient (a flat plate's drag is about 2). */
+export const MAX_AERO_COEFFICIENT = 1000
+
 const NUMERIC_FIELDS = [
   'density',
   'stretchCompliance',
@@ -283,6 +286,10 @@ function validateMaterial(m: Record<string, unknown>, argument: string): void {
     checkNonNegative(`${argument}.${field}`, m[field])
   }
   checkPositive(`${argument}.density`, m.density)
+  // squared in the collision reach, multiplied by air density and speed in the wind: bounded so those stay finite
+  checkAtMost(`${argument}.thickness`, m.thickness as number, MAX_COORDINATE, ' m')
+  checkAtMost(`${argument}.drag`, m.drag as number, MAX_AERO_COEFFICIENT, '')
+  checkAtMost(`${argument}.lift`, m.lift as number, MAX_AERO_COEFFICIENT, '')
   checkPositive(`${argument}.tearStrain`, m.tearStrain)
   if (typeof m.name !== 'string') throw new ClothError(`${argument}.name`, m.name, 'must be a string')
 }

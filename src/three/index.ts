@@ -31,7 +31,7 @@
  */
 import { BufferAttribute, BufferGeometry, Box3, DoubleSide, DynamicDrawUsage, Mesh, MeshStandardMaterial, Sphere } from 'three'
 import type { Material, NormalBufferAttributes } from 'three'
-import { ClothError, getClothMesh, updateRenderProxy, type ClothMesh, type ClothRenderProxy } from '../index'
+import { ClothError, getClothMesh, getClothStats, updateRenderProxy, type ClothMesh, type ClothRenderProxy } from '../index'
 
 /**
  * The attributes of a cloth geometry (and its index, `geometry.index`); a geometry takes others of
@@ -70,10 +70,12 @@ function roomFor(needed: number, current: number): number {
   return current === 0 ? needed : Math.max(needed, Math.ceil(current * 1.5))
 }
 
+/** The world, checked first in every export (a ClothError('world') unless it has the cloth plugin). */
 function checkWorld(world: unknown): object {
   if (typeof world !== 'object' || world === null) {
     throw new ClothError('world', world, 'must be a bitECS world with the cloth plugin installed')
   }
+  getClothStats(world) // (throws the same error for a world without the plugin)
   return world
 }
 
@@ -216,9 +218,10 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
  * @returns The same geometry.
  */
 export function updateClothGeometry(world: object, cloth: number, geometry: BufferGeometry): ClothGeometry {
+  checkWorld(world)
   let state = states.get(geometry)
   if (state === undefined) throw new ClothError('geometry', geometry, 'must be a geometry made by createClothGeometry')
-  const mesh = getClothMesh(checkWorld(world), cloth)
+  const mesh = getClothMesh(world, cloth)
   const clothGeometry = geometry as ClothGeometry // it is: createClothGeometry made it
   if (mesh !== state.mesh) state = copyTopology(clothGeometry, state, mesh)
   ;(state.position.array as Float32Array).set(mesh.positions)
@@ -243,6 +246,7 @@ export function createClothMesh<M extends Material = MeshStandardMaterial>(
   cloth: number,
   material?: M,
 ): Mesh<ClothGeometry, M> {
+  checkWorld(world)
   checkMaterial(material)
   const geometry = createClothGeometry(world, cloth)
   const mesh = new Mesh(geometry, material ?? (new MeshStandardMaterial({ side: DoubleSide }) as unknown as M))
@@ -297,10 +301,11 @@ export function createProxyGeometry(world: object, proxy: ClothRenderProxy): Clo
  * @returns The same geometry.
  */
 export function updateProxyGeometry(world: object, proxy: ClothRenderProxy, geometry: BufferGeometry): ClothGeometry {
+  checkWorld(world)
   const state = proxyStates.get(geometry)
   if (state === undefined) throw new ClothError('geometry', geometry, 'must be a geometry made by createProxyGeometry')
   if (state.proxy !== proxy) throw new ClothError('geometry', geometry, 'was made for another render proxy')
-  const mesh = updateRenderProxy(checkWorld(world), proxy)
+  const mesh = updateRenderProxy(world, proxy)
   state.position.needsUpdate = true
   state.normal.needsUpdate = true
   if (mesh.indexVersion !== state.indexVersion) {
@@ -326,6 +331,7 @@ export function createProxyMesh<M extends Material = MeshStandardMaterial>(
   proxy: ClothRenderProxy,
   material?: M,
 ): Mesh<ClothGeometry, M> {
+  checkWorld(world)
   checkMaterial(material)
   const mesh = new Mesh(createProxyGeometry(world, proxy), material ?? (new MeshStandardMaterial({ side: DoubleSide }) as unknown as M))
   mesh.name = 'cloth proxy'

@@ -1,6 +1,6 @@
 import { addComponent, entityExists, hasComponent } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, MAX_SCALE, checkPoint, checkQuat, checkVec3, isArrayLike } from '../core/errors'
+import { ClothError, MAX_SCALE, checkOut, checkPoint, checkQuat, checkVec3 } from '../core/errors'
 import { normalizeQuat } from '../core/math'
 import { getClothWorld } from './access'
 import { growStores } from './capacity'
@@ -87,10 +87,8 @@ const scratch = new Float64Array(4)
  */
 export function getTransform(world: object, eid: number, outPosition?: vec3 | Writable, outRotation?: quat | Writable): boolean {
   const state = getClothWorld(world)
-  if (outPosition !== undefined && (!isArrayLike(outPosition) || outPosition.length < 3))
-    throw new ClothError('outPosition', outPosition, 'must be an array of 3 numbers')
-  if (outRotation !== undefined && (!isArrayLike(outRotation) || outRotation.length < 4))
-    throw new ClothError('outRotation', outRotation, 'must be an array of 4 numbers')
+  if (outPosition !== undefined) checkOut('outPosition', outPosition, 3)
+  if (outRotation !== undefined) checkOut('outRotation', outRotation, 4)
   if (!entityExists(world as never, eid) || !hasComponent(world as never, eid, state.transforms.component)) return false
   const t = state.transforms
   if (outPosition) {

@@ -10,6 +10,7 @@ import {
   checkFinite,
   checkInteger,
   checkNonNegative,
+  checkOut,
   checkPoint,
   checkPositive,
   checkQuat,
@@ -298,6 +299,8 @@ export function releaseCollider(state: ClothWorldState, eid: number): void {
 export function getColliderPose(world: object, eid: number, outPosition?: vec3 | number[], outRotation?: quat | number[]): boolean {
   const state = getClothWorld(world)
   const C = state.collision.Collider
+  if (outPosition !== undefined) checkOut('outPosition', outPosition, 3)
+  if (outRotation !== undefined) checkOut('outRotation', outRotation, 4)
   if (typeof eid !== 'number' || !hasComponent(world as never, eid, C)) return false
   const t = state.collision.poses
   readPoseInto(state, C.body[eid], t)

@@ -1,5 +1,5 @@
 import type { vec3 } from 'gl-matrix'
-import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkPoint, checkPositive } from '../../core/errors'
+import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkOut, checkPoint, checkPositive } from '../../core/errors'
 import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
@@ -157,9 +157,7 @@ export function getGrabParticle(world: object, grab: number): number {
 export function getGrabForce(world: object, grab: number, out: vec3 | number[] = [0, 0, 0]): vec3 | number[] {
   const c = findGrab(getClothWorld(world), grab)
   const g = indexOf(c.grab, grab)
-  if (!Array.isArray(out) && !(out instanceof Float32Array) && !(out instanceof Float64Array)) {
-    throw new ClothError('out', out, 'must be an array or a Float32Array/Float64Array of length 3')
-  }
+  checkOut('out', out, 3)
   const o = GRAB_STRIDE * g + G_FORCE
   for (let j = 0; j < 3; j++) out[j] = c.grab.data[o + j]
   return out

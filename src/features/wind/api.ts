@@ -7,6 +7,8 @@ import {
   checkInteger,
   checkNonNegative,
   checkOneOf,
+  checkOut,
+  checkPoint,
   checkPositive,
   checkQuat,
   checkVec3,
@@ -129,7 +131,7 @@ export function createWindZone(world: object, options: WindZoneOptions): number 
   const state = getClothWorldForChange(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
   const shape = options.shape === undefined ? 'global' : checkOneOf('options.shape', options.shape, ['global', 'box', 'sphere'] as const)
-  const position = options.position === undefined ? [0, 0, 0] : checkVec3('options.position', options.position)
+  const position = options.position === undefined ? [0, 0, 0] : checkPoint('options.position', options.position)
   const rotation = options.rotation === undefined ? ZERO_ROTATION : checkQuat('options.rotation', options.rotation)
   if (options.direction === undefined) throw new ClothError('options.direction', undefined, 'is required (a 3-vector)')
   if (options.strength === undefined) throw new ClothError('options.strength', undefined, 'is required (m/s)')
@@ -226,6 +228,7 @@ export function getWindZones(world: object): number[] {
 export function sampleWind(world: object, position: Readonly<vec3> | ArrayLike<number>, out: vec3 | number[] = [0, 0, 0]): vec3 | number[] {
   const state = getClothWorld(world)
   checkVec3('position', position)
+  checkOut('out', out, 3)
   const wind = state.wind
   if (!wind.compiled) compileZones(state)
   samplePos[0] = position[0]
