@@ -163,10 +163,10 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   restoreBodies(state, s)
   restoreWind(state, s)
   restoreCollision(c, s)
+  restoreCharacter(state, c, s) // (before the budget: a frozen cloth may be carried by its frame or bone)
   restoreBudget(state, c, s)
   restoreSleep(state, c, s)
   restoreGuard(c, s)
-  restoreCharacter(state, c, s)
   restoreTearing(state, c, s)
   c.version++
 }

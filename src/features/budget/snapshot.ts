@@ -105,8 +105,8 @@ export function restoreBudget(state: ClothWorldState, c: ClothState, s: BudgetSn
   const slot = pin >= 0 ? state.components.Pin.slot[pin] : -1
   lod.refPin = slot >= 0 ? pin : -1
   lod.refSlot = slot
-  // carried by its character frame or bone: the one tracked now (the character section, restored
-  // next, refuses a frame or bone that is not the saved entity)
+  // carried by its character frame or bone: the saved one, which the character section (restored
+  // before this one) tracks again
   const anchor = lod.frozen && ref === ANCHOR_REF ? anchorSlot(c) : -1
   if (anchor >= 0) {
     lod.refPin = ANCHOR_REF

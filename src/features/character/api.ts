@@ -238,7 +238,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     skin.bones[b] = bones[b]
     skin.slots[b] = trackEntity(state, skin.bones[b])
     backdate(state, skin.slots[b], skin.bones[b], ch.frameSlot, ch.frame)
-    trackedPose(state, skin.slots[b], skin.bones[b], skin.bind, 10 * b)
+    trackedPose(state, skin.slots[b], skin.bind, 10 * b)
   }
   skin.pose.set(skin.bind)
   for (let i = 0; i < n; i++) {
@@ -322,7 +322,7 @@ function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid
   ch.frame = eid
   ch.frameSlot = slot
   const m = ch.motion
-  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, eid, m, M_POSE)
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
   // (the world, or a frame gone: the last pose stays)
   m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
   m[M_PRIMED] = 0
@@ -369,7 +369,7 @@ function rebindRest(state: ClothWorldState, c: ClothState, ch: ClothCharacter): 
   currentReference(state, c, ch, now)
   ch.rest.set(now)
   restNormals(c, ch.rest, ch.restNormal)
-  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, ch.frame, ch.motion, M_POSE)
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, ch.motion, M_POSE)
   ch.motion.copyWithin(M_BIND, M_POSE, M_POSE + 10)
 }
 

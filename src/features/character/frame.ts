@@ -62,7 +62,7 @@ import {
 export function beginFrameStep(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
   const w = ch.work, m = ch.motion, s = ch.settings
   for (let j = 0; j < 10; j++) w[W_FROM + j] = m[M_POSE + j]
-  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, ch.frame, w, W_TO)
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, w, W_TO)
   else for (let j = 0; j < 10; j++) w[W_TO + j] = m[M_POSE + j]
   const T = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
   for (let j = 0; j < 3; j++) w[W_V + j] = (w[W_TO + j] - w[W_FROM + j]) / T

@@ -29,28 +29,21 @@ import {
 const rot = new Float64Array(18)
 
 /**
- * Writes an entity's pose at the end of the current step (its tracked `stepTo`, with the
- * Transform's scale: used when finite and > 0, else 1) into out[o..o+9].
+ * Writes a tracked entity's pose at the end of the current step (its `stepTo` and `scaleStepTo`:
+ * sampled at the frame's start and interpolated, as pin targets' are, so a Transform written
+ * between `beginClothStep` and `endClothStep` waits for the next frame) into out[o..o+9].
  */
-export function trackedPose(state: ClothWorldState, slot: number, eid: number, out: Float64Array, o: number): void {
-  const from = state.kinematics.stepTo
-  for (let j = 0; j < 7; j++) out[o + j] = from[7 * slot + j]
-  writeScale(state, eid, out, o)
+export function trackedPose(state: ClothWorldState, slot: number, out: Float64Array, o: number): void {
+  const k = state.kinematics
+  for (let j = 0; j < 7; j++) out[o + j] = k.stepTo[7 * slot + j]
+  for (let j = 0; j < 3; j++) out[o + 7 + j] = k.scaleStepTo[3 * slot + j]
 }
 
-/** Like `trackedPose`, at the start of the current step (`stepFrom`). */
-export function trackedStartPose(state: ClothWorldState, slot: number, eid: number, out: Float64Array, o: number): void {
-  const from = state.kinematics.stepFrom
-  for (let j = 0; j < 7; j++) out[o + j] = from[7 * slot + j]
-  writeScale(state, eid, out, o)
-}
-
-function writeScale(state: ClothWorldState, eid: number, out: Float64Array, o: number): void {
-  const T = state.transforms
-  const sx = T.sx ? T.sx[eid] : 1, sy = T.sy ? T.sy[eid] : 1, sz = T.sz ? T.sz[eid] : 1
-  out[o + 7] = sx > 0 && sx < Infinity ? sx : 1
-  out[o + 8] = sy > 0 && sy < Infinity ? sy : 1
-  out[o + 9] = sz > 0 && sz < Infinity ? sz : 1
+/** Like `trackedPose`, at the start of the current step (`stepFrom`, `scaleStepFrom`). */
+export function trackedStartPose(state: ClothWorldState, slot: number, out: Float64Array, o: number): void {
+  const k = state.kinematics
+  for (let j = 0; j < 7; j++) out[o + j] = k.stepFrom[7 * slot + j]
+  for (let j = 0; j < 3; j++) out[o + 7 + j] = k.scaleStepFrom[3 * slot + j]
 }
 
 /** The identity pose into out[o..o+9]. */
@@ -228,7 +221,7 @@ export function referenceSubstep(c: ClothState, ch: ClothCharacter, k: number, n
 function bonePosesAtEnd(state: ClothWorldState, skin: ClothSkin, out: Float64Array): void {
   for (let b = 0; b < skin.bones.length; b++) {
     const slot = skin.slots[b]
-    if (slot >= 0) trackedPose(state, slot, skin.bones[b], out, 10 * b)
+    if (slot >= 0) trackedPose(state, slot, out, 10 * b)
     else for (let j = 0; j < 10; j++) out[10 * b + j] = skin.pose[10 * b + j]
   }
 }
@@ -262,7 +255,7 @@ function referencePositions(c: ClothState, ch: ClothCharacter, pose: Float64Arra
  */
 export function currentReference(state: ClothWorldState, c: ClothState, ch: ClothCharacter, out: Float64Array): void {
   const pose = new Float64Array(10)
-  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, ch.frame, pose, 0)
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, pose, 0)
   else pose.set(ch.motion.subarray(M_POSE, M_POSE + 10))
   const skin = ch.skin
   const bones = new Float64Array(skin === null ? 0 : 10 * skin.bones.length)

@@ -3,7 +3,17 @@ import { fit32, fit64, fit8 } from '../../core/arrays'
 import { newArray, touchLayout } from '../../core/shared'
 import { ClothError } from '../../core/errors'
 import { BLEND, LIMITS, RIGID } from '../../kernels/motion'
-import { SLOT_DATA, restoreSlot, saveSlot, trackEntity, transformGeneration, untrackEntity } from '../../world/kinematics'
+import {
+  SLOT_DATA,
+  SLOT_SCALE_DATA,
+  restoreSlot,
+  restoreSlotScale,
+  saveSlot,
+  saveSlotScale,
+  trackEntity,
+  transformGeneration,
+  untrackEntity,
+} from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { reserveBoneScratch } from './reference'
 import { blankCharacter, blankSkin } from './state'
@@ -18,7 +28,7 @@ import { MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
 export interface CharacterSnapshot {
   /**
    * Header (inertia, frame, frame tracked, constrained, skin, the frame's Transform generation),
-   * settings, motion, then the frame's slot history when tracked. The generations (here and per
+   * settings, motion, then the frame's slot history and scale history when tracked. The generations (here and per
    * bone, see `Kinematics.generation`) let a restore refuse an entity that lost its Transform since
    * the save, even if its id now names another entity with one.
    */
@@ -28,7 +38,7 @@ export interface CharacterSnapshot {
   /** Drive frequency per particle, or empty when no particle has a drive. */
   characterDrive: Float64Array
   characterHeld: Uint8Array
-  /** Bone entities (0: removed), and per bone: bind pose, last pose (10 each), slot history (SLOT_DATA, when tracked), Transform generation. */
+  /** Bone entities (0: removed), and per bone: bind pose, last pose (10 each), slot and scale history (when tracked), Transform generation. */
   characterBones: Int32Array
   characterBoneData: Float64Array
   characterJoints: Int32Array
@@ -38,7 +48,9 @@ export interface CharacterSnapshot {
 const H_INERTIA = 0, H_FRAME = 1, H_TRACKED = 2, H_CONSTRAINED = 3, H_SKIN = 4, H_GEN = 5, HEADER = 6
 /** Values per particle of `characterParticles` before the reference data: rest, rest normal, limits. */
 const PER = 6 + LIMITS
-const BONE_GEN = 20 + SLOT_DATA, BONE = BONE_GEN + 1
+/** The frame's slot and scale history in the header, when tracked. */
+const TRACK = SLOT_DATA + SLOT_SCALE_DATA
+const BONE_GEN = 20 + TRACK, BONE = BONE_GEN + 1
 
 export function saveCharacter(state: ClothWorldState, c: ClothState, s: CharacterSnapshot): void {
   const ch = c.character
@@ -56,7 +68,7 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   }
   const k = state.kinematics
   const tracked = ch.frameSlot >= 0
-  const h = (s.character = fit64(s.character, HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0)))
+  const h = (s.character = fit64(s.character, HEADER + SETTINGS + MOTION + (tracked ? TRACK : 0)))
   h[H_INERTIA] = ch.inertia ? 1 : 0
   h[H_FRAME] = ch.frame
   h[H_TRACKED] = tracked ? 1 : 0
@@ -65,7 +77,10 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
   h[H_GEN] = tracked ? transformGeneration(k, ch.frame) : 0
   h.set(ch.settings, HEADER)
   h.set(ch.motion, HEADER + SETTINGS)
-  if (tracked) saveSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
+  if (tracked) {
+    saveSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
+    saveSlotScale(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION + SLOT_DATA)
+  }
   const stride = PER + (ch.skin === null ? RIGID : BLEND)
   const refStride = stride - PER
   const ref = ch.skin === null ? ch.bind : ch.ref // (a rigid reference's step data is rebuilt from bind every step)
@@ -98,7 +113,10 @@ export function saveCharacter(state: ClothWorldState, c: ClothState, s: Characte
       s.characterBoneData[o + d] = skin.bind[10 * b + d]
       s.characterBoneData[o + 10 + d] = skin.pose[10 * b + d]
     }
-    if (skin.slots[b] >= 0) saveSlot(k, skin.slots[b], s.characterBoneData, o + 20)
+    if (skin.slots[b] >= 0) {
+      saveSlot(k, skin.slots[b], s.characterBoneData, o + 20)
+      saveSlotScale(k, skin.slots[b], s.characterBoneData, o + 20 + SLOT_DATA)
+    }
   }
   for (let q = 0; q < 4 * n; q++) {
     s.characterJoints[q] = skin.joints[q]
@@ -121,7 +139,7 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   const tracked = h[H_TRACKED] === 1
   const nb = s.characterBones.length
   if (
-    h.length !== HEADER + SETTINGS + MOTION + (tracked ? SLOT_DATA : 0) ||
+    h.length !== HEADER + SETTINGS + MOTION + (tracked ? TRACK : 0) ||
     s.characterParticles.length !== (PER + (nb > 0 ? BLEND : RIGID)) * n || s.characterHeld.length !== n ||
     (s.characterDrive.length !== 0 && s.characterDrive.length !== n) ||
     (h[H_SKIN] === 1) !== nb > 0 || s.characterBoneData.length !== BONE * nb || s.characterJoints.length !== (nb > 0 ? 4 * n : 0) ||
@@ -198,7 +216,10 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
   ch.inertia = h[H_INERTIA] === 1
   for (let q = 0; q < SETTINGS; q++) ch.settings[q] = h[HEADER + q]
   for (let q = 0; q < MOTION; q++) ch.motion[q] = h[HEADER + SETTINGS + q]
-  if (tracked) restoreSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
+  if (tracked) {
+    restoreSlot(k, ch.frameSlot, h, HEADER + SETTINGS + MOTION)
+    restoreSlotScale(state, ch.frameSlot, h, HEADER + SETTINGS + MOTION + SLOT_DATA)
+  }
   ch.constrained = h[H_CONSTRAINED] === 1
   const p = s.characterParticles
   const stride = PER + (h[H_SKIN] === 1 ? BLEND : RIGID)
@@ -253,7 +274,10 @@ function restoreSkin(state: ClothWorldState, ch: ClothCharacter, s: CharacterSna
       skin.bind[10 * b + d] = s.characterBoneData[o + d]
       skin.pose[10 * b + d] = s.characterBoneData[o + 10 + d]
     }
-    if (skin.slots[b] >= 0) restoreSlot(k, skin.slots[b], s.characterBoneData, o + 20)
+    if (skin.slots[b] >= 0) {
+      restoreSlot(k, skin.slots[b], s.characterBoneData, o + 20)
+      restoreSlotScale(state, skin.slots[b], s.characterBoneData, o + 20 + SLOT_DATA)
+    }
   }
   for (let q = 0; q < 4 * n; q++) {
     skin.joints[q] = s.characterJoints[q]

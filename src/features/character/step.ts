@@ -130,7 +130,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
     // start from the frame's pose now (a jump moved the tracked poses; a gap left them behind).
     // The frame's last velocities stay: they are what the cloth's own velocities were carried with
     // (a sleeping cloth's are zero, like its frame's; a frozen cloth kept both)
-    if (slot >= 0) trackedStartPose(state, slot, ch.frame, m, M_POSE)
+    if (slot >= 0) trackedStartPose(state, slot, m, M_POSE)
     m[M_REF_VALID] = 0
     m[M_GAP] = 0
   }
@@ -172,7 +172,7 @@ function resyncBones(state: ClothWorldState, ch: ClothCharacter, all: boolean): 
   for (let b = 0; b < skin.slots.length; b++) {
     const slot = skin.slots[b]
     if (slot < 0 || (!all && jumped[slot] === 0)) continue
-    trackedStartPose(state, slot, skin.bones[b], skin.pose, 10 * b)
+    trackedStartPose(state, slot, skin.pose, 10 * b)
     ch.motion[M_REF_VALID] = 0
   }
 }
