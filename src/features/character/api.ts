@@ -287,14 +287,18 @@ function ensureCharacter(state: ClothWorldState, c: ClothState): ClothCharacter 
   settings[S_TELEPORT_DISTANCE] = state.teleportDistance
   settings[S_TELEPORT_ANGLE] = Infinity
   settings[S_EVERY] = 1
-  // the rest shape as created, bound to the frame's pose now
+  // the rest shape as created, bound to the frame's pose now (float64 until then: a bind is float32)
   ch.rest.set(c.guard.rest.subarray(0, 3 * c.count))
   restNormals(c, ch.rest, ch.restNormal)
+  // the world as the frame: still, its origin at the cloth's centre, since the reference is kept as
+  // float32 offsets from the frame's origin (from the world's, a cape 10 km out was 0.4 mm off)
   identityPose(ch.motion, M_POSE)
-  identityPose(ch.motion, M_BIND)
-  bindRigid(c, ch)
+  for (let i = 0; i < c.count; i++) for (let a = 0; a < 3; a++) ch.motion[M_POSE + a] += ch.rest[3 * i + a] / c.count
+  ch.motion.copyWithin(M_BIND, M_POSE, M_POSE + 10)
   c.character = ch
-  setFrame(state, c, ch, defaultFrame(state, c))
+  const frame = defaultFrame(state, c)
+  if (frame !== 0) setFrame(state, c, ch, frame, false)
+  else bindRigid(c, ch)
   return ch
 }
 
@@ -307,11 +311,12 @@ function defaultFrame(state: ClothWorldState, c: ClothState): number {
 
 /**
  * Makes `eid` (0: the world) the cloth's frame. A rigid reference is rebound so that it stays
- * where it is now, carried by the new frame from here on; the frame's motion history restarts.
+ * where it is now (`rebind`; false when nothing is bound yet: the rest shape is then exact),
+ * carried by the new frame from here on; the frame's motion history restarts.
  */
-function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number): void {
+function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number, rebind = true): void {
   if (eid === ch.frame && (eid === 0 || ch.frameSlot >= 0)) return
-  if (ch.skin === null) rebindRest(state, c, ch)
+  if (ch.skin === null && rebind) rebindRest(state, c, ch)
   const oldFrame = ch.frame, oldSlot = ch.frameSlot
   const slot = eid !== 0 ? trackEntity(state, eid) : -1
   if (slot >= 0) backdate(state, slot, eid, oldSlot, oldFrame)
@@ -363,14 +368,24 @@ function backdate(state: ClothWorldState, slot: number, eid: number, viaSlot: nu
 /** Scratch of `backdate`: via's pose, the entity's pose, the relative position and rotation, a vector. */
 const backdateScratch = new Float64Array(24)
 
-/** rest ← the reference as it stands now (and its normals), so a rebind does not move it. */
+/**
+ * rest ← the reference as it stands now (and its normals), so a rebind does not move it. A rigid
+ * reference whose frame is still at its bind pose (the world always is) is the rest shape: it is
+ * left exact, where the reference computed from the float32 bind would round it (and setup orders
+ * would part ways).
+ */
 function rebindRest(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
-  const now = new Float64Array(ch.rest.length)
-  currentReference(state, c, ch, now)
-  ch.rest.set(now)
-  restNormals(c, ch.rest, ch.restNormal)
-  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, ch.motion, M_POSE)
-  ch.motion.copyWithin(M_BIND, M_POSE, M_POSE + 10)
+  const m = ch.motion
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
+  let still = ch.skin === null
+  for (let j = 0; j < 10 && still; j++) still = m[M_POSE + j] === m[M_BIND + j]
+  if (!still) {
+    const now = new Float64Array(ch.rest.length)
+    currentReference(state, c, ch, now)
+    ch.rest.set(now)
+    restNormals(c, ch.rest, ch.restNormal)
+  }
+  m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
 }
 
 function releaseBones(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
