@@ -4,13 +4,19 @@
  * velocity):
  *
  *   drag     = ½ρ·C_d·A·|w|·(w·n̂)·n̂                     along the normal, ∝ |w|² cos θ
- *   lift     = ½ρ·C_l·A·|w|·(w·n̂)·(n̂ − (n̂·ŵ)ŵ)          across the wind, ∝ |w|² cos θ sin θ
+ *   lift     = ½ρ·C_l·A·|w|·(w·n̂)·(1 − (n̂·ŵ)²)·n̂        along the normal, ∝ |w|² cos θ sin² θ
  *   friction = ρ·C_f·A·|w|·w_t                           along the surface (both faces, C_f = 0.01)
  *
- * Drag and lift are even in n̂ (the cloth has no front or back for the air); they vanish when the
- * wind runs along the surface, where only the small skin friction acts, and lift also vanishes
- * when the wind hits the surface head on. With N = 2A·n̂ and k = ρ|w|(w·N)/(4|N|), drag and lift
- * sum to k·[(C_d + C_l)·N − C_l·(w·N)/|w|²·w].
+ * (θ the angle between the wind and the normal.) Air pushes on a flat plate through pressure,
+ * normal to it, and drags along it by skin friction: cloth has sharp edges, where the flow
+ * separates, so there is no leading-edge suction to pull it upwind along its plane. The lift term
+ * is the extra normal force of flow that stays attached at grazing incidence: near θ = 90° (a flag
+ * streaming) the normal force rises as (C_d + C_l)·cos θ, head on it is C_d's alone. (It was the
+ * part of ½ρ·C_l·A·|w|·(w·n̂)·(n̂ − (n̂·ŵ)ŵ) across the wind: added to the normal drag, its part in
+ * the plane pulled a free sheet upwind along it, 0.15 of its downwind speed at θ = 60°.)
+ * Drag and lift are even in n̂ (the cloth has no front or back for the air) and vanish when the
+ * wind runs along the surface, where only the small skin friction acts. With N = 2A·n̂ and
+ * k = ρ|w|(w·N)/(4|N|), they sum to k·[C_d + C_l·(1 − (w·N)²/(|w|²|N|²))]·N.
  *
  * The orientation n̂ is not the triangle's own but a smoothed one: its corners' area-weighted
  * vertex normals after one more averaging pass over the mesh edges (`aeroNormals`). Air pressure
@@ -143,8 +149,8 @@ export function accumulateAerodynamics(
     const k = (rho * wl * wn) / (12 * nl)
     // skin friction on both faces: ρ·C_f·A·|w|·w_t with w_t = w − (w·N)N/|N|², A = |N|/2
     const kf = (SKIN_FRICTION * rho * wl * nl) / 6
-    const fn = k * cdl - (kf * wn) / n2
-    const fw = (-k * cl * wn) / w2 + kf
+    const fn = k * (cdl - (cl * wn * wn) / (w2 * n2)) - (kf * wn) / n2
+    const fw = kf
     const gx = fn * nx + fw * wx, gy = fn * ny + fw * wy, gz = fn * nz + fw * wz
     const ma = invMass[ia], mb = invMass[ib], mc = invMass[ic]
     accel[a] += gx * ma

@@ -49,7 +49,7 @@ export interface ClothMaterialSpec {
   readonly tearStrain: number
   /** Aerodynamic drag coefficient (along the triangle normal), dimensionless, at most 1000. */
   readonly drag: number
-  /** Aerodynamic lift coefficient (across the relative wind), dimensionless, at most 1000. */
+  /** Aerodynamic lift coefficient (extra normal force where the air grazes the cloth), dimensionless, at most 1000. */
   readonly lift: number
   /** Collision thickness (particle radius), m, at most 1e9. */
   readonly thickness: number

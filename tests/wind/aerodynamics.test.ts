@@ -209,7 +209,7 @@ describe('aerodynamics', () => {
     expect(1 - c.vel[2] / 10).toBeCloseTo(0.146, 2)
   })
 
-  it('lift: a plate at an angle to the wind is pushed across it by ½ρ·C_l·A·U²·cos θ·sin θ', () => {
+  it('lift: a plate at an angle θ to the wind gets the extra normal force ½ρ·C_l·A·U²·cos θ·sin² θ, nothing along its plane', () => {
     const theta = Math.PI / 6 // wind 30° off the plate normal
     const force = (lift: number, angle = theta) => {
       const world = makeWorld({ gravity: [0, 0, 0] })
@@ -225,18 +225,35 @@ describe('aerodynamics', () => {
     }
     const without = force(0)
     const withLift = force(0.5)
-    // the component across the wind, in the plane of wind and normal
-    const across = [-Math.cos(theta), 0, Math.sin(theta)]
     const dot = (a: number[], b: number[]) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-    const lift = dot(withLift, across) - dot(without, across)
-    const expected = 0.5 * 1.2 * 0.5 * 1 * 100 * Math.cos(theta) * Math.sin(theta)
-    expect(lift).toBeGreaterThan(0)
-    expect(lift).toBeCloseTo(expected, 1)
+    const expected = 0.5 * 1.2 * 0.5 * 1 * 100 * Math.cos(theta) * Math.sin(theta) ** 2
+    expect(withLift[2] - without[2]).toBeCloseTo(expected, 1)
+    expect(Math.abs(withLift[0] - without[0]) + Math.abs(withLift[1] - without[1])).toBeLessThan(1e-9 * expected)
     // drag pushes along the wind; head on (wind along the normal) lift vanishes: no force across
     expect(dot(without, [Math.sin(theta), 0, Math.cos(theta)])).toBeGreaterThan(0)
     const headOn = force(0.5, 0)
     expect(headOn[2]).toBeGreaterThan(0)
     expect(Math.abs(headOn[0])).toBeLessThan(1e-9 * headOn[2])
+  })
+
+  it('a free flat sheet in an oblique wind moves along its plane only by skin friction, downwind (the lift across the wind pulled it upwind)', () => {
+    for (const deg of [10, 30, 45, 70]) {
+      const world = makeWorld({ gravity: [0, 0, 0], sleep: false })
+      const sheet = createCloth(world, { width: 1, height: 1, resolution: 8, position: [0, 2, 0], material: 'cotton', damping: 0 })
+      const a = (deg * Math.PI) / 180 // the wind's angle from the sheet's normal (+z)
+      createWindZone(world, { direction: [Math.sin(a), 0, Math.cos(a)], strength: 5 })
+      stepCloth(world, 1 / 60)
+      const c = getClothState(world, sheet)
+      let vx = 0, vz = 0
+      for (let i = 0; i < c.count; i++) {
+        vx += c.vel[3 * i] / c.count
+        vz += c.vel[3 * i + 2] / c.count
+      }
+      expect(vz, `${deg}°: pushed downwind along the normal`).toBeGreaterThan(0)
+      // before: vx/vz = −0.075 at 10°, −0.15 at 30°, −0.14 at 45° (sliding upwind)
+      expect(vx, `${deg}°: along the plane, the wind's way`).toBeGreaterThan(0)
+      expect(vx / vz, `${deg}°: skin friction only`).toBeLessThan(0.05 * Math.tan(a) + 0.01)
+    }
   })
 
   it('extreme wind (1000 m/s, turbulent) stays finite and within the speed limit: the clamp never overshoots the air', () => {

@@ -117,8 +117,8 @@ export function installWind(world: object, state: ClothWorldState): void {
  * Returns the zone entity (remove it with `removeWindZone` or `removeEntity`).
  *
  * Every cloth triangle a zone reaches (area A, normal n̂, air velocity relative to it w) feels drag
- * ½ρ·C_d·A·|w|(w·n̂)·n̂ along its normal, lift ½ρ·C_l·A·|w|(w·n̂)(n̂ − (n̂·ŵ)ŵ) across the wind and
- * skin friction ρ·C_f·A·|w|·w_t along its surface (C_f = 0.01), two-sided, with the material's
+ * ½ρ·C_d·A·|w|(w·n̂)·n̂ along its normal, lift ½ρ·C_l·A·|w|(w·n̂)(1 − (n̂·ŵ)²)·n̂ (the extra normal
+ * force at grazing incidence; pressure acts normal to a plate) and skin friction ρ·C_f·A·|w|·w_t along its surface (C_f = 0.01), two-sided, with the material's
  * `drag` (C_d) and `lift` (C_l) and the air density ρ (the plugin's `airDensity`, or the zone's);
  * each corner gets a third. The orientation is a smoothed normal, and a clamp limits a substep's
  * aerodynamic velocity change to the air's speed relative to the particle along the force.
