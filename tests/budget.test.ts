@@ -88,6 +88,16 @@ describe('quality targets', () => {
     expect(getClothStretch(world, stiff).max).toBeLessThan(0.05)
   })
 
+  it('stretch falls about as 1/substeps² (what the ladder and the cost model assume)', () => {
+    const world = makeWorld({ sleep: false })
+    const cloths = [1, 2, 4].map((s, k) => sheet(world, 3 * k, 24, { substeps: s }))
+    steps(world, 120)
+    const stretch = cloths.map((c) => getClothStretch(world, c).max)
+    console.log(`24×24 sheet from two corners, worst edge at 1, 2, 4 substeps: ${stretch.map((x) => (100 * x).toFixed(2)).join(', ')} %`)
+    expect(stretch[0] / stretch[1]).toBeGreaterThan(3)
+    expect(stretch[1] / stretch[2]).toBeGreaterThan(3)
+  })
+
   it('a time target picks the most substeps the cost model allows; the bounds hold', () => {
     const world = makeWorld({ sleep: false })
     const cloth = sheet(world, 0, 16)

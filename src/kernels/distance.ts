@@ -7,7 +7,7 @@ import { P_INV_H2 } from './params'
  * compliance keeps its meaning, m/N) and whose zero set is exactly |d| = r. For the effective
  * mass, |∇C|² = |d|²/r² is replaced by (3|d|² + r²)/(4r²). With zero compliance the correction
  * factor is then 2(|d|² − r²)/(3|d|² + r²), the [1/1] Padé approximant of the exact 1 − r/|d|:
- * within 0.2 % of it up to 10 % strain, never overshooting past the rest length when stretched,
+ * within 0.25 % of it up to 10 % stretch (0.3 % at 10 % compression), never overshooting past the rest length,
  * and bounded when the pair collapses (no division by zero). (Bullet's link solver uses
  * (|d|² − r²)/(|d|² + r²), which over-corrects a 1.5× stretch to 0.92×.) Per constraint:
  *
