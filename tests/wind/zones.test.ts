@@ -102,6 +102,20 @@ describe('wind zones', () => {
     expect(b.hash).toBe(a.hash)
   })
 
+  it('overlapping zones add up: a point inside a box and a sphere in a global breeze gets all three', () => {
+    const world = installClothPlugin(createWorld())
+    createWindZone(world, { direction: [1, 0, 0], strength: 2 })
+    createWindZone(world, { shape: 'box', size: [4, 4, 4], direction: [0, 0, 1], strength: 3, falloff: 0 })
+    createWindZone(world, { shape: 'sphere', size: 2, position: [0.5, 0, 0], direction: [0, 1, 0], strength: 5, falloff: 0 })
+    const air = sampleWind(world, [0.2, 0, 0])
+    expect(air[0]).toBeCloseTo(2, 12)
+    expect(air[1]).toBeCloseTo(5, 12)
+    expect(air[2]).toBeCloseTo(3, 12)
+    // outside the box and the sphere: the breeze alone
+    const far = sampleWind(world, [10, 0, 0])
+    expect([far[0], far[1], far[2]]).toEqual([2, 0, 0])
+  })
+
   it('a zone follows its Transform', () => {
     const world = makeWorld()
     const zone = createWindZone(world, { shape: 'sphere', position: [0, 0, 0], size: 1, falloff: 0, direction: [0, 1, 0], strength: 3 })
