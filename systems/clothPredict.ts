@@ -2,13 +2,15 @@ import { predictPositions } from '../src/kernels/integrate'
 import { setSubstepParams } from '../src/kernels/params'
 import { placePins } from '../src/features/pins/step'
 import { getClothWorld } from '../src/world/access'
+import { clampSelfCollidingMotion } from '../src/features/collision/selfCollision'
 import { placeHeld, predictCharacter } from '../src/features/character/step'
 
 /**
  * Predict phase, every substep: fills the cloth's kernel parameters for the substep, integrates
  * free particles (gravity, extra acceleration, damping) to predicted positions (in its frame for a
  * cloth with inertia settings), then places particles held on a character cloth's reference and
- * pinned particles on their targets, interpolated through the step.
+ * pinned particles on their targets, interpolated through the step, and clamps a self-colliding
+ * cloth's predicted relative motion to what its pair list covers.
  */
 export function clothPredict<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -23,6 +25,7 @@ export function clothPredict<W extends object>(world: W): W {
     if (ch !== null && ch.heldCount > 0) placeHeld(c)
     state.stats.particlesIntegrated += c.count
     if (c.pins.list.length > 0) placePins(state, c, k, c.substeps)
+    if (c.collision.self !== null) clampSelfCollidingMotion(state, c)
   }
   return world
 }

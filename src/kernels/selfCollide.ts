@@ -6,8 +6,10 @@
  * every substep. What keeps it stable:
  * - pairs that are close in the rest shape (mesh neighbours, closer than 1.5 × the collision
  *   distance) are never pushed apart, so collisions do not fight the distance constraints;
- * - each particle's motion relative to its cloth's mean motion is clamped per substep to what the
- *   pair radius assumed, so no pair the hash did not see can come into contact;
+ * - each particle's predicted motion relative to its cloth's mean motion is clamped per substep to
+ *   what the pair radius assumed, so no pair the hash did not see comes into contact by inertia
+ *   (the solve's corrections are left whole: clamped, a knot's were spread over substeps as
+ *   motion at the limit, and a cape heaped under its crouching character boiled at 3–5 m/s);
  * - friction pulls touching particles toward their common velocity.
  *
  * Scalars travel in a parameter block (slots below).
@@ -278,12 +280,22 @@ export function solvePairs(
  * Clamps each free particle's motion this substep, relative to the mass-weighted mean motion of the
  * cloth's free particles, to p[S_LIMIT] metres: the speed limit under which the step's pair list
  * stays complete. A cloth carried along by a running character is not slowed; only fast motion
- * within the cloth is. The momentum the clamped particles lose is given back to all free particles
- * as one common motion (which changes no relative motion, so the limit still holds between any two
- * of them): clamping only the fast side of an uneven spread would otherwise shift the cloth's mean
- * motion every substep, and a crumpled self-colliding sheet propelled itself to 80 m/s that way.
+ * within the cloth is. With `conserve` (a cloth nothing pins), the momentum the clamped particles
+ * lose is given back to all free particles as one common motion (which changes no relative motion,
+ * so the limit still holds between any two of them): clamping only the fast side of an uneven
+ * spread would otherwise shift the cloth's mean motion every substep, and a crumpled
+ * self-colliding sheet propelled itself to 80 m/s that way. A pinned cloth trades momentum with its
+ * pins anyway and lets it go: given back, it pushed the whole heap of a cape against its pins and
+ * the ground every substep.
  */
-export function clampRelativeMotion(pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, p: Float64Array): void {
+export function clampRelativeMotion(
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  p: Float64Array,
+  conserve: boolean,
+): void {
   let mx = 0, my = 0, mz = 0, m = 0
   for (let i = 0; i < count; i++) {
     const w = invMass[i]
@@ -317,7 +329,7 @@ export function clampRelativeMotion(pos: Float64Array, prev: Float64Array, invMa
     pos[j + 1] = prev[j + 1] + my + dy * f
     pos[j + 2] = prev[j + 2] + mz + dz * f
   }
-  if (lx === 0 && ly === 0 && lz === 0) return
+  if (!conserve || (lx === 0 && ly === 0 && lz === 0)) return
   lx /= m
   ly /= m
   lz /= m

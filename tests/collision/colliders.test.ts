@@ -357,4 +357,18 @@ describe('colliders', () => {
     expect(() => setClothCollision(world, cloth, { mask: -1 })).toThrow(ClothError)
     resetClothStats(world)
   })
+
+  it('a thickness of 0 is honoured: the sheet rests on the ground itself (it meant the material’s 5 mm)', () => {
+    const rest = (thickness?: number) => {
+      const world = makeWorld()
+      ground(world)
+      const cloth = flatSheet(world, 0, 0.1, 0, 0.5, 8)
+      if (thickness !== undefined) setClothCollision(world, cloth, { thickness })
+      for (let f = 0; f < 120; f++) stepCloth(world, 1 / 60)
+      return lowestY(world, cloth)
+    }
+    expect(rest(0)).toBeLessThan(0.0005)
+    expect(rest(0)).toBeGreaterThan(-0.0005)
+    expect(rest()).toBeCloseTo(0.005, 3) // the material's (cotton)
+  })
 })

@@ -193,7 +193,7 @@ describe('relative motion clamp', () => {
     for (let i = 0; i < n; i++) pos[3 * i] = 1 // everything moves 1 m in x
     pos[3 * 3 + 1] = 0.5 // one particle also 0.5 m in y
     const w = new Float64Array(n).fill(1)
-    clampRelativeMotion(pos, prev, w, n, params({ [S_LIMIT]: 0.1 }))
+    clampRelativeMotion(pos, prev, w, n, params({ [S_LIMIT]: 0.1 }), true)
     // mean motion (1, 0.125, 0); the outlier's deviation (0, 0.375, 0) is cut to 0.1 and the
     // others' (0, −0.125, 0) to −0.1; the 0.2 m of motion taken out in y is given back to all
     // four alike (0.05 each), so the total motion (momentum) is what it was
@@ -204,6 +204,13 @@ describe('relative motion clamp', () => {
     let sy = 0
     for (let i = 0; i < n; i++) sy += pos[3 * i + 1]
     expect(sy).toBeCloseTo(0.5, 12)
+    // without `conserve` (a pinned cloth, whose pins take momentum anyway) nothing is given back
+    const kept = new Float64Array(3 * n)
+    for (let i = 0; i < n; i++) kept[3 * i] = 1
+    kept[3 * 3 + 1] = 0.5
+    clampRelativeMotion(kept, prev, w, n, params({ [S_LIMIT]: 0.1 }), false)
+    expect(kept[3 * 3 + 1]).toBeCloseTo(0.125 + 0.1, 12)
+    expect(kept[1]).toBeCloseTo(0.125 - 0.1, 12)
   })
 
   it('conserves momentum (Σ m·Δx) for any masses and motions, and keeps any two particles’ relative motion within twice the limit', () => {
@@ -226,7 +233,7 @@ describe('relative motion clamp', () => {
       const before = momentum(pos)
       const pinned = pos.filter((_, j) => w[Math.floor(j / 3)] === 0)
       const lim = 0.1
-      clampRelativeMotion(pos, prev, w, n, params({ [S_LIMIT]: lim }))
+      clampRelativeMotion(pos, prev, w, n, params({ [S_LIMIT]: lim }), true)
       const after = momentum(pos)
       for (let k = 0; k < 3; k++) expect(after[k]).toBeCloseTo(before[k], 9)
       expect(pos.filter((_, j) => w[Math.floor(j / 3)] === 0)).toEqual(pinned) // pinned particles untouched

@@ -60,12 +60,12 @@ export function installCollision(world: object, state: ClothWorldState): void {
   })
 }
 
-/** A cloth's collision state: layer 1, every mask bit, the material's thickness and friction. */
+/** A cloth's collision state: layer 1, every mask bit, the material's thickness and friction (−1: the material's). */
 export function createClothCollision(capacity: number): ClothCollision {
   return {
     layer: 1,
     mask: 0xffffffff,
-    thickness: 0,
+    thickness: -1,
     friction: -1,
     staticFriction: -1,
     bounds: newArray(Float64Array, 12),
@@ -81,7 +81,7 @@ export interface ClothCollisionOptions {
   layer?: number
   /** Layers the cloth collides with (default all, 0xffffffff); 0 turns collisions off. */
   mask?: number
-  /** Collision thickness (particle radius), m; default the material's `thickness`. */
+  /** Collision thickness (particle radius), m, 0 allowed (particles touch surfaces); default the material's `thickness`. */
   thickness?: number
   /** Kinetic friction against colliders; default the material's `friction`. */
   friction?: number

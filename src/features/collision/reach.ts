@@ -82,7 +82,7 @@ const box = new Float64Array(8)
 /** The reach test of `colliderReaches` on bounds sw[o..o + 8) laid out as `Collider.swept`. */
 function boundsReach(sw: Float64Array, o: number, plane: boolean, b: Float64Array, c: ClothState): boolean {
   const cc = c.collision
-  const r = cc.thickness > 0 ? cc.thickness : c.material.thickness
+  const r = cc.thickness >= 0 ? cc.thickness : c.material.thickness
   if (plane) {
     const cx = 0.5 * (b[0] + b[3]), cy = 0.5 * (b[1] + b[4]), cz = 0.5 * (b[2] + b[5])
     const ex = 0.5 * (b[3] - b[0]), ey = 0.5 * (b[4] - b[1]), ez = 0.5 * (b[5] - b[2])

@@ -30,8 +30,9 @@ import { newArray, touchLayout } from '../../core/shared'
  * collision distances D: the step's measured spread of velocities × TRAVEL_GAIN plus TRAVEL_FLOOR.
  * Pairs are gathered within D + 2·travel. When that travel exceeds TRAVEL_CAP, the step is split
  * into up to MAX_REBUILDS intervals, each with its own hash and pair list (fast motion costs more
- * gathers, slow motion one); beyond MAX_REBUILDS × TRAVEL_CAP, relative motion is clamped: at
- * most 4·D per step, 4 × 1.6 cm × 60 Hz ≈ 3.8 m/s for a 64×64 metre sheet.
+ * gathers, slow motion one). Predicted relative motion beyond the allowance is clamped (see
+ * `clampSelfCollidingMotion`), so at most 4·D per step: 4 × 1.6 cm × 60 Hz ≈ 3.8 m/s for a 64×64
+ * metre sheet.
  */
 const TRAVEL_GAIN = 1.5
 const TRAVEL_FLOOR = 0.25
@@ -276,8 +277,21 @@ function rebuildSelfPairs(c: ClothState, st: SelfCollisionState, sp: Float64Arra
 }
 
 /**
- * Every substep: clamps each running self-colliding cloth's relative motion to its travel
- * allowance, then pushes apart the cloth–cloth pairs (a cloth sitting this substep out counts as
+ * Predict phase, for a self-colliding cloth: clamps its predicted motion relative to its mean motion
+ * to its travel allowance (see `clampRelativeMotion`), before the solve. Not at the step's first
+ * substep: the step's pairs are gathered after it, from where it left the particles (and the
+ * allowance is measured then).
+ */
+export function clampSelfCollidingMotion(state: ClothWorldState, c: ClothState): void {
+  if (c.subIndex === 0) return
+  const st = c.collision.self!
+  const sp = state.collision.selfParams
+  sp[S_LIMIT] = st.values[3] / c.substeps
+  clampRelativeMotion(c.pos, c.prev, c.invMass, c.count, sp, c.pins.list.length === 0)
+}
+
+/**
+ * Every substep: rebuilds a fast cloth's pairs at its intervals, then pushes apart the cloth–cloth pairs (a cloth sitting this substep out counts as
  * immovable) and each running cloth's self pairs.
  */
 export function solveSelfCollision(state: ClothWorldState): void {
@@ -295,8 +309,6 @@ export function solveSelfCollision(state: ClothWorldState): void {
     // fast motion: a fresh hash and pair list at each interval of the step
     const n = c.substeps, intervals = v[2]
     if (k > 0 && Math.floor((k * intervals) / n) !== Math.floor(((k - 1) * intervals) / n)) rebuildSelfPairs(c, st, sp)
-    sp[S_LIMIT] = v[3] / n
-    clampRelativeMotion(c.pos, c.prev, c.invMass, c.count, sp)
   }
   for (let a = 0; a < group.length; a++) {
     const A = group[a]

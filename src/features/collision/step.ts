@@ -94,7 +94,7 @@ function collideColliders(state: ClothWorldState): void {
     if (cc.activeCount === 0) continue
     const muK = cc.friction >= 0 ? cc.friction : c.material.friction
     const muS = cc.staticFriction >= 0 ? cc.staticFriction : muK
-    const r = cc.thickness > 0 ? cc.thickness : c.material.thickness
+    const r = cc.thickness >= 0 ? cc.thickness : c.material.thickness
     for (let a = 0; a < cc.activeCount; a++) {
       const e = cc.active[a]
       f[F_RADIUS] = r

@@ -33,7 +33,7 @@ export interface ClothCollision {
   layer: number
   /** Collider layers (and other cloths' layers) the cloth collides with. */
   mask: number
-  /** Thickness override, m; 0 means the material's. */
+  /** Thickness override, m; < 0 means the material's. */
   thickness: number
   /** Kinetic friction override; < 0 means the material's. */
   friction: number
