@@ -154,14 +154,7 @@ function frozenAnchorScene(): Scene & { hero: number; other: number; viewer: num
   addSphereCollider(world, body, { body: hero, offset: [0, -0.4, 0], radius: 0.15 })
   const viewer = addEntity(world)
   setTransform(world, viewer, [0, 2, 3])
-  const cloth = createCloth(world, {
-    width: 0.5,
-    height: 0.8,
-    resolution: [6, 9],
-    position: [-0.15, 1.55, 0],
-    rotation: yawQuat(-Math.PI / 2),
-    iterations: 2,
-  })
+  const cloth = smallCape(world)
   setClothInertia(world, cloth, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
   setClothMotionConstraints(world, cloth, {
     maxDistance: Array.from({ length: 54 }, (_, i) => (i < 6 ? 0 : 0.05 * Math.floor(i / 6))),
@@ -228,6 +221,43 @@ describe('snapshots of a frozen character cloth carried by its frame (no pins)',
 // ---------------------------------------------------------------------------------------------
 // A caped character with painted limits, a backstop and teleport handling, and a skinned sleeve.
 
+/** The 6×9 cape of these scenes, beside a hero at (0, 1.6, 0) facing −x (neither pinned nor held). */
+function smallCape(world: object, iterations = 2): number {
+  return createCloth(world, {
+    width: 0.5,
+    height: 0.8,
+    resolution: [6, 9],
+    position: [-0.15, 1.55, 0],
+    rotation: yawQuat(-Math.PI / 2),
+    iterations,
+  })
+}
+
+/** The hero, its two arm bones, and the 6×9 cape of these scenes (neither pinned nor held yet). */
+function heroWithCape(world: object, iterations = 2): { hero: number; arm: number[]; cape: number } {
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 1.6, 0])
+  const arm = [addEntity(world), addEntity(world)]
+  setTransform(world, arm[0], [0.2, 1.4, 0])
+  setTransform(world, arm[1], [0.5, 1.4, 0])
+  const cape = smallCape(world, iterations)
+  return { hero, arm, cape }
+}
+
+/** A sleeve skinned on the two arm bones, held at max distance 0 at its shoulder end. */
+function skinnedSleeve(world: object, arm: number[]): number {
+  const sleeve = createCloth(world, { width: 0.6, height: 0.1, resolution: [7, 2], position: [0.5, 1.4, 0] })
+  const joints: number[] = [], weights: number[] = []
+  for (let i = 0; i < 14; i++) {
+    const u = (i % 7) / 6
+    joints.push(0, 1, 0, 0)
+    weights.push(1 - u, u, 0, 0)
+  }
+  setClothSkinning(world, sleeve, { bones: arm, joints, weights })
+  setClothMotionConstraints(world, sleeve, { maxDistance: Array.from({ length: 14 }, (_, i) => (i % 7 === 0 ? 0 : 0.05)) })
+  return sleeve
+}
+
 function capeScene(
   opts: { mode?: 'keep' | 'reset'; every?: number; drive?: number; sleep?: boolean; skin?: boolean; threads?: number } = {},
 ) {
@@ -235,19 +265,7 @@ function capeScene(
     const world = opts.threads !== undefined
       ? threadedWorld(opts.threads, { sleep: opts.sleep ?? false })
       : installClothPlugin(createWorld(), { sleep: opts.sleep ?? false })
-    const hero = addEntity(world)
-    setTransform(world, hero, [0, 1.6, 0])
-    const arm = [addEntity(world), addEntity(world)]
-    setTransform(world, arm[0], [0.2, 1.4, 0])
-    setTransform(world, arm[1], [0.5, 1.4, 0])
-    const cape = createCloth(world, {
-      width: 0.5,
-      height: 0.8,
-      resolution: [6, 9],
-      position: [-0.15, 1.55, 0],
-      rotation: yawQuat(-Math.PI / 2),
-      iterations: 2,
-    })
+    const { hero, arm, cape } = heroWithCape(world)
     pinRow(world, cape, 0, hero)
     setClothInertia(world, cape, {
       frame: hero,
@@ -265,15 +283,7 @@ function capeScene(
     const cloths = [cape]
     let sleeve = -1
     if (opts.skin !== false) {
-      sleeve = createCloth(world, { width: 0.6, height: 0.1, resolution: [7, 2], position: [0.5, 1.4, 0] })
-      const joints: number[] = [], weights: number[] = []
-      for (let i = 0; i < 14; i++) {
-        const u = (i % 7) / 6
-        joints.push(0, 1, 0, 0)
-        weights.push(1 - u, u, 0, 0)
-      }
-      setClothSkinning(world, sleeve, { bones: arm, joints, weights })
-      setClothMotionConstraints(world, sleeve, { maxDistance: Array.from({ length: 14 }, (_, i) => (i % 7 === 0 ? 0 : 0.05)) })
+      sleeve = skinnedSleeve(world, arm)
       cloths.push(sleeve)
     }
     const inputs = (f: number, variant = 0) => {
@@ -525,32 +535,12 @@ describe('rollback: the scale history of character frames and bones', () => {
   /** A cape held by max distance 0 on its top row (no pins), its frame the hero; a sleeve skinned on two bones. */
   function scaledScene(): Scene & { hero: number; arm: number[] } {
     const world = installClothPlugin(createWorld(), { sleep: false })
-    const hero = addEntity(world)
-    setTransform(world, hero, [0, 1.6, 0])
-    const arm = [addEntity(world), addEntity(world)]
-    setTransform(world, arm[0], [0.2, 1.4, 0])
-    setTransform(world, arm[1], [0.5, 1.4, 0])
-    const cape = createCloth(world, {
-      width: 0.5,
-      height: 0.8,
-      resolution: [6, 9],
-      position: [-0.15, 1.55, 0],
-      rotation: yawQuat(-Math.PI / 2),
-      iterations: 2,
-    })
+    const { hero, arm, cape } = heroWithCape(world)
     setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
     setClothMotionConstraints(world, cape, {
       maxDistance: Array.from({ length: 54 }, (_, i) => (i < 6 ? 0 : 0.05 * Math.floor(i / 6))),
     })
-    const sleeve = createCloth(world, { width: 0.6, height: 0.1, resolution: [7, 2], position: [0.5, 1.4, 0] })
-    const joints: number[] = [], weights: number[] = []
-    for (let i = 0; i < 14; i++) {
-      const u = (i % 7) / 6
-      joints.push(0, 1, 0, 0)
-      weights.push(1 - u, u, 0, 0)
-    }
-    setClothSkinning(world, sleeve, { bones: arm, joints, weights })
-    setClothMotionConstraints(world, sleeve, { maxDistance: Array.from({ length: 14 }, (_, i) => (i % 7 === 0 ? 0 : 0.05)) })
+    const sleeve = skinnedSleeve(world, arm)
     const inputs = (f: number, variant = 0) => {
       const t = f / 60
       const p = [Math.sin(2 * t), 1.6, 0.5 * Math.cos(1.3 * t)]
@@ -569,23 +559,21 @@ describe('rollback: the scale history of character frames and bones', () => {
     expect(rollback(scaledScene, 30, 10, 30)).toEqual({ first: -1, worst: 0 })
   })
 
-  it('the same for the cape only (its frame is no pin target)', () => {
-    const build = () => {
-      const s = scaledScene()
-      s.cloths = [s.cloths[0]]
-      return s
-    }
-    expect(rollback(build, 30, 10, 30)).toEqual({ first: -1, worst: 0 })
-  })
-
-  it('the same for the sleeve only (skinned on bones that are nothing else)', () => {
-    const build = () => {
-      const s = scaledScene()
-      s.cloths = [s.cloths[1]]
-      return s
-    }
-    expect(rollback(build, 30, 10, 30)).toEqual({ first: -1, worst: 0 })
-  })
+  for (
+    const [which, k] of [['the cape only (its frame is no pin target)', 0], [
+      'the sleeve only (skinned on bones that are nothing else)',
+      1,
+    ]] as const
+  ) {
+    it(`the same for ${which}`, () => {
+      const build = () => {
+        const s = scaledScene()
+        s.cloths = [s.cloths[k]]
+        return s
+      }
+      expect(rollback(build, 30, 10, 30)).toEqual({ first: -1, worst: 0 })
+    })
+  }
 })
 
 describe('Transforms written between beginClothStep and endClothStep are read at the next begin', () => {
@@ -777,13 +765,7 @@ describe('rollback across entity churn and pin changes', () => {
       setTransform(world, other, [5, 1.6, 0])
       const viewer = addEntity(world)
       setTransform(world, viewer, [0, 2, 3])
-      const cape = createCloth(world, {
-        width: 0.5,
-        height: 0.8,
-        resolution: [6, 9],
-        position: [-0.15, 1.55, 0],
-        rotation: yawQuat(-Math.PI / 2),
-      })
+      const cape = smallCape(world, 1)
       pinRow(world, cape, 0, hero)
       setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
       setClothBudget(world, { viewer, near: 5, far: 20, cull: 40, calibration: CAL, adapt: false, interval: 3 })
@@ -813,18 +795,7 @@ describe('rollback across entity churn and pin changes', () => {
 describe('call order of character settings', () => {
   function orderScene(order: number) {
     const world = installClothPlugin(createWorld(), { sleep: false })
-    const hero = addEntity(world)
-    setTransform(world, hero, [0, 1.6, 0])
-    const arm = [addEntity(world), addEntity(world)]
-    setTransform(world, arm[0], [0.2, 1.4, 0])
-    setTransform(world, arm[1], [0.5, 1.4, 0])
-    const cape = createCloth(world, {
-      width: 0.5,
-      height: 0.8,
-      resolution: [6, 9],
-      position: [-0.15, 1.55, 0],
-      rotation: yawQuat(-Math.PI / 2),
-    })
+    const { hero, arm, cape } = heroWithCape(world, 1)
     const joints: number[] = [], weights: number[] = []
     for (let i = 0; i < 54; i++) {
       const u = (i % 6) / 5
