@@ -112,7 +112,7 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
     lod.distance = d
     lod.priority = 1 / (1 + (d / b.near) * (d / b.near))
     const freeze = (b.freezeInvisible && !lod.visible) || d > b.cull
-    if (freeze && !lod.frozen) freezeCloth(state, c)
+    if (freeze && !lod.frozen) freezeCloth(state, c, state.kinematics.stepFrom)
     else if (!freeze && lod.frozen) thaw(state, c, state.kinematics.stepFrom)
     // distance: full quality within `near`, substeps scaled by near/d beyond, the floor past `far`
     const top = topLevel(c)

@@ -30,12 +30,16 @@ export function anchorSlot(c: ClothState): number {
   return -1
 }
 
-/** Freezes a cloth, taking its first pin with a target as the reference. */
-export function freezeCloth(state: ClothWorldState, c: ClothState): void {
+/**
+ * Freezes a cloth, taking its first pin with a target as the reference, at its target's pose in
+ * `poses`: `stepFrom` in the sync phase (where the cloth's last step left it: the step about to
+ * run is the first it misses), `stepTo` between steps.
+ */
+export function freezeCloth(state: ClothWorldState, c: ClothState, poses: Float64Array): void {
   const lod = c.budget
   lod.frozen = true
   lod.frozenCentre.set(lod.centre)
-  pickReference(state, c, -1)
+  pickReference(state, c, -1, -1, poses)
 }
 
 /**
@@ -57,7 +61,7 @@ export function adoptReference(state: ClothWorldState, pin: number): void {
   const c = state.components.Cloth.state[state.components.Pin.cloth[pin]]
   if (!c || !c.budget.frozen || c.budget.refSlot >= 0) return
   const slot = state.components.Pin.slot[pin]
-  if (slot >= 0) setReference(state, c, pin, slot)
+  if (slot >= 0) setReference(c, pin, slot, state.kinematics.stepTo)
 }
 
 /**
@@ -73,7 +77,7 @@ export function releaseReference(state: ClothWorldState, pin: number): void {
     particleBounds(c.pos, c.count, c.budget.measure, 0, c.topology.unused)
     for (let a = 0; a < 3; a++) c.budget.frozenCentre[a] = 0.5 * (c.budget.measure[a] + c.budget.measure[a + 3])
   }
-  pickReference(state, c, pin)
+  pickReference(state, c, pin, -1, state.kinematics.stepTo)
 }
 
 /**
@@ -88,14 +92,14 @@ export function releaseAnchor(state: ClothWorldState, c: ClothState, skip: numbe
     particleBounds(c.pos, c.count, lod.measure, 0, c.topology.unused)
     for (let a = 0; a < 3; a++) lod.frozenCentre[a] = 0.5 * (lod.measure[a] + lod.measure[a + 3])
   }
-  pickReference(state, c, -1, skip)
+  pickReference(state, c, -1, skip, state.kinematics.stepTo)
 }
 
 /**
  * The cloth's first pin with a target (other than `except`) becomes the reference, from its
- * target's pose now; without one, its character anchor (other than slot `skip`).
+ * target's pose in `poses`; without one, its character anchor (other than slot `skip`).
  */
-function pickReference(state: ClothWorldState, c: ClothState, except: number, skip = -1): void {
+function pickReference(state: ClothWorldState, c: ClothState, except: number, skip: number, poses: Float64Array): void {
   c.budget.refPin = -1
   c.budget.refSlot = -1
   const P = state.components.Pin
@@ -103,16 +107,16 @@ function pickReference(state: ClothWorldState, c: ClothState, except: number, sk
   for (let q = 0; q < pins.length; q++) {
     const slot = P.slot[pins[q]]
     if (slot < 0 || pins[q] === except) continue
-    setReference(state, c, pins[q], slot)
+    setReference(c, pins[q], slot, poses)
     return
   }
   const slot = anchorSlot(c)
-  if (slot >= 0 && slot !== skip) setReference(state, c, ANCHOR_REF, slot)
+  if (slot >= 0 && slot !== skip) setReference(c, ANCHOR_REF, slot, poses)
 }
 
-function setReference(state: ClothWorldState, c: ClothState, pin: number, slot: number): void {
+function setReference(c: ClothState, pin: number, slot: number, poses: Float64Array): void {
   const lod = c.budget
   lod.refPin = pin
   lod.refSlot = slot
-  for (let j = 0; j < 7; j++) lod.refPose[j] = state.kinematics.stepTo[7 * slot + j]
+  for (let j = 0; j < 7; j++) lod.refPose[j] = poses[7 * slot + j]
 }

@@ -99,7 +99,9 @@ export function applyConfig(state: ClothWorldState, c: ClothState, s: number, i:
   if (c.substeps === si && c.iterations === ii && c.budget.stepEvery === ei) return
   c.substeps = si
   c.iterations = ii
-  if (c.budget.stepEvery !== ei) c.budget.phase = 0
+  // the steps waited since the cloth's last step carry over (reset, a level changing more often than
+  // it steps kept a far cloth from stepping at all, and undid a thaw's step at once)
+  if (c.budget.phase > ei - 1) c.budget.phase = ei - 1
   c.budget.stepEvery = ei
   c.h = (state.fixedTimeStep * ei) / si
 }
