@@ -92,6 +92,9 @@ describe('freeze / thaw of a cloth whose pin target is moving', () => {
       return worst
     }
     const steady = run(false), thawed = run(true)
+    console.log(
+      `largest one-step velocity change walking at 3 m/s: ${steady.toFixed(3)} m/s; frozen 30 steps and thawed: ${thawed.toFixed(3)} m/s`,
+    )
     // observed: steady 0.004 m/s, thawed 4.3 m/s (the cape lags one step of the walk and is yanked)
     expect(thawed).toBeLessThan(Math.max(0.5, 10 * steady))
   })
