@@ -27,7 +27,8 @@ export function findOverstrained(
     const l2 = dx * dx + dy * dy + dz * dz
     const r = rest[k]
     const limit2 = f2 * r * r
-    if (!(l2 > limit2)) {
+    // (an edge of no rest length, a collapsed row, has no strain to measure: it never tears)
+    if (!(l2 > limit2) || !(r > 0)) {
       over[k] = 0
       continue
     }

@@ -163,11 +163,11 @@ export function getGrabForce(world: object, grab: number, out: vec3 | number[] =
   return out
 }
 
-/** Default grip limit: twice the cloth's weight. */
+/** Default grip limit: twice the cloth's weight (its particles' masses, pinned ones included: a given `mass` or `masses` too). */
 function defaultMaxForce(c: ClothState): number {
-  const m = c.topology.masses
+  const w = c.baseInvMass
   let total = 0
-  for (let i = 0; i < c.count; i++) total += m[i]
+  for (let i = 0; i < c.count; i++) if (w[i] > 0) total += 1 / w[i] // (a vertex no triangle uses has none)
   return DEFAULT_FORCE_WEIGHTS * total * G0
 }
 

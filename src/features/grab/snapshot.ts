@@ -1,6 +1,6 @@
 import { allFinite, fit32, fit64 } from '../../core/arrays'
-import { ClothError } from '../../core/errors'
-import { GRAB_STRIDE, G_COMPLIANCE, G_MAX_FORCE } from '../../kernels/grab'
+import { ClothError, MAX_COORDINATE } from '../../core/errors'
+import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_MAX_FORCE } from '../../kernels/grab'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { growGrabs } from './api'
 
@@ -45,8 +45,16 @@ export function checkGrabs(state: ClothWorldState, c: ClothState, s: GrabSnapsho
   for (let g = 0; g < count; g++) {
     const id = s.grabs[2 * g], particle = s.grabs[2 * g + 1]
     const o = GRAB_STRIDE * g
-    if (!(id >= 1) || !(particle >= 0 && particle < n) || !(s.grabData[o + G_COMPLIANCE] >= 0) || !(s.grabData[o + G_MAX_FORCE] > 0)) {
-      throw new ClothError(arg, s, `holds a bad grab at ${g} (handle, particle out of range, or grip settings)`)
+    if (
+      !(id >= 1) || !(particle >= 0 && particle < n) || !(s.grabData[o + G_COMPLIANCE] >= 0 && s.grabData[o + G_COMPLIANCE] <= 1e9) ||
+      !(s.grabData[o + G_MAX_FORCE] > 0)
+    ) {
+      throw new ClothError(arg, s, `holds a bad grab at ${g} (handle, particle out of range, or grip settings grabParticle refuses)`)
+    }
+    // the targets (requested, frame, step ends, where the hand is): points, as grabParticle takes them
+    for (let j = 0; j < G_AT + 3; j++) {
+      if (!(Math.abs(s.grabData[o + j]) <= MAX_COORDINATE))
+        throw new ClothError(arg, s, `holds a grab target beyond ±${MAX_COORDINATE} m at ${g}`)
     }
     for (const other of state.cloths) {
       if (other === c) continue

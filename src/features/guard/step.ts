@@ -4,6 +4,7 @@ import type { ClothState, ClothWorldState } from '../../world/state'
 import { placeRigidly } from './place'
 import { EVENT_CAPACITY, REASONS } from './types'
 import { newArray } from '../../core/shared'
+import { nextListener } from '../../core/listeners'
 
 /**
  * The health check of one cloth (a HEALTH_* code): one pass over its particles. A tearable cloth
@@ -81,14 +82,16 @@ export function deliverResets(state: ClothWorldState): void {
   const e = w.event
   for (let k = raised; k > 0; k--) {
     const slot = (w.evHead + w.evCount - k) % EVENT_CAPACITY
-    for (let l = 0; l < w.listeners.length; l++) {
+    for (let l = 0; l < w.listeners.length;) {
       if (w.evCloth[slot] < 0) break // its cloth was removed by a listener (forgetResetEvents)
       e.cloth = w.evCloth[slot]
       e.reason = REASONS[w.evReason[slot]]
       e.step = w.evStep[slot]
       e.particle = w.evParticle[slot]
       e.restoredTo = w.evRest[slot] === 1 ? 'rest' : 'snapshot'
-      w.listeners[l](e)
+      const listener = w.listeners[l]
+      listener(e)
+      l = nextListener(w.listeners, l, listener)
     }
   }
 }

@@ -1,4 +1,5 @@
 import { ClothError } from '../../core/errors'
+import { nextListener } from '../../core/listeners'
 import { getClothWorld } from '../../world/access'
 import type { ClothWorldState } from '../../world/state'
 import { EV, type ClothTearEvent, type ClothTearListener } from './types'
@@ -86,9 +87,11 @@ export function dispatchTearEvents(state: ClothWorldState): void {
   // while the listeners run, a cloth one of them removes has its remaining events dropped
   tw.delivering = n
   for (let i = 0; i < n; i++) {
-    for (let l = 0; l < listeners.length; l++) {
+    for (let l = 0; l < listeners.length;) {
       if (tw.pending[i * EV] < 0) break
-      listeners[l](readEvent(tw.pending, i, tw.event))
+      const listener = listeners[l]
+      listener(readEvent(tw.pending, i, tw.event))
+      l = nextListener(listeners, l, listener)
     }
   }
   tw.delivering = 0
