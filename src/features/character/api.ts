@@ -1,4 +1,4 @@
-import { hasComponent, observe, onRemove } from 'bitecs'
+import { hasComponent, observe, onAdd, onRemove } from 'bitecs'
 import { ClothError, checkObject, checkOneOf, isArrayLike } from '../../core/errors'
 import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
@@ -58,9 +58,11 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (options === null) {
-    if (c.character === null) return
-    c.character.inertia = false
+    const ch = c.character
+    if (ch === null) return
+    ch.inertia = false
     dropIfUnused(state, c)
+    if (c.character !== null) useDefaultFrame(state, c, ch) // (the frame was an inertia setting)
     wakeClothState(state, c)
     return
   }
@@ -93,9 +95,7 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
   if (frame !== undefined) {
     setFrame(state, c, ch, frame)
     ch.settings[S_FRAME_EXPLICIT] = 1
-  } else if (ch.settings[S_FRAME_EXPLICIT] === 0) {
-    setFrame(state, c, ch, defaultFrame(state, c))
-  }
+  } else useDefaultFrame(state, c, ch) // (each call replaces every setting: the frame too)
   const s = ch.settings
   s[S_LINEAR] = linear
   s[S_ANGULAR] = angular
@@ -251,7 +251,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
   }
   ch.skin = skin
   reserveBoneScratch(B)
-  if (ch.settings[S_FRAME_EXPLICIT] === 0 && ch.frame === 0) setFrame(state, c, ch, skin.bones[0])
+  if (ch.settings[S_FRAME_EXPLICIT] === 0) setFrame(state, c, ch, defaultFrame(state, c))
   ch.motion[M_REF_VALID] = 0
   wakeClothState(state, c)
 }
@@ -264,7 +264,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
 export function getClothReference(world: object, cloth: number): Float64Array | null {
   const c = getCloth(getClothWorld(world), cloth)
   const ch = c.character
-  if (ch === null || !ch.constrained || (ch.skin !== null && ch.motion[M_REF_VALID] !== 1)) return null
+  if (ch === null || !ch.constrained) return null
   const out = new Float64Array(3 * c.count)
   lastReference(c, ch, out)
   return out
@@ -302,11 +302,33 @@ function ensureCharacter(state: ClothWorldState, c: ClothState): ClothCharacter 
   return ch
 }
 
-/** The target of the cloth's first pin that has one, else 0 (the world). */
+/** The target of the cloth's first pin that has one, else its first skin bone, else 0 (the world). */
 function defaultFrame(state: ClothWorldState, c: ClothState): number {
   const P = state.components.Pin
   for (const pin of c.pins.list) if (P.target[pin] !== 0) return P.target[pin]
+  const skin = c.character?.skin
+  if (skin) { for (const bone of skin.bones) if (bone !== 0) return bone }
   return 0
+}
+
+/** The frame back to its default, no longer one given explicitly. */
+function useDefaultFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
+  ch.settings[S_FRAME_EXPLICIT] = 0
+  setFrame(state, c, ch, defaultFrame(state, c))
+}
+
+/**
+ * Called when a pin is added (before it joins the cloth's list): a character cloth whose frame is
+ * its default and that had no pin with a target takes the new pin's target as its frame, so a pin
+ * added after the character settings gives what pinning first gives.
+ */
+function adoptPinFrame(state: ClothWorldState, pin: number): void {
+  const P = state.components.Pin
+  const c = state.components.Cloth.state[P.cloth[pin]]
+  const ch = c?.character
+  if (!ch || ch.settings[S_FRAME_EXPLICIT] !== 0 || P.target[pin] === 0) return
+  for (const other of c.pins.list) if (P.target[other] !== 0) return
+  setFrame(state, c, ch, P.target[pin])
 }
 
 /**
@@ -454,6 +476,7 @@ export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
  * Called by `installClothPlugin`.
  */
 export function installCharacter(world: object, state: ClothWorldState): void {
+  observe(world as never, onAdd(state.components.Pin), (pin: number) => adoptPinFrame(state, pin))
   observe(world as never, onRemove(state.transforms.component), (eid: number) => {
     for (const c of state.cloths) {
       const ch = c.character

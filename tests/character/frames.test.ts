@@ -1,0 +1,155 @@
+// The character frame across setup orders and later calls: a pin added after the character
+// settings becomes the default frame (the reference stayed in the world, 1.67 m off), a call without
+// a frame returns to the default one (it kept the last explicit frame: 1571 % stretch), a skinned
+// cloth's reference is readable right after configuration (it was null until the next step), and
+// the known limit of settings given late.
+import { addEntity } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  createCloth,
+  getClothReference,
+  getClothState,
+  getClothStretch,
+  pinRow,
+  setClothInertia,
+  setClothMotionConstraints,
+  setClothSkinning,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
+import { hashBytes, makeWorld } from '../helpers'
+import { carriedRest, DT, positionsNow, yawQuat } from './scenes'
+
+function maxDiff(a: ArrayLike<number>, b: ArrayLike<number>): number {
+  let w = 0
+  for (let i = 0; i < a.length; i++) w = Math.max(w, Math.abs(a[i] - b[i]))
+  return w
+}
+
+/** A 6 × 9 cape behind a hero standing at (0, 1.6, 0) (not pinned yet). */
+function cape() {
+  const world = makeWorld({ sleep: false })
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 1.6, 0])
+  const cloth = createCloth(world, {
+    width: 0.5,
+    height: 0.8,
+    resolution: [6, 9],
+    position: [-0.15, 1.55, 0],
+    rotation: yawQuat(-Math.PI / 2),
+    iterations: 3,
+  })
+  return { world, hero, cloth }
+}
+/** Rows 0 and 1 at max distance 0, then 4 cm more per row. */
+const paint = Array.from({ length: 54 }, (_, i) => (i < 12 ? 0 : 0.04 * Math.floor(i / 6)))
+const walk = (world: object, hero: number, from: number, to: number) => {
+  for (let f = from; f <= to; f++) {
+    setTransform(world, hero, [0.05 * f, 1.6, 0], yawQuat(0.02 * f))
+    stepCloth(world, DT)
+  }
+}
+
+describe('character cloth reference pose: frames and setup orders', () => {
+  it('a pin added after the first character setting becomes the default frame: setup orders give the same bytes', () => {
+    const orders: Record<string, (w: object, h: number, c: number) => void> = {
+      'pin, constraints': (w, h, c) => {
+        pinRow(w, c, 0, h)
+        setClothMotionConstraints(w, c, { maxDistance: paint })
+      },
+      'constraints, pin': (w, h, c) => {
+        setClothMotionConstraints(w, c, { maxDistance: paint })
+        pinRow(w, c, 0, h)
+      },
+      'inertia, pin, constraints': (w, h, c) => {
+        setClothInertia(w, c, { linear: 0.5 })
+        pinRow(w, c, 0, h)
+        setClothMotionConstraints(w, c, { maxDistance: paint })
+      },
+      'pin, inertia, constraints': (w, h, c) => {
+        pinRow(w, c, 0, h)
+        setClothInertia(w, c, { linear: 0.5 })
+        setClothMotionConstraints(w, c, { maxDistance: paint })
+      },
+    }
+    const out: Record<string, { hash: string; refOff: number }> = {}
+    for (const [name, setup] of Object.entries(orders)) {
+      const { world, hero, cloth } = cape()
+      const rest = positionsNow(world, cloth)
+      setup(world, hero, cloth)
+      walk(world, hero, 1, 30) // to (1.5, 1.6, 0), yaw 0.6
+      const c = getClothState(world, cloth)
+      out[name] = {
+        hash: hashBytes(c.pos.slice(0, 3 * c.count)),
+        refOff: maxDiff(getClothReference(world, cloth)!, carriedRest(rest, [0, 1.6, 0], 0, [1.5, 1.6, 0], 0.6)),
+      }
+    }
+    // observed: 'constraints, pin' and 'inertia, pin, constraints' keep the world as the frame: their
+    // reference stays where the cape was made, 1.67 m off the hero's cape (2e-8 for the others)
+    for (const name of Object.keys(orders)) expect.soft(out[name].refOff, name).toBeLessThan(1e-6)
+    expect.soft(out['constraints, pin'].hash).toBe(out['pin, constraints'].hash)
+    expect.soft(out['inertia, pin, constraints'].hash).toBe(out['pin, inertia, constraints'].hash)
+  })
+
+  it('setClothInertia without a frame after one with a frame returns to the default frame ("each call replaces every setting")', () => {
+    const run = (explicitFirst: boolean) => {
+      const { world, hero, cloth } = cape()
+      const other = addEntity(world)
+      setTransform(world, other, [0.5, 1, 0.5])
+      pinRow(world, cloth, 0, hero)
+      setClothMotionConstraints(world, cloth, { maxDistance: paint })
+      if (explicitFirst) setClothInertia(world, cloth, { frame: other, linear: 0.2 })
+      setClothInertia(world, cloth, { linear: 0.5 }) // frame omitted: the target of the first pin
+      walk(world, hero, 1, 30)
+      const c = getClothState(world, cloth)
+      return { hash: hashBytes(c.pos.slice(0, 3 * c.count)), frame: c.character!.frame, stretch: getClothStretch(world, cloth).max }
+    }
+    const plain = run(false), after = run(true)
+    // observed: the frame stays `other` (entity 3, not the hero 1); row 1, held on a reference that
+    // stays put, tears away from the pinned row 0: worst edge stretched 1571 % (0.23 % in the plain run)
+    expect.soft(after.frame).toBe(plain.frame)
+    expect.soft(after.stretch).toBeLessThan(0.05)
+    expect.soft(after.hash).toBe(plain.hash)
+  })
+
+  it('known limit: character settings given after the character walked away from where the cloth was created bind the cloth as created to where the frame is now', () => {
+    // (the rest shape is the cloth as created, in world coordinates; the frame's pose then is not
+    // kept, so it is bound to the frame's pose now). Measured: the reference's pinned row 3.33 m from
+    // the pins after a 3 m walk and a 1.2 rad turn, 2.22 m when set, removed and set again, and one
+    // step later edges stretched 3230 % and 2127 %. The README says to configure a cloth when it is
+    // created and pinned.
+    for (const variant of ['late', 'on-off-on']) {
+      const { world, hero, cloth } = cape()
+      pinRow(world, cloth, 0, hero)
+      if (variant === 'on-off-on') {
+        setClothMotionConstraints(world, cloth, { maxDistance: paint })
+        walk(world, hero, 1, 10)
+        setClothMotionConstraints(world, cloth, null)
+        walk(world, hero, 11, 40)
+      } else walk(world, hero, 1, 60)
+      const c = getClothState(world, cloth)
+      const pinned = c.pos.slice(0, 18) // row 0, on the hero
+      setClothMotionConstraints(world, cloth, { maxDistance: paint })
+      const ref = getClothReference(world, cloth)!
+      expect(maxDiff(ref.subarray(0, 18), pinned), variant).toBeGreaterThan(1)
+    }
+  })
+
+  it('getClothReference of a skinned cloth with motion constraints is its reference right after configuration (not null)', () => {
+    const { world, hero, cloth } = cape()
+    const joints = Array.from({ length: 4 * 54 }, () => 0)
+    const weights = Array.from({ length: 4 * 54 }, (_, k) => (k % 4 === 0 ? 1 : 0))
+    const rest = positionsNow(world, cloth)
+    setClothMotionConstraints(world, cloth, { maxDistance: paint })
+    setClothSkinning(world, cloth, { bones: [hero], joints, weights })
+    // observed: null (the doc: null only without character settings or without motion constraints)
+    const ref = getClothReference(world, cloth)
+    expect(ref).not.toBeNull()
+    expect(maxDiff(ref!, rest)).toBeLessThan(1e-6)
+    stepCloth(world, DT)
+    const other = addEntity(world)
+    setTransform(world, other, [1, 1, 1])
+    setClothInertia(world, cloth, { frame: other }) // a frame change of a skinned cloth: null again
+    expect(getClothReference(world, cloth)).not.toBeNull()
+  })
+})
