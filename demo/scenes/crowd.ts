@@ -196,7 +196,14 @@ export const crowdScene: DemoScene = {
         for (let i = 0; i < capes.length; i++) {
           const k = lodClass(getClothLod(world, capes[i]))
           histogram[k]++
-          meshes[i].material = tintLod ? lodMaterials[k] : fabrics[i % fabrics.length]
+          // (a material that is neither, the stretch tint's, stays until the panel takes it off)
+          const now = meshes[i].material
+          if (
+            tintLod || (lodMaterials as THREE.Material[]).includes(now as THREE.Material) ||
+            (fabrics as THREE.Material[]).includes(now as THREE.Material)
+          ) {
+            meshes[i].material = tintLod ? lodMaterials[k] : fabrics[i % fabrics.length]
+          }
         }
       },
       // the budget picks each cape's substeps; the panel's count is what near capes want
