@@ -1,0 +1,119 @@
+import { multiplyQuatAt, rotateVecAt } from '../../core/math'
+import { readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
+import type { ClothState, ClothWorldState } from '../../world/state'
+import { releaseAnchor } from '../budget/freeze'
+import { bindRigid, currentReference, restNormals, trackedPose } from './reference'
+import { M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_FRAME_EXPLICIT, type ClothCharacter } from './types'
+
+/**
+ * A character cloth's frame: which entity it is (given, or the default: the first pin's target, the
+ * first skin bone, the world), and moving the cloth's reference onto a new frame without moving it.
+ */
+
+/** The target of the cloth's first pin that has one, else its first skin bone, else 0 (the world). */
+export function defaultFrame(state: ClothWorldState, c: ClothState): number {
+  const P = state.components.Pin
+  for (const pin of c.pins.list) if (P.target[pin] !== 0) return P.target[pin]
+  const skin = c.character?.skin
+  if (skin) { for (const bone of skin.bones) if (bone !== 0) return bone }
+  return 0
+}
+
+/** The frame back to its default, no longer one given explicitly. */
+export function useDefaultFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
+  ch.settings[S_FRAME_EXPLICIT] = 0
+  setFrame(state, c, ch, defaultFrame(state, c))
+}
+
+/**
+ * Called when a pin is added (before it joins the cloth's list): a character cloth whose frame is
+ * its default and that had no pin with a target takes the new pin's target as its frame, so a pin
+ * added after the character settings gives what pinning first gives.
+ */
+export function adoptPinFrame(state: ClothWorldState, pin: number): void {
+  const P = state.components.Pin
+  const c = state.components.Cloth.state[P.cloth[pin]]
+  const ch = c?.character
+  if (!ch || ch.settings[S_FRAME_EXPLICIT] !== 0 || P.target[pin] === 0) return
+  for (const other of c.pins.list) if (P.target[other] !== 0) return
+  setFrame(state, c, ch, P.target[pin])
+}
+
+/**
+ * Makes `eid` (0: the world) the cloth's frame. A rigid reference is rebound so that it stays
+ * where it is now (`rebind`; false when nothing is bound yet: the rest shape is then exact),
+ * carried by the new frame from here on; the frame's motion history restarts.
+ */
+export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number, rebind = true): void {
+  if (eid === ch.frame && (eid === 0 || ch.frameSlot >= 0)) return
+  if (ch.skin === null && rebind) rebindRest(state, c, ch)
+  const oldFrame = ch.frame, oldSlot = ch.frameSlot
+  const slot = eid !== 0 ? trackEntity(state, eid) : -1
+  if (slot >= 0) backdate(state, slot, eid, oldSlot, oldFrame)
+  if (oldSlot >= 0) {
+    releaseAnchor(state, c, oldSlot)
+    untrackEntity(state, oldFrame)
+  }
+  ch.frame = eid
+  ch.frameSlot = slot
+  const m = ch.motion
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
+  // (the world, or a frame gone: the last pose stays)
+  m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
+  m[M_PRIMED] = 0
+  m[M_REF_VALID] = 0
+  if (ch.skin === null) bindRigid(c, ch)
+}
+
+/**
+ * An entity tracked just now for the first time (slot `slot`, `eid`) has no history: its slot
+ * starts at its Transform now, which the game may already have moved for the coming step, while
+ * the cloth's reference is where the last step left it (so a frame or bone bound there was off by
+ * that motion for good: a running cape's held rows stretched 74 % from its new frame's pinned row).
+ * It takes the history of the entity the cloth follows (`via`, slot `viaSlot`, −1: none), offset
+ * as the two are now: as if it had moved rigidly with it.
+ */
+export function backdate(state: ClothWorldState, slot: number, eid: number, viaSlot: number, via: number): void {
+  const k = state.kinematics
+  if (viaSlot < 0 || viaSlot === slot || k.refs[slot] !== 1) return
+  const t = backdateScratch
+  readPoseInto(state, via, t) // via now: t[0..6]
+  readPoseInto(state, eid, t.subarray(7, 14)) // it now: t[7..13]
+  // its pose relative to via's: q = q_via⁻¹·q, p = q_via⁻¹·(p − p_via)
+  t[3] = -t[3]
+  t[4] = -t[4]
+  t[5] = -t[5]
+  multiplyQuatAt(t, 3, t, 10, t, 17)
+  for (let a = 0; a < 3; a++) t[21 + a] = t[7 + a] - t[a]
+  rotateVecAt(t, 3, t, 21, t, 14)
+  // via's history, moved by that offset: p = p_via + q_via·p_rel, q = q_via·q_rel
+  for (const poses of [k.sampleFrom, k.sampleTo, k.stepFrom, k.stepTo]) {
+    const o = 7 * viaSlot, d = 7 * slot
+    rotateVecAt(poses, o + 3, t, 14, t, 21)
+    for (let a = 0; a < 3; a++) poses[d + a] = poses[o + a] + t[21 + a]
+    multiplyQuatAt(poses, o + 3, t, 17, poses, d + 3)
+  }
+}
+
+/** Scratch of `backdate`: via's pose, the entity's pose, the relative position and rotation, a vector. */
+const backdateScratch = new Float64Array(24)
+
+/**
+ * rest ← the reference as it stands now (and its normals), so a rebind does not move it. A rigid
+ * reference whose frame is still at its bind pose (the world always is) is the rest shape: it is
+ * left exact, where the reference computed from the float32 bind would round it (and setup orders
+ * would part ways).
+ */
+export function rebindRest(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
+  const m = ch.motion
+  if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
+  let still = ch.skin === null
+  for (let j = 0; j < 10 && still; j++) still = m[M_POSE + j] === m[M_BIND + j]
+  if (!still) {
+    const now = new Float64Array(ch.rest.length)
+    currentReference(state, c, ch, now)
+    ch.rest.set(now)
+    restNormals(c, ch.rest, ch.restNormal)
+  }
+  m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
+}
