@@ -291,8 +291,8 @@ export function clampSelfCollidingMotion(state: ClothWorldState, c: ClothState):
 }
 
 /**
- * Every substep: rebuilds a fast cloth's pairs at its intervals, then pushes apart the cloth–cloth pairs (a cloth sitting this substep out counts as
- * immovable) and each running cloth's self pairs.
+ * Every substep: rebuilds a fast cloth's pairs at its intervals, then pushes apart the cloth–cloth
+ * pairs (a cloth sitting this substep out counts as immovable) and each running cloth's self pairs.
  */
 export function solveSelfCollision(state: ClothWorldState): void {
   const cw = state.collision
