@@ -23,13 +23,10 @@ import {
   setClothVisible,
   setTransform,
   stepCloth,
-  type ClothCostCalibration,
 } from '../src/index'
-import { hashBytes, makeWorld } from './helpers'
+import { CALIBRATION, hashBytes, makeWorld } from './helpers'
 
 const DT = 1 / 60
-/** Fixed cost-model numbers: the levels these tests expect do not depend on the machine. */
-const CAL: ClothCostCalibration = { nsPerParticle: 20, nsPerProjection: 12, nsPerColliderTest: 5, nsPerClothSubstep: 500 }
 
 /** A 1 m sheet of n×n hanging from its two top corners at x (or pinned along the top row to `anchor`). */
 function sheet(world: object, x: number, n = 12, options: { substeps?: number; iterations?: number; anchor?: number } = {}) {
@@ -58,7 +55,7 @@ function farCape(every: 2 | 4) {
   setTransform(world, hero, [5, 1.6, 0])
   const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [5, 1.6, -0.15] })
   pinRow(world, cape, 0, hero)
-  setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: every, adapt: false, interval: 1, calibration: CAL })
+  setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: every, adapt: false, interval: 1, calibration: CALIBRATION })
   return { world, hero, cape, c: getClothState(world, cape) }
 }
 
@@ -101,17 +98,17 @@ describe('quality targets', () => {
   it('a time target picks the most substeps the cost model allows; the bounds hold', () => {
     const world = makeWorld({ sleep: false })
     const cloth = sheet(world, 0, 16)
-    setClothQualityTarget(world, cloth, { msPerStep: 0.1, calibration: CAL })
+    setClothQualityTarget(world, cloth, { msPerStep: 0.1, calibration: CALIBRATION })
     steps(world, 2)
     const lod = getClothLod(world, cloth)
     expect(lod.predictedMs).toBeLessThanOrEqual(0.1)
     // the next rung up would not fit
     const next = SUBSTEP_LADDER[SUBSTEP_LADDER.indexOf(lod.substeps) + 1]
     expect(lod.predictedMs * (next / lod.substeps)).toBeGreaterThan(0.1)
-    setClothQualityTarget(world, cloth, { msPerStep: 100, maxSubsteps: 6, calibration: CAL })
+    setClothQualityTarget(world, cloth, { msPerStep: 100, maxSubsteps: 6, calibration: CALIBRATION })
     steps(world, 16)
     expect(getClothLod(world, cloth).substeps).toBe(6)
-    setClothQualityTarget(world, cloth, { msPerStep: 1e-6, minSubsteps: 2, calibration: CAL })
+    setClothQualityTarget(world, cloth, { msPerStep: 1e-6, minSubsteps: 2, calibration: CALIBRATION })
     steps(world, 16)
     expect(getClothLod(world, cloth).substeps).toBe(2)
     setClothQualityTarget(world, cloth, null)
@@ -127,7 +124,7 @@ describe('quality targets', () => {
     expect(() => setClothQualityTarget(world, cloth, { maxStretch: -0.1 })).toThrow(/target\.maxStretch/)
     expect(() => setClothQualityTarget(world, cloth, { msPerStep: NaN })).toThrow(/target\.msPerStep/)
     expect(() => setClothQualityTarget(world, cloth, { maxStretch: 0.01, minSubsteps: 8, maxSubsteps: 4 })).toThrow(/target\.maxSubsteps/)
-    expect(() => setClothQualityTarget(world, cloth, { msPerStep: 1, calibration: { ...CAL, nsPerProjection: 0 } })).toThrow(
+    expect(() => setClothQualityTarget(world, cloth, { msPerStep: 1, calibration: { ...CALIBRATION, nsPerProjection: 0 } })).toThrow(
       /nsPerProjection/,
     )
     expect(() => setClothQualityTarget(world, 12345, { maxStretch: 0.01 })).toThrow(ClothError)
@@ -141,7 +138,7 @@ describe('world budget and level of detail', () => {
     const viewer = addEntity(world)
     setTransform(world, viewer, [0, 2, 0])
     const cloths = [2, 8, 20, 60, 200].map((x) => sheet(world, x, 10, { substeps: 8, iterations: 2 }))
-    setClothBudget(world, { viewer, near: 5, far: 50, cull: 150, calibration: CAL, farStepEvery: 2, ...options })
+    setClothBudget(world, { viewer, near: 5, far: 50, cull: 150, calibration: CALIBRATION, farStepEvery: 2, ...options })
     return { world, viewer, cloths }
   }
 
@@ -170,11 +167,11 @@ describe('world budget and level of detail', () => {
     const viewer = addEntity(world)
     setTransform(world, viewer, [0, 2, 0])
     const cloths = [1, 3, 5, 7, 9, 11, 13, 15].map((x) => sheet(world, x, 16, { substeps: 16 }))
-    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CAL })
+    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CALIBRATION })
     steps(world, 2)
     const unlimited = cloths.reduce((s, c) => s + getClothLod(world, c).predictedMs, 0)
     const budget = unlimited / 4
-    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CAL, msPerFrame: budget, adapt: false })
+    setClothBudget(world, { viewer, near: 4, far: 1000, calibration: CALIBRATION, msPerFrame: budget, adapt: false })
     steps(world, 2)
     const lods = cloths.map((c) => getClothLod(world, c))
     const total = lods.reduce((s, l) => s + l.predictedMs, 0)
@@ -233,7 +230,7 @@ describe('world budget and level of detail', () => {
       setTransform(world, hero, [0, 1.6, 0])
       const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 12, position: [0, 1.6, -0.15], substeps: 16 })
       pinRow(world, cape, 0, hero)
-      if (budget) setClothBudget(world, { viewer, near: 3, far: 20, interval: 5, calibration: CAL })
+      if (budget) setClothBudget(world, { viewer, near: 3, far: 20, interval: 5, calibration: CALIBRATION })
       const c = getClothState(world, cape)
       let prev = Float64Array.from(c.vel)
       let worst = 0
@@ -267,7 +264,7 @@ describe('world budget and level of detail', () => {
     setTransform(world, hero, [0, 1.6, 0])
     const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: 10, position: [0, 1.6, -0.15] })
     pinRow(world, cape, 0, hero)
-    setClothBudget(world, { calibration: CAL, interval: 1 })
+    setClothBudget(world, { calibration: CALIBRATION, interval: 1 })
     steps(world, 60)
     const c = getClothState(world, cape)
     const before = Float64Array.from(c.pos)
@@ -317,7 +314,7 @@ describe('world budget and level of detail', () => {
         setClothSkinning(world, cl, { bones: [b1, b2], joints, weights })
       } else setClothInertia(world, cl, { frame: b1, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
       setClothMotionConstraints(world, cl, { maxDistance: Array.from({ length: 64 }, (_, i) => (i < 8 ? 0 : Infinity)) })
-      setClothBudget(world, { calibration: CAL, adapt: false, interval: 1 })
+      setClothBudget(world, { calibration: CALIBRATION, adapt: false, interval: 1 })
       for (let f = 0; f < 60; f++) stepCloth(world, DT)
       setClothVisible(world, cl, false)
       stepCloth(world, DT)
@@ -420,7 +417,7 @@ describe('world budget and level of detail', () => {
     expect(() => setClothVisible(world, cloth, 1 as never)).toThrow(/visible/)
     const viewer = addEntity(world)
     setTransform(world, viewer, [100, 0, 0])
-    setClothBudget(world, { viewer, near: 1, far: 2, calibration: CAL })
+    setClothBudget(world, { viewer, near: 1, far: 2, calibration: CALIBRATION })
     steps(world, 2)
     expect(getClothLod(world, cloth)).toMatchObject({ substeps: 1, iterations: 1 })
     expect(getClothLod(world, cloth).distance).toBeGreaterThan(99)

@@ -17,12 +17,10 @@ import {
   setClothVisible,
   setTransform,
   stepCloth,
-  type ClothCostCalibration,
 } from '../src/index'
-import { makeWorld } from './helpers'
+import { CALIBRATION, makeWorld } from './helpers'
 
 const DT = 1 / 60
-const CAL: ClothCostCalibration = { nsPerParticle: 20, nsPerProjection: 12, nsPerColliderTest: 5, nsPerClothSubstep: 500 }
 
 /** A cape pinned along its top row to a hero entity at x (offsets: pin 0 sits 0.3 m left of the hero). */
 function capeScene(x = 0, substeps = 8) {
@@ -48,7 +46,7 @@ describe('freeze / thaw of a cloth whose pin target is moving', () => {
         setClothMotionConstraints(world, cape, { maxDistance: Array.from({ length: 64 }, (_, i) => (i < 8 ? 0 : Infinity)) })
       }
       const c = getClothState(world, cape)
-      setClothBudget(world, { calibration: CAL, adapt: false, interval: 1 })
+      setClothBudget(world, { calibration: CALIBRATION, adapt: false, interval: 1 })
       let x = 0
       const walk = () => {
         x += 0.05 // 3 m/s
@@ -72,7 +70,7 @@ describe('freeze / thaw of a cloth whose pin target is moving', () => {
   it('thawing (setClothVisible) a cape on a character walking at constant speed causes no pop', () => {
     const run = (freeze: boolean) => {
       const { world, hero, cape, c } = capeScene()
-      setClothBudget(world, { calibration: CAL, adapt: false, interval: 1 })
+      setClothBudget(world, { calibration: CALIBRATION, adapt: false, interval: 1 })
       let x = 0, worst = 0
       let prev = Float64Array.from(c.vel)
       for (let f = 1; f <= 260; f++) {
@@ -105,7 +103,7 @@ describe('every-n-th stepping when the level changes often', () => {
     const { world, hero, cape, c } = capeScene()
     const viewer = addEntity(world)
     setTransform(world, viewer, [20, 1.6, 0])
-    setClothBudget(world, { viewer, near: 5, far: 20, farStepEvery: 4, calibration: CAL, adapt: false, interval: 1 })
+    setClothBudget(world, { viewer, near: 5, far: 20, farStepEvery: 4, calibration: CALIBRATION, adapt: false, interval: 1 })
     for (let f = 0; f < 30; f++) stepCloth(world, DT)
     resetClothStats(world)
     let lag = 0
@@ -129,7 +127,7 @@ describe('every-n-th stepping when the level changes often', () => {
     const { world, hero, cape, c } = capeScene()
     const viewer = addEntity(world)
     setTransform(world, viewer, [30, 1.6, 0])
-    setClothBudget(world, { viewer, near: 5, far: 20, cull: 50, farStepEvery: 4, calibration: CAL, adapt: false, interval: 1 })
+    setClothBudget(world, { viewer, near: 5, far: 20, cull: 50, farStepEvery: 4, calibration: CALIBRATION, adapt: false, interval: 1 })
     for (let f = 0; f < 30; f++) stepCloth(world, DT)
     expect(getClothLod(world, cape).stepEvery).toBe(4)
     setTransform(world, viewer, [100, 1.6, 0]) // the camera leaves: culled

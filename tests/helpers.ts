@@ -1,6 +1,13 @@
 import { createWorld } from 'bitecs'
 import { expect } from 'vitest'
-import { ClothError, getClothState, getClothStats, installClothPlugin, type ClothPluginOptions } from '../src/index'
+import {
+  ClothError,
+  getClothState,
+  getClothStats,
+  installClothPlugin,
+  type ClothCostCalibration,
+  type ClothPluginOptions,
+} from '../src/index'
 
 /** Expects `fn` to throw a ClothError naming `argument` (and, when given, mentioning `value`). */
 export function rejects(fn: () => unknown, argument: string, value?: string): void {
@@ -14,6 +21,18 @@ export function rejects(fn: () => unknown, argument: string, value?: string): vo
   expect((error as ClothError).argument).toBe(argument)
   expect((error as Error).message).toContain(argument)
   if (value !== undefined) expect((error as Error).message).toContain(value)
+}
+
+/**
+ * Fixed cost-model numbers for budget tests: the levels they expect do not depend on the machine
+ * (`CALIBRATION`), or a cheaper model under which more cloths get high levels (`CHEAP_CALIBRATION`).
+ */
+export const CALIBRATION: ClothCostCalibration = { nsPerParticle: 20, nsPerProjection: 12, nsPerColliderTest: 5, nsPerClothSubstep: 500 }
+export const CHEAP_CALIBRATION: ClothCostCalibration = {
+  nsPerParticle: 10,
+  nsPerProjection: 2,
+  nsPerColliderTest: 3,
+  nsPerClothSubstep: 100,
 }
 
 /** A fresh world with the plugin installed. */

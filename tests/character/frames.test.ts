@@ -6,7 +6,6 @@
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
-  createCloth,
   getClothReference,
   getClothState,
   getClothStretch,
@@ -18,7 +17,7 @@ import {
   stepCloth,
 } from '../../src/index'
 import { hashBytes, makeWorld } from '../helpers'
-import { carriedRest, DT, positionsNow, yawQuat } from './scenes'
+import { capeBehind, carriedRest, DT, positionsNow, yawQuat } from './scenes'
 
 function maxDiff(a: ArrayLike<number>, b: ArrayLike<number>): number {
   let w = 0
@@ -31,14 +30,7 @@ function cape() {
   const world = makeWorld({ sleep: false })
   const hero = addEntity(world)
   setTransform(world, hero, [0, 1.6, 0])
-  const cloth = createCloth(world, {
-    width: 0.5,
-    height: 0.8,
-    resolution: [6, 9],
-    position: [-0.15, 1.55, 0],
-    rotation: yawQuat(-Math.PI / 2),
-    iterations: 3,
-  })
+  const cloth = capeBehind(world, [6, 9], 3)
   return { world, hero, cloth }
 }
 /** Rows 0 and 1 at max distance 0, then 4 cm more per row. */

@@ -53,20 +53,27 @@ export function sprintTurnStop(t: number): { p: [number, number, number]; yaw: n
   return { p: [x, 1.6, z], yaw }
 }
 
+/**
+ * A 0.5 × 0.8 m cape behind a character standing at (0, 1.6, 0) facing +x, neither pinned nor held:
+ * it hangs behind the character (−x), its front facing away from the body (−x: a sheet turned by
+ * −90° about y), so a backstop (behind the front) lies toward the body.
+ */
+export function capeBehind(world: object, resolution: [number, number] = [6, 9], iterations = 1): number {
+  return createCloth(world, {
+    width: 0.5,
+    height: 0.8,
+    resolution,
+    position: [-0.15, 1.55, 0],
+    rotation: yawQuat(-Math.PI / 2),
+    iterations,
+  })
+}
+
 /** A cape pinned along its top edge to a character entity standing at the origin, facing +x. */
 export function capeOnCharacter(inertia?: ClothInertiaOptions, world = makeWorld()) {
   const hero = addEntity(world)
   setTransform(world, hero, [0, 1.6, 0])
-  // the cape hangs behind the character (−x), its front facing away from the body (−x: a sheet
-  // turned by −90° about y), so a backstop (behind the front) lies toward the body
-  const cape = createCloth(world, {
-    width: 0.5,
-    height: 0.8,
-    resolution: [8, 12],
-    position: [-0.15, 1.55, 0],
-    rotation: yawQuat(-Math.PI / 2),
-    iterations: 4,
-  })
+  const cape = capeBehind(world, [8, 12], 4)
   pinRow(world, cape, 0, hero)
   if (inertia) setClothInertia(world, cape, { frame: hero, ...inertia })
   return { world, hero, cape }

@@ -19,7 +19,7 @@ import {
   type ClothSnapshot,
 } from '../../src/index'
 import { hashBytes, rng } from '../helpers'
-import { yawQuat } from './scenes'
+import { capeBehind, yawQuat } from './scenes'
 
 /** A caped character (inertia 0.5, teleport reset at 90°, painted constraints) and a skinned sleeve on two bones. */
 function buildScene(world: object, configure = true) {
@@ -30,14 +30,7 @@ function buildScene(world: object, configure = true) {
   const arm = [addEntity(world), addEntity(world)]
   setTransform(world, arm[0], [0.2, 1.4, 0])
   setTransform(world, arm[1], [0.5, 1.4, 0])
-  const cape = createCloth(world, {
-    width: 0.5,
-    height: 0.8,
-    resolution: [6, 9],
-    position: [-0.15, 1.55, 0],
-    rotation: yawQuat(-Math.PI / 2),
-    iterations: 3,
-  })
+  const cape = capeBehind(world, [6, 9], 3)
   pinRow(world, cape, 0, hero)
   const sleeve = createCloth(world, { width: 0.6, height: 0.1, resolution: [7, 2], position: [0.5, 1.4, 0] })
   if (configure) configureScene(world, { hero, torso, arm, cape, sleeve })

@@ -16,7 +16,7 @@ import {
   type ClothInertiaOptions,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
-import { DT, capeOnCharacter, carriedRest, drive, localShape, positionsNow, rms, yawQuat } from './scenes'
+import { capeBehind, DT, capeOnCharacter, carriedRest, drive, localShape, positionsNow, rms, yawQuat } from './scenes'
 
 /** A swinging cape: the character runs at 4 m/s along +x turning at 1 rad/s for 1 s (shares 0.5). */
 function swinging(inertia: ClothInertiaOptions) {
@@ -114,13 +114,7 @@ describe('teleport', () => {
     const world = makeWorld({ sleep: false })
     const hero = addEntity(world)
     setTransform(world, hero, [0, 1.6, 0])
-    const cape = createCloth(world, {
-      width: 0.5,
-      height: 0.8,
-      resolution: [8, 12],
-      position: [-0.15, 1.55, 0],
-      rotation: yawQuat(-Math.PI / 2),
-    })
+    const cape = capeBehind(world, [8, 12])
     setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
     setClothMotionConstraints(world, cape, { maxDistance: Array.from({ length: 96 }, (_, i) => (i < 8 ? 0 : Infinity)) })
     drive(world, hero, (t) => ({ p: [3 * t, 1.6, 0], yaw: 0 }), 1)

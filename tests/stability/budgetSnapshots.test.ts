@@ -24,9 +24,7 @@ import {
   type ClothBudgetOptions,
   type ClothSnapshot,
 } from '../../src/index'
-import { hashBytes } from '../helpers'
-
-const CAL = { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 }
+import { CHEAP_CALIBRATION, hashBytes } from '../helpers'
 
 interface Setup {
   budget?: ClothBudgetOptions
@@ -69,8 +67,8 @@ function build(setup: Setup) {
   }
   const viewer = addEntity(world)
   setTransform(world, viewer, [0, 2, 5])
-  if (setup.budget) setClothBudget(world, { viewer, calibration: CAL, adapt: false, ...setup.budget })
-  if (setup.target) setClothQualityTarget(world, capes[0], { maxStretch: 0.004, calibration: CAL })
+  if (setup.budget) setClothBudget(world, { viewer, calibration: CHEAP_CALIBRATION, adapt: false, ...setup.budget })
+  if (setup.target) setClothQualityTarget(world, capes[0], { maxStretch: 0.004, calibration: CHEAP_CALIBRATION })
   return { world, heroes, capes, viewer }
 }
 type Scene = ReturnType<typeof build>

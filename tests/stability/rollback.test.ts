@@ -42,10 +42,9 @@ import {
   stepCloth,
   type ClothSnapshot,
 } from '../../src/index'
-import { yawQuat } from '../character/scenes'
+import { capeBehind, yawQuat } from '../character/scenes'
 import { threadedWorld } from '../threads/scene'
-
-const CAL = { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 }
+import { CHEAP_CALIBRATION } from '../helpers'
 
 /** Copies of positions, previous positions and velocities of the cloths. */
 function bytes(world: object, cloths: number[]): Float64Array[] {
@@ -154,12 +153,12 @@ function frozenAnchorScene(): Scene & { hero: number; other: number; viewer: num
   addSphereCollider(world, body, { body: hero, offset: [0, -0.4, 0], radius: 0.15 })
   const viewer = addEntity(world)
   setTransform(world, viewer, [0, 2, 3])
-  const cloth = smallCape(world)
+  const cloth = capeBehind(world, [6, 9], 2)
   setClothInertia(world, cloth, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
   setClothMotionConstraints(world, cloth, {
     maxDistance: Array.from({ length: 54 }, (_, i) => (i < 6 ? 0 : 0.05 * Math.floor(i / 6))),
   })
-  setClothBudget(world, { viewer, near: 5, far: 20, cull: 40, calibration: CAL, adapt: false, interval: 3 })
+  setClothBudget(world, { viewer, near: 5, far: 20, cull: 40, calibration: CHEAP_CALIBRATION, adapt: false, interval: 3 })
   const inputs = (f: number, variant = 0) => {
     const t = f / 60
     // the hero walks along +x; the viewer goes away (frames 10..40), stays away, comes back at 80
@@ -221,18 +220,6 @@ describe('snapshots of a frozen character cloth carried by its frame (no pins)',
 // ---------------------------------------------------------------------------------------------
 // A caped character with painted limits, a backstop and teleport handling, and a skinned sleeve.
 
-/** The 6×9 cape of these scenes, beside a hero at (0, 1.6, 0) facing −x (neither pinned nor held). */
-function smallCape(world: object, iterations = 2): number {
-  return createCloth(world, {
-    width: 0.5,
-    height: 0.8,
-    resolution: [6, 9],
-    position: [-0.15, 1.55, 0],
-    rotation: yawQuat(-Math.PI / 2),
-    iterations,
-  })
-}
-
 /** The hero, its two arm bones, and the 6×9 cape of these scenes (neither pinned nor held yet). */
 function heroWithCape(world: object, iterations = 2): { hero: number; arm: number[]; cape: number } {
   const hero = addEntity(world)
@@ -240,7 +227,7 @@ function heroWithCape(world: object, iterations = 2): { hero: number; arm: numbe
   const arm = [addEntity(world), addEntity(world)]
   setTransform(world, arm[0], [0.2, 1.4, 0])
   setTransform(world, arm[1], [0.5, 1.4, 0])
-  const cape = smallCape(world, iterations)
+  const cape = capeBehind(world, [6, 9], iterations)
   return { hero, arm, cape }
 }
 
@@ -668,8 +655,9 @@ describe('kitchen sink rollback: character cloth with colliders, wind and gusts,
       }
       const viewer = addEntity(world)
       setTransform(world, viewer, [0, 2, 3])
-      if (opts.budget) setClothBudget(world, { viewer, near: 3, far: 10, farStepEvery: 4, calibration: CAL, adapt: false, interval: 5 })
-      if (opts.target) setClothQualityTarget(world, s.cape, { maxStretch: 0.01, calibration: CAL })
+      if (opts.budget)
+        setClothBudget(world, { viewer, near: 3, far: 10, farStepEvery: 4, calibration: CHEAP_CALIBRATION, adapt: false, interval: 5 })
+      if (opts.target) setClothQualityTarget(world, s.cape, { maxStretch: 0.01, calibration: CHEAP_CALIBRATION })
       const base = s.inputs
       s.inputs = (f, v = 0) => {
         base(f, v)
@@ -765,10 +753,10 @@ describe('rollback across entity churn and pin changes', () => {
       setTransform(world, other, [5, 1.6, 0])
       const viewer = addEntity(world)
       setTransform(world, viewer, [0, 2, 3])
-      const cape = smallCape(world, 1)
+      const cape = capeBehind(world)
       pinRow(world, cape, 0, hero)
       setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
-      setClothBudget(world, { viewer, near: 5, far: 20, cull: 40, calibration: CAL, adapt: false, interval: 3 })
+      setClothBudget(world, { viewer, near: 5, far: 20, cull: 40, calibration: CHEAP_CALIBRATION, adapt: false, interval: 3 })
       const inputs = (f: number, v = 0) => {
         setTransform(world, hero, [0.05 * f + v, 1.6, 0.3 * Math.sin(f / 60)], yawQuat(0.2 * Math.sin(f / 60)))
         setTransform(world, other, [5 + 0.2 * f, 1.6, 0])
@@ -902,7 +890,15 @@ describe('far cloths stepping every n-th step: a frame jump right after the rest
     it(`character cloth ${pinned ? 'pinned to' : 'held by max distance 0 on'} its frame, farStepEvery 4, the frame jumps 5 m at the first replayed frame`, () => {
       const build = () => {
         const s = frozenAnchorScene()
-        setClothBudget(s.world, { viewer: s.viewer, near: 1, far: 2, farStepEvery: 4, calibration: CAL, adapt: false, interval: 3 })
+        setClothBudget(s.world, {
+          viewer: s.viewer,
+          near: 1,
+          far: 2,
+          farStepEvery: 4,
+          calibration: CHEAP_CALIBRATION,
+          adapt: false,
+          interval: 3,
+        })
         if (pinned) pinRow(s.world, s.cloths[0], 0, s.hero)
         const base = s.inputs
         s.inputs = (f, v = 0) => {

@@ -19,8 +19,7 @@ import {
   stepCloth,
 } from '../../src/index'
 import { threadedWorld } from './scene'
-
-const CAL = { nsPerParticle: 10, nsPerProjection: 2, nsPerColliderTest: 3, nsPerClothSubstep: 100 }
+import { CHEAP_CALIBRATION } from '../helpers'
 
 const MODES = [
   { name: 'no workers', threads: 0, options: {} },
@@ -40,7 +39,7 @@ function resetFrame(threads: number, options: object, warm: number, listener: (w
     setTransform(world, viewer, [0, 0, 0])
     const far = createCloth(world, { width: 1, height: 1, resolution: 6, position: [100, 2, 0] })
     pinRow(world, far, 0)
-    setClothBudget(world, { viewer, near: 5, far: 20, farStepEvery: 2, calibration: CAL, adapt: false, interval: 1 })
+    setClothBudget(world, { viewer, near: 5, far: 20, farStepEvery: 2, calibration: CHEAP_CALIBRATION, adapt: false, interval: 1 })
     let resetStep = -1
     onClothReset(world, (e) => {
       resetStep = e.step
