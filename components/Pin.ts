@@ -25,6 +25,12 @@ export interface PinStore {
   blendLeft: Float64Array
   /** Total blend time, s. */
   blendTime: Float64Array
+  /**
+   * The target's pose when the pin was made, 10 per pin (position, rotation xyzw, scale; zero with
+   * no target): where the cloth was attached to it, which a character reference bound later starts
+   * from (features/character/frames.ts).
+   */
+  pose: Float64Array
 }
 
 /** Allocates a Pin store for `capacity` entity ids. Called by `installClothPlugin`. */
@@ -40,5 +46,6 @@ export function createPinStore(capacity: number): PinStore {
     blendFrom: newArray(Float64Array, 3 * capacity),
     blendLeft: newArray(Float64Array, capacity),
     blendTime: newArray(Float64Array, capacity),
+    pose: newArray(Float64Array, 10 * capacity),
   }
 }

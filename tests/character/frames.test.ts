@@ -1,8 +1,8 @@
 // The character frame across setup orders and later calls: a pin added after the character
 // settings becomes the default frame (the reference stayed in the world, 1.67 m off), a call without
 // a frame returns to the default one (it kept the last explicit frame: 1571 % stretch), a skinned
-// cloth's reference is readable right after configuration (it was null until the next step), and
-// the known limit of settings given late.
+// cloth's reference is readable right after configuration (it was null until the next step),
+// and settings given late bind the cloth as pinned (or, unpinned, where it was created).
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
@@ -104,26 +104,55 @@ describe('character cloth reference pose: frames and setup orders', () => {
     expect.soft(after.hash).toBe(plain.hash)
   })
 
-  it('known limit: character settings given after the character walked away from where the cloth was created bind the cloth as created to where the frame is now', () => {
-    // (the rest shape is the cloth as created, in world coordinates; the frame's pose then is not
-    // kept, so it is bound to the frame's pose now). Measured: the reference's pinned row 3.33 m from
-    // the pins after a 3 m walk and a 1.2 rad turn, 2.22 m when set, removed and set again, and one
-    // step later edges stretched 3230 % and 2127 %. The README says to configure a cloth when it is
-    // created and pinned.
-    for (const variant of ['late', 'on-off-on']) {
+  it('character settings given after the character walked away (or again after all were removed) bind the cloth as it was pinned: the reference is the one set at creation gives', () => {
+    // observed before: the rest shape was bound to the frame's pose at the call, so the reference's
+    // pinned row lay 3.33 m from the pins after a 3 m walk and a 1.2 rad turn (2.22 m when set,
+    // removed and set again) and one step later edges stretched 3230 % and 2127 %
+    const run = (variant: string) => {
       const { world, hero, cloth } = cape()
       pinRow(world, cloth, 0, hero)
+      if (variant === 'early') setClothMotionConstraints(world, cloth, { maxDistance: paint })
       if (variant === 'on-off-on') {
         setClothMotionConstraints(world, cloth, { maxDistance: paint })
         walk(world, hero, 1, 10)
         setClothMotionConstraints(world, cloth, null)
-        walk(world, hero, 11, 40)
+        walk(world, hero, 11, 60)
       } else walk(world, hero, 1, 60)
-      const c = getClothState(world, cloth)
-      const pinned = c.pos.slice(0, 18) // row 0, on the hero
+      const pinned = getClothState(world, cloth).pos.slice(0, 18) // row 0, on the hero
       setClothMotionConstraints(world, cloth, { maxDistance: paint })
       const ref = getClothReference(world, cloth)!
-      expect(maxDiff(ref.subarray(0, 18), pinned), variant).toBeGreaterThan(1)
+      walk(world, hero, 61, 90)
+      return { pinned, ref, stretch: getClothStretch(world, cloth).max }
+    }
+    const early = run('early')
+    for (const variant of ['late', 'on-off-on']) {
+      const r = run(variant)
+      expect.soft(maxDiff(r.ref.subarray(0, 18), r.pinned), variant).toBeLessThan(1e-5)
+      expect.soft(maxDiff(r.ref, early.ref), variant).toBeLessThan(1e-5)
+      expect.soft(r.stretch, variant).toBeLessThan(Math.max(0.05, 1.5 * early.stretch))
+    }
+  })
+
+  it('an explicit frame given late: a pinned cloth is bound as pinned, an unpinned one where it was created', () => {
+    for (const pinned of [true, false]) {
+      const { world, hero, cloth } = cape()
+      const rest = positionsNow(world, cloth)
+      const body = addEntity(world) // moves with the hero
+      setTransform(world, body, [0, 1.6, 0])
+      if (pinned) pinRow(world, cloth, 0, hero)
+      for (let f = 1; f <= 60; f++) {
+        setTransform(world, hero, [0.05 * f, 1.6, 0], yawQuat(0.02 * f))
+        setTransform(world, body, [0.05 * f, 1.6, 0], yawQuat(0.02 * f))
+        stepCloth(world, DT)
+      }
+      const row = getClothState(world, cloth).pos.slice(0, 18)
+      setClothInertia(world, cloth, { frame: body })
+      setClothMotionConstraints(world, cloth, { maxDistance: paint })
+      const ref = getClothReference(world, cloth)!
+      // pinned: on its pins (3.33 m off before the fix); unpinned: the cloth as created, where it
+      // was created (nothing recorded where its frame was then), carried by the frame from here on
+      if (pinned) expect(maxDiff(ref.subarray(0, 18), row)).toBeLessThan(1e-5)
+      else expect(maxDiff(ref, rest)).toBeLessThan(1e-5)
     }
   })
 

@@ -5,8 +5,10 @@ import { describe, expect, it } from 'vitest'
 import {
   ClothError,
   createCloth,
+  getClothReference,
   getClothState,
   getClothStats,
+  getPins,
   installClothPlugin,
   pinRow,
   restoreClothState,
@@ -16,6 +18,7 @@ import {
   setClothSkinning,
   setTransform,
   stepCloth,
+  unpin,
   type ClothSnapshot,
 } from '../../src/index'
 import { hashBytes, rng } from '../helpers'
@@ -240,6 +243,40 @@ describe('character cloth snapshots', () => {
       }
       expect(error, role).toBeInstanceOf(ClothError)
       expect((error as ClothError).message).toMatch(/lost its Transform/)
+    }
+  })
+
+  it("a snapshot keeps where its pins were attached: settings given after a restore bind the cape as the saved world does", () => {
+    // a pin records its target's pose when made, which character settings given later bind the cloth
+    // to; a restore that makes the pins again (here into a world whose pins were removed, its hero
+    // elsewhere) must not take the target's pose at the restore for it (the reference was 3.3 m off)
+    const a = installClothPlugin(createWorld()), b = installClothPlugin(createWorld())
+    const sa = buildScene(a, false), sb = buildScene(b, false)
+    const walk = (w: object, hero: number, f: number) => setTransform(w, hero, [0.05 * f, 1.6, 0], yawQuat(0.02 * f))
+    for (let f = 1; f <= 60; f++) {
+      walk(a, sa.hero, f)
+      stepCloth(a, 1 / 60)
+    }
+    const snap = saveClothState(a, sa.cape)
+    for (const pin of getPins(b, sb.cape)) unpin(b, pin)
+    walk(b, sb.hero, 60)
+    stepCloth(b, 1 / 60)
+    restoreClothState(b, sb.cape, snap)
+    const paint = { maxDistance: Array.from({ length: 54 }, (_, i) => (i < 6 ? 0 : 0.04 * Math.floor(i / 6))) }
+    setClothMotionConstraints(a, sa.cape, paint)
+    setClothMotionConstraints(b, sb.cape, paint)
+    const ra = getClothReference(a, sa.cape)!, rb = getClothReference(b, sb.cape)!
+    let diff = 0, offPins = 0
+    const pos = getClothState(a, sa.cape).pos
+    for (let j = 0; j < ra.length; j++) diff = Math.max(diff, Math.abs(ra[j] - rb[j]))
+    for (let j = 0; j < 18; j++) offPins = Math.max(offPins, Math.abs(ra[j] - pos[j]))
+    expect(offPins).toBeLessThan(1e-5)
+    expect(diff).toBeLessThan(1e-9)
+    // a pose no Transform gives is refused, naming the state
+    for (const [at, value] of [[0, 1e12], [3, 2], [7, 0], [8, Number.NaN]] as const) {
+      const pinPoses = snap.pinPoses!.slice()
+      pinPoses[at] = value
+      expect(() => restoreClothState(b, sb.cape, { ...snap, pinPoses }), `${at}`).toThrow(ClothError)
     }
   })
 

@@ -41,8 +41,9 @@ export function adoptPinFrame(state: ClothWorldState, pin: number): void {
 
 /**
  * Makes `eid` (0: the world) the cloth's frame. A rigid reference is rebound so that it stays
- * where it is now (`rebind`; false when nothing is bound yet: the rest shape is then exact),
- * carried by the new frame from here on; the frame's motion history restarts.
+ * where it is now (`rebind`), carried by the new frame from here on; the frame's motion history
+ * restarts. Without `rebind` (nothing is bound yet) the rest shape is bound exactly: to the frame's
+ * pose when the cloth's first pin on it was made (`attachPose`), else to its pose now.
  */
 export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number, rebind = true): void {
   if (eid === ch.frame && (eid === 0 || ch.frameSlot >= 0)) return
@@ -60,9 +61,26 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
   if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
   // (the world, or a frame gone: the last pose stays)
   m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
+  if (!rebind && ch.skin === null) attachPose(state, c, eid, m, M_BIND)
   m[M_PRIMED] = 0
   m[M_REF_VALID] = 0
   if (ch.skin === null) bindRigid(c, ch)
+}
+
+/**
+ * The pose `eid` had when the cloth's first pin on it was made (`PinStore.pose`) into out[o..o+9];
+ * left alone when no pin of the cloth targets it. The rest shape is the cloth as created, and a
+ * pin holds a particle where it was when pinned: bound to this pose, the reference puts the pinned
+ * particles where their pins hold them, however far the frame moved before the character settings
+ * came (bound to the pose then, a cape configured after a 3 m walk had its reference 3.3 m off).
+ */
+function attachPose(state: ClothWorldState, c: ClothState, eid: number, out: Float64Array, o: number): void {
+  const P = state.components.Pin
+  for (const pin of c.pins.list) {
+    if (P.target[pin] !== eid) continue
+    for (let j = 0; j < 10; j++) out[o + j] = P.pose[10 * pin + j]
+    return
+  }
 }
 
 /**

@@ -96,6 +96,8 @@ export function pinParticle(
     P.blendLeft[pin] = blendTime
   }
   P.blendTime[pin] = blendTime
+  // the target's pose now (as the offset took it), where the cloth was attached to it
+  for (let j = 0; j < 10; j++) P.pose[10 * pin + j] = slot < 0 ? 0 : j < 7 ? k.stepTo[7 * slot + j] : k.scaleStepTo[3 * slot + j - 7]
 
   addComponent(world as never, pin, P)
   c.pins.list.push(pin)

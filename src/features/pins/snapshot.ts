@@ -1,6 +1,6 @@
 import { entityExists, hasComponent, removeEntity } from 'bitecs'
 import { allFinite, fit32, fit64 } from '../../core/arrays'
-import { ClothError } from '../../core/errors'
+import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../../core/errors'
 import {
   SLOT_DATA,
   SLOT_SCALE_DATA,
@@ -20,6 +20,12 @@ export interface PinsSnapshot {
   pins: Int32Array
   /** Per pin: ox, oy, oz, blendFrom xyz, blendLeft, blendTime. */
   pinData: Float64Array
+  /**
+   * Per pin: its target's pose when it was made (10: position, rotation, scale; see `PinStore.pose`).
+   * Absent in older snapshots: the restored pins keep the poses they have (a pin created again by
+   * the restore: its target's pose then).
+   */
+  pinPoses?: Float64Array
   /** Distinct target entities of the pins. */
   targets: Int32Array
   /** Per target: sampleFrom, sampleTo, stepFrom, stepTo (7 each), jump (10), jumped, forceJump. */
@@ -38,6 +44,7 @@ export interface PinsSnapshot {
 }
 
 const PIN_DATA = 8
+const POSE = 10
 
 /** Saves the cloth's pins and the motion history of their targets. */
 export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot): void {
@@ -56,6 +63,7 @@ export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot)
   for (let i = 0; i < n; i++) s.pinCount[i] = c.pinCount[i]
   s.pins = fit32(s.pins, 3 * np)
   s.pinData = fit64(s.pinData, PIN_DATA * np)
+  s.pinPoses = fit64(s.pinPoses, POSE * np)
   s.targets = fit32(s.targets, nt)
   s.targetData = fit64(s.targetData, SLOT_DATA * nt)
   s.targetScales = fit64(s.targetScales, SLOT_SCALE_DATA * nt)
@@ -76,6 +84,7 @@ export function savePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot)
     s.pinData[d + 5] = P.blendFrom[3 * pin + 2]
     s.pinData[d + 6] = P.blendLeft[pin]
     s.pinData[d + 7] = P.blendTime[pin]
+    for (let j = 0; j < POSE; j++) s.pinPoses[POSE * q + j] = P.pose[POSE * pin + j]
     if (target === 0 || !firstTargetIndex(P, pins, q, target)) continue
     s.targets[t] = target
     saveSlot(k, k.slotOf[target], s.targetData, SLOT_DATA * t)
@@ -100,7 +109,13 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
-  if (!allFinite(s.pinData) || !allFinite(s.targetData) || (s.targetScales !== undefined && !allFinite(s.targetScales))) {
+  if (s.pinPoses !== undefined && (!(s.pinPoses instanceof Float64Array) || s.pinPoses.length !== (POSE * s.pins.length) / 3)) {
+    throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
+  }
+  if (
+    !allFinite(s.pinData) || !allFinite(s.targetData) || (s.targetScales !== undefined && !allFinite(s.targetScales)) ||
+    (s.pinPoses !== undefined && !allFinite(s.pinPoses))
+  ) {
     throw new ClothError(arg, s, 'holds a non-finite number')
   }
   const gens = s.targetGenerations
@@ -124,6 +139,9 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
       }
     }
     if (!(s.pins[3 * q + 1] >= 0 && s.pins[3 * q + 1] < n)) throw new ClothError(arg, s, 'holds a pin on a particle out of range')
+    if (target !== 0 && s.pinPoses !== undefined && !isPose(s.pinPoses, POSE * q)) {
+      throw new ClothError(arg, s, 'holds a pin pose no Transform gives (a position beyond ±1e9 m, a rotation not of unit length, or a scale not in (0, 1e6])')
+    }
   }
 }
 
@@ -170,6 +188,7 @@ export function restorePins(state: ClothWorldState, c: ClothState, s: PinsSnapsh
     P.blendFrom[3 * pin + 2] = s.pinData[d + 5]
     P.blendLeft[pin] = s.pinData[d + 6]
     P.blendTime[pin] = s.pinData[d + 7]
+    if (s.pinPoses !== undefined) for (let j = 0; j < POSE; j++) P.pose[POSE * pin + j] = s.pinPoses[POSE * q + j]
   }
   const k = state.kinematics
   for (let t = 0; t < s.targets.length; t++) {
@@ -177,6 +196,14 @@ export function restorePins(state: ClothWorldState, c: ClothState, s: PinsSnapsh
     restoreSlot(k, slot, s.targetData, SLOT_DATA * t)
     restoreSlotScale(state, slot, s.targetScales ?? null, SLOT_SCALE_DATA * t)
   }
+}
+
+/** Whether p[o..o+9] is a pose a Transform can have: position, unit rotation, scale. */
+function isPose(p: Float64Array, o: number): boolean {
+  const q2 = p[o + 3] * p[o + 3] + p[o + 4] * p[o + 4] + p[o + 5] * p[o + 5] + p[o + 6] * p[o + 6]
+  let ok = Math.abs(q2 - 1) < 1e-3
+  for (let a = 0; a < 3; a++) ok &&= Math.abs(p[o + a]) <= MAX_COORDINATE && p[o + 7 + a] > 0 && p[o + 7 + a] <= MAX_SCALE
+  return ok
 }
 
 function firstTargetIndex(P: { target: Uint32Array }, pins: number[], q: number, t: number): boolean {
