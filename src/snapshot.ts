@@ -27,6 +27,7 @@ import { ClothError, MAX_COORDINATE } from './core/errors'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorldForChange } from './world/access'
 import {
+  K_DROPPED,
   K_SINCE_SAMPLE,
   K_STEP_FRACTION,
   SLOT_DATA,
@@ -303,6 +304,7 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   state.accumulator = s.world[0]
   k.time[K_SINCE_SAMPLE] = s.world[1]
   k.time[K_STEP_FRACTION] = s.world[2]
+  k.time[K_DROPPED] = 0 // (taken at the sample that follows it: never pending between frames that ran)
   k.newFrame = s.world[3] === 1
   k.framed = s.world[4] === 1
 }

@@ -1,6 +1,6 @@
 import { finishFixedStep, startFixedStep } from './pipeline'
 import { ClothError } from '../src/core/errors'
-import { K_SINCE_SAMPLE, K_STEP_FRACTION } from '../src/world/kinematics'
+import { K_DROPPED, K_SINCE_SAMPLE, K_STEP_FRACTION } from '../src/world/kinematics'
 import { getClothWorld } from '../src/world/access'
 import type { ClothWorldState } from '../src/world/state'
 import { stopThreads } from '../src/threads/bind'
@@ -61,6 +61,7 @@ function openFrame(world: object, dt: number, blocking: boolean): number {
   const d = Math.min(dt, state.maxStepsPerFrame * fixed)
   state.accumulator += d
   time[K_SINCE_SAMPLE] += d
+  time[K_DROPPED] += dt - d // (its share of the motion is carried at the sample, not simulated)
   // the tolerance keeps 1/60-s frames from drifting into an alternating 0/2-step pattern
   let steps = Math.floor(state.accumulator / fixed + 1e-9)
   const overflow = steps > state.maxStepsPerFrame
@@ -140,11 +141,13 @@ function startFrameStep(world: object, state: ClothWorldState, blocking: boolean
   const f = state.frame
   const s = f.next++
   const time = state.kinematics.time
-  state.accumulator -= state.fixedTimeStep
+  const left = state.accumulator - state.fixedTimeStep
   // where this step ends within the time since the last sample (all of it when time is dropped)
   const since = time[K_SINCE_SAMPLE]
-  time[K_STEP_FRACTION] = f.overflow ? s / f.steps : Math.min(1, (since - Math.max(0, state.accumulator)) / since)
+  time[K_STEP_FRACTION] = f.overflow ? s / f.steps : Math.min(1, (since - Math.max(0, left)) / since)
   startFixedStep(world, blocking)
+  // (only a step that started spends its time: a frame refused at its sample keeps it for the next)
+  state.accumulator = left
 }
 
 /**

@@ -1,9 +1,9 @@
 import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../core/errors'
 import { multiplyQuatAt, normalizeQuatAt, relativeRotationAt } from '../core/math'
-import { K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
+import { K_DROPPED, K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
 import { newArray, newArrayLike, type TypedArray } from '../core/shared'
 
-export { K_SINCE_SAMPLE, K_STEP_FRACTION }
+export { K_DROPPED, K_SINCE_SAMPLE, K_STEP_FRACTION }
 
 /**
  * Kinematic tracking of entities whose Transform drives the simulation (pin targets, collider
@@ -32,7 +32,7 @@ export function createKinematics(): Kinematics {
     moved: new Uint8Array(0),
     forceJump: new Uint8Array(0),
     jump: new Float64Array(0),
-    time: Float64Array.from([0, 1]),
+    time: Float64Array.from([0, 1, 0]),
     newFrame: true,
     framed: false,
   }
@@ -200,14 +200,24 @@ export function readScaleInto(state: ClothWorldState, eid: number, out: Float64A
  * transform is recorded (for the cloths to follow) and the entity's earlier poses are moved by it,
  * so the interpolation continues from the new place instead of sweeping across the gap.
  *
- * The span since the previous sample is `time[K_SINCE_SAMPLE]` inside `stepCloth` and one fixed step
- * when an engine runs `clothFixedStep` itself.
+ * The span since the previous sample is `time[K_SINCE_SAMPLE]` plus the dropped `time[K_DROPPED]`
+ * inside `stepCloth`, and one fixed step when an engine runs `clothFixedStep` itself. When frame
+ * time was dropped (a hitch longer than `maxStepsPerFrame` steps), that share of every entity's
+ * motion since its last sample is carried rather than simulated: a jump (jumped = 2, `K_CARRIED`)
+ * to the pose that share of the way along (position lerp, rotation slerp), which cloths following
+ * the entity are carried by too, so the steps simulate only the motion of the time they cover (a
+ * 0.5 s hitch squeezed 2 m of a running character's motion into 4 steps: 114 % stretch).
  */
 export function sampleFrame(state: ClothWorldState): void {
   const k = state.kinematics
   const limit2 = state.teleportDistance * state.teleportDistance
-  const span = k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep
-  const ratio = span / state.fixedTimeStep
+  const dropped = k.framed ? k.time[K_DROPPED] : 0
+  const simulated = k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep
+  // the last step's velocity over the frame's whole span (the teleport test), and over the part
+  // the steps simulate (what a teleport leaves to them)
+  const ratio = (simulated + dropped) / state.fixedTimeStep, simRatio = simulated / state.fixedTimeStep
+  const carry = dropped / (simulated + dropped) // (0 when nothing was dropped)
+  k.time[K_DROPPED] = 0
   // every transform is checked before any is taken: a rejected one leaves the sample untouched
   for (let slot = 0; slot < k.count; slot++) {
     const eid = k.eid[slot]
@@ -232,6 +242,7 @@ export function sampleFrame(state: ClothWorldState): void {
     const ez = k.sampleTo[o + 2] + (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
     const jx = pose[0] - ex, jy = pose[1] - ey, jz = pose[2] - ez
     if (k.forceJump[slot] === 1 || jx * jx + jy * jy + jz * jz > limit2) {
+      const back = ratio - simRatio // (the dropped time's share of the velocity is jumped too)
       k.forceJump[slot] = 0
       k.jumped[slot] = 1
       // rotation jump R = q_new · q_old⁻¹ about the old position, then the translation jump
@@ -240,12 +251,33 @@ export function sampleFrame(state: ClothWorldState): void {
       k.jump[j + 1] = k.sampleTo[o + 1]
       k.jump[j + 2] = k.sampleTo[o + 2]
       relativeRotationAt(pose, 3, k.sampleTo, o + 3, k.jump, j + 3)
-      k.jump[j + 7] = jx
-      k.jump[j + 8] = jy
-      k.jump[j + 9] = jz
+      k.jump[j + 7] = jx + (k.stepTo[o] - k.stepFrom[o]) * back
+      k.jump[j + 8] = jy + (k.stepTo[o + 1] - k.stepFrom[o + 1]) * back
+      k.jump[j + 9] = jz + (k.stepTo[o + 2] - k.stepFrom[o + 2]) * back
       applyJump(k.jump, j, k.sampleTo, o)
       applyJump(k.jump, j, k.stepTo, o)
       applyJump(k.jump, j, k.stepFrom, o)
+    } else if (carry > 0) {
+      // the dropped time's share of the motion, carried: a jump to `carry` of the way to the pose
+      const j = 10 * slot
+      k.jump[j] = k.sampleTo[o]
+      k.jump[j + 1] = k.sampleTo[o + 1]
+      k.jump[j + 2] = k.sampleTo[o + 2]
+      for (let c = 0; c < 7; c++) carried[c] = k.sampleTo[o + c]
+      carried[14] = carry
+      interpolatePose(carried, pose, 0, carried, 14, carried, 7) // (pose lies at offset 0 too)
+      relativeRotationAt(carried, 10, k.sampleTo, o + 3, k.jump, j + 3)
+      k.jump[j + 7] = carried[7] - k.sampleTo[o]
+      k.jump[j + 8] = carried[8] - k.sampleTo[o + 1]
+      k.jump[j + 9] = carried[9] - k.sampleTo[o + 2]
+      let moved = false
+      for (let c = 0; c < 7 && !moved; c++) moved = pose[c] !== k.sampleTo[o + c]
+      if (moved) {
+        k.jumped[slot] = K_CARRIED
+        applyJump(k.jump, j, k.sampleTo, o)
+        applyJump(k.jump, j, k.stepTo, o)
+        applyJump(k.jump, j, k.stepFrom, o)
+      }
     }
     for (let c = 0; c < 7; c++) {
       k.sampleFrom[o + c] = k.sampleTo[o + c]
@@ -253,6 +285,12 @@ export function sampleFrame(state: ClothWorldState): void {
     }
   }
 }
+
+/** A jump that carries the dropped time's share of the motion (`Kinematics.jumped`); 1 is a teleport. */
+export const K_CARRIED = 2
+
+/** Scratch of the carried share: the last sample's pose (0..6), the pose that share along (7..13), the share (14). */
+const carried = new Float64Array(15)
 
 /** Moves a pose (at `po` in `poses`) by the jump transform at `j`: p' = pivot + t + R(p − pivot), q' = R·q. */
 function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: number): void {
@@ -279,7 +317,7 @@ export function beginKinematicStep(k: Kinematics): void {
     const o = 7 * slot
     for (let c = 0; c < 7; c++) k.stepFrom[o + c] = k.stepTo[o + c]
     interpolatePose(k.sampleFrom, k.sampleTo, o, k.time, K_STEP_FRACTION, k.stepTo, o)
-    let moved = k.jumped[slot]
+    let moved = k.jumped[slot] !== 0 ? 1 : 0
     for (let c = 0; c < 7 && moved === 0; c++) if (k.stepFrom[o + c] !== k.stepTo[o + c]) moved = 1
     const so = 3 * slot
     for (let c = 0; c < 3; c++) {

@@ -352,7 +352,11 @@ export interface Kinematics {
   scaleSampleTo: Float64Array
   scaleStepFrom: Float64Array
   scaleStepTo: Float64Array
-  /** 1 when the entity jumped (teleported) at the current frame sample. */
+  /**
+   * 1 when the entity jumped (teleported) at the current frame sample; 2 (`K_CARRIED`) when the
+   * motion of dropped frame time was carried as a jump (cloths follow it as they follow a teleport,
+   * but it is no teleport: not counted, no teleport reset). 0 otherwise.
+   */
   jumped: Uint8Array
   /** 1 when the entity's pose or scale changes during the current fixed step (or it jumped): wakes sleepers. */
   moved: Uint8Array
@@ -363,7 +367,9 @@ export interface Kinematics {
   /**
    * Timing scalars, in a typed array so passing them around never allocates:
    * [K_SINCE_SAMPLE] seconds since the last frame sample; [K_STEP_FRACTION] the fraction of that
-   * span at which the current fixed step ends.
+   * span at which the current fixed step ends; [K_DROPPED] seconds of frame time since the last
+   * sample that no step simulates (beyond `maxStepsPerFrame`): the motion of that share of the
+   * span is carried rigidly at the sample (`sampleFrame`), not simulated.
    */
   time: Float64Array
   /** True when the next sync must take a new frame sample. */
@@ -375,6 +381,7 @@ export interface Kinematics {
 /** Slots of `Kinematics.time`. */
 export const K_SINCE_SAMPLE = 0
 export const K_STEP_FRACTION = 1
+export const K_DROPPED = 2
 
 /** The frame `beginClothStep` opened (`ClothWorldState.frame`). */
 export interface ClothFrame {

@@ -9,7 +9,7 @@ import {
   predictInFrame,
   releaseLimitHolds,
 } from '../../kernels/motion'
-import { K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
+import { K_DROPPED, K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
 import { moveClothRigidly } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -48,7 +48,8 @@ const pose = new Float64Array(7)
 export function markFrameTeleports(state: ClothWorldState): void {
   const k = state.kinematics
   const cloths = state.cloths
-  const ratio = (k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep) / state.fixedTimeStep
+  // (the frame's whole span: dropped time too, as `sampleFrame` takes it)
+  const ratio = (k.framed ? k.time[K_SINCE_SAMPLE] + k.time[K_DROPPED] : state.fixedTimeStep) / state.fixedTimeStep
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const ch = c.character
@@ -93,10 +94,10 @@ export function characterJumped(state: ClothWorldState, c: ClothState): boolean 
   const ch = c.character
   if (ch === null) return false
   const jumped = state.kinematics.jumped
-  if (ch.frameSlot >= 0 && jumped[ch.frameSlot] === 1) return true
+  if (ch.frameSlot >= 0 && jumped[ch.frameSlot] !== 0) return true
   const skin = ch.skin
   if (skin === null) return false
-  for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0 && jumped[skin.slots[b]] === 1) return true
+  for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0 && jumped[skin.slots[b]] !== 0) return true
   return false
 }
 
@@ -124,7 +125,8 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const k = state.kinematics
   const m = ch.motion
   const slot = ch.frameSlot
-  const jumped = frameStart && slot >= 0 && k.jumped[slot] === 1
+  const jumped = frameStart && slot >= 0 && k.jumped[slot] !== 0
+  const teleported = jumped && k.jumped[slot] === 1 // (2: the carried motion of dropped time)
   if (frameStart || m[M_GAP] === 1) resyncBones(state, ch, m[M_GAP] === 1)
   if (jumped || m[M_GAP] === 1) {
     // start from the frame's pose now (a jump moved the tracked poses; a gap left them behind).
@@ -136,13 +138,13 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   }
   // a jump turned the cloth's velocities (carried along) or replaced them (reset): the frame's too
   if (jumped) turnVelocities(m, k.jump, 10 * slot + 3)
-  const reset = jumped && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT
+  const reset = teleported && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT
   if (reset) m[M_PRIMED] = 0
   if (jumped && !reset && pinJump === JUMP_NONE) {
     const j = 10 * slot, J = k.jump
     const cx = J[j], cy = J[j + 1], cz = J[j + 2]
     moveClothRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9])
-    state.stats.teleports++
+    if (teleported) state.stats.teleports++
   }
   beginFrameStep(state, c, ch)
   if (ch.constrained || reset) updateReference(state, ch)

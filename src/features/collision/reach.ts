@@ -28,7 +28,7 @@ export function colliderReachedBeforeJump(state: ClothWorldState, e: number, b: 
   const k = state.kinematics
   const C = state.collision.Collider
   const slot = C.slot[e]
-  if (slot < 0 || k.jumped[slot] !== 1) return false
+  if (slot < 0 || k.jumped[slot] === 0) return false
   const t = before
   // the body before the jump: sampleFrom is its previous sample moved by the jump (p' = pivot + t
   // + R(p − pivot), q' = R·q), and that sample's position is the jump's pivot

@@ -140,7 +140,11 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
     }
     if (!(s.pins[3 * q + 1] >= 0 && s.pins[3 * q + 1] < n)) throw new ClothError(arg, s, 'holds a pin on a particle out of range')
     if (target !== 0 && s.pinPoses !== undefined && !isPose(s.pinPoses, POSE * q)) {
-      throw new ClothError(arg, s, 'holds a pin pose no Transform gives (a position beyond ±1e9 m, a rotation not of unit length, or a scale not in (0, 1e6])')
+      throw new ClothError(
+        arg,
+        s,
+        'holds a pin pose no Transform gives (a position beyond ±1e9 m, a rotation not of unit length, or a scale not in (0, 1e6])',
+      )
     }
   }
 }
@@ -188,7 +192,7 @@ export function restorePins(state: ClothWorldState, c: ClothState, s: PinsSnapsh
     P.blendFrom[3 * pin + 2] = s.pinData[d + 5]
     P.blendLeft[pin] = s.pinData[d + 6]
     P.blendTime[pin] = s.pinData[d + 7]
-    if (s.pinPoses !== undefined) for (let j = 0; j < POSE; j++) P.pose[POSE * pin + j] = s.pinPoses[POSE * q + j]
+    if (s.pinPoses !== undefined) { for (let j = 0; j < POSE; j++) P.pose[POSE * pin + j] = s.pinPoses[POSE * q + j] }
   }
   const k = state.kinematics
   for (let t = 0; t < s.targets.length; t++) {

@@ -33,7 +33,7 @@ export function jumpedPinTarget(state: ClothWorldState, c: ClothState): number {
   const pins = c.pins.list
   for (let q = 0; q < pins.length; q++) {
     const slot = P.slot[pins[q]]
-    if (slot >= 0 && jumped[slot] === 1) return slot
+    if (slot >= 0 && jumped[slot] !== 0) return slot
   }
   return -1
 }
@@ -55,6 +55,7 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): number
   if (slot < 0) return 0
   const j = 10 * slot
   const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
+  if (k.jumped[slot] === 1) state.stats.teleports++ // (not the carried motion of dropped time)
   moveClothRigidly(
     c,
     cx,
@@ -68,7 +69,6 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): number
     cy + k.jump[j + 8],
     cz + k.jump[j + 9],
   )
-  state.stats.teleports++
   return 1
 }
 
