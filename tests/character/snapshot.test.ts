@@ -246,7 +246,7 @@ describe('character cloth snapshots', () => {
     }
   })
 
-  it("a snapshot keeps where its pins were attached: settings given after a restore bind the cape as the saved world does", () => {
+  it('a snapshot keeps where its pins were attached: settings given after a restore bind the cape as the saved world does', () => {
     // a pin records its target's pose when made, which character settings given later bind the cloth
     // to; a restore that makes the pins again (here into a world whose pins were removed, its hero
     // elsewhere) must not take the target's pose at the restore for it (the reference was 3.3 m off)

@@ -13,7 +13,6 @@ import {
   beginClothStep,
   ClothError,
   ClothSimulation,
-  clothFixedStep,
   createCloth,
   createWindZone,
   endClothStep,
