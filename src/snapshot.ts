@@ -36,6 +36,7 @@ import {
   restoreSlotScale,
   saveSlot,
   saveSlotScale,
+  generationChanged,
   transformGeneration,
 } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
@@ -88,6 +89,11 @@ export interface ClothSnapshot
   bodyScales?: Float64Array
   /** Their generations (see `PinsSnapshot.targetGenerations`): a body that lost its transform since is not rewound. */
   bodyGenerations?: Uint32Array
+  /**
+   * The tag of the world it was saved in (`Kinematics.tag`): the generations above are compared
+   * only in that world. Absent in older snapshots: compared in any world.
+   */
+  worldTag?: number
 }
 
 type Writable = { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
@@ -110,6 +116,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   }
   const s = (into ?? { format: 'bitecs-cloth-state/1' }) as Writable
   saveCore(state, c, s)
+  s.worldTag = state.kinematics.tag
   savePins(state, c, s)
   saveGrabs(c, s)
   saveBodies(state, s)
@@ -139,6 +146,16 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   const c = getCloth(state, cloth)
   const s = snapshot
   const arg = 'state'
+  const k = state.kinematics
+  k.foreign = s !== null && typeof s === 'object' && s.worldTag !== undefined && s.worldTag !== k.tag
+  try {
+    restoreChecked(world, state, c, s, arg)
+  } finally {
+    k.foreign = false
+  }
+}
+
+function restoreChecked(world: object, state: ClothWorldState, c: ClothState, s: ClothSnapshot, arg: string): void {
   checkCore(s, arg)
   const n = s.shape[0]
   checkPins(world, state, s, arg, n)
@@ -357,7 +374,7 @@ function restoreBodies(state: ClothWorldState, s: ClothSnapshot): void {
   const k = state.kinematics
   for (let b = 0; b < s.bodies.length; b++) {
     const e = s.bodies[b]
-    if (s.bodyGenerations !== undefined && s.bodyGenerations[b] !== transformGeneration(k, e)) continue
+    if (s.bodyGenerations !== undefined && generationChanged(k, s.bodyGenerations[b], e)) continue
     if (e < k.slotOf.length && k.slotOf[e] >= 0) {
       restoreSlot(k, k.slotOf[e], s.bodyData, SLOT_DATA * b)
       restoreSlotScale(state, k.slotOf[e], s.bodyScales ?? null, SLOT_SCALE_DATA * b)

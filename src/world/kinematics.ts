@@ -16,6 +16,9 @@ export function createKinematics(): Kinematics {
   return {
     slotOf: new Int32Array(64).fill(-1),
     generation: new Uint32Array(64),
+    // (identity only: the simulation never reads it, so it costs no determinism)
+    tag: 1 + Math.floor(Math.random() * 0x7ffffffe),
+    foreign: false,
     eid: new Int32Array(0),
     refs: new Int32Array(0),
     count: 0,
@@ -107,6 +110,16 @@ function growGenerations(k: Kinematics, eid: number): void {
 /** `Kinematics.generation` of an entity id (0 for an id never seen to lose its transform). */
 export function transformGeneration(k: Kinematics, eid: number): number {
   return eid < k.generation.length ? k.generation[eid] : 0
+}
+
+/**
+ * Whether the entity `eid` lost its transform since a snapshot that saved `saved` as its generation
+ * (its id may name another entity now). Never while restoring another world's snapshot
+ * (`Kinematics.foreign`): a twin world built by the same calls restores it, whatever ids lived
+ * before in either world.
+ */
+export function generationChanged(k: Kinematics, saved: number, eid: number): boolean {
+  return !k.foreign && saved !== transformGeneration(k, eid)
 }
 
 /** Drops a reference to `eid`'s slot; the slot is freed when nothing uses it. */

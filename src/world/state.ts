@@ -336,6 +336,14 @@ export interface Kinematics {
    * to tell the pin target it saved from another entity that got the id since.
    */
   generation: Uint32Array
+  /**
+   * This world's tag (random, drawn at install): a snapshot carries it, and generations are
+   * compared only when restoring into the world the snapshot came from; another world's counts,
+   * however its ids were used before, say nothing about this one's.
+   */
+  tag: number
+  /** True while a snapshot from another world is restored: generations are not compared (`generationChanged`). */
+  foreign: boolean
   /** Entity of each slot, −1 when free. */
   eid: Int32Array
   /** Pins/colliders using each slot. */

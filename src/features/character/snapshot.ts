@@ -11,6 +11,7 @@ import {
   saveSlot,
   saveSlotScale,
   trackEntity,
+  generationChanged,
   transformGeneration,
   untrackEntity,
 } from '../../world/kinematics'
@@ -158,7 +159,7 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   const frame = h[H_FRAME]
   if (tracked && !live(world, state, frame))
     throw new ClothError(arg, s, `has entity ${frame} as the cloth's frame, which no longer exists or has no Transform`)
-  if (tracked && h[H_GEN] !== transformGeneration(k, frame)) {
+  if (tracked && generationChanged(k, h[H_GEN], frame)) {
     throw new ClothError(
       arg,
       s,
@@ -169,7 +170,7 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
     const e = s.characterBones[b]
     if (e !== 0 && !live(world, state, e))
       throw new ClothError(arg, s, `has entity ${e} as a bone, which no longer exists or has no Transform`)
-    if (e !== 0 && s.characterBoneData[BONE * b + BONE_GEN] !== transformGeneration(k, e)) {
+    if (e !== 0 && generationChanged(k, s.characterBoneData[BONE * b + BONE_GEN], e)) {
       throw new ClothError(
         arg,
         s,

@@ -4,6 +4,7 @@ import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../../core/errors'
 import {
   SLOT_DATA,
   SLOT_SCALE_DATA,
+  generationChanged,
   restoreSlot,
   restoreSlotScale,
   saveSlot,
@@ -130,7 +131,7 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
     }
     if (target !== 0 && gens !== undefined) {
       const t = s.targets.indexOf(target)
-      if (t >= 0 && gens[t] !== transformGeneration(state.kinematics, target)) {
+      if (t >= 0 && generationChanged(state.kinematics, gens[t], target)) {
         throw new ClothError(
           arg,
           s,

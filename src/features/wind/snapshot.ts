@@ -1,6 +1,6 @@
 import { allFinite, fit32, fit64 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
-import { transformGeneration } from '../../world/kinematics'
+import { generationChanged, transformGeneration } from '../../world/kinematics'
 import type { ClothWorldState } from '../../world/state'
 
 /** The wind's section of a snapshot: world state (the wind clock, each zone's gust and drift). */
@@ -67,7 +67,7 @@ export function restoreWind(state: ClothWorldState, s: WindSnapshot): void {
   for (let q = 0; q < s.windZones.length; q++) {
     const z = s.windZones[q], o = 1 + WIND_DATA * q
     if (wind.zones.indexOf(z) < 0) continue
-    if (gens !== undefined && gens[q] !== transformGeneration(state.kinematics, z)) continue
+    if (gens !== undefined && generationChanged(state.kinematics, gens[q], z)) continue
     Z.gustFrom[z] = s.wind[o]
     Z.gustPeak[z] = s.wind[o + 1]
     Z.gustTime[z] = s.wind[o + 2]
