@@ -6,7 +6,9 @@ import { describe, expect, it } from 'vitest'
 import {
   ClothError,
   createCloth,
+  createClothFromMesh,
   getClothComponents,
+  getClothReference,
   getClothState,
   setClothMotionConstraints,
   setClothSkinning,
@@ -184,5 +186,24 @@ describe('skinned reference', () => {
     const rounded = weights.map((w) => (w === 1 ? 1.0005 : w))
     expect(rounded).toContain(1.0005)
     expect(() => setClothSkinning(world, cloth, { bones, joints, weights: rounded })).not.toThrow()
+  })
+
+  it('a vertex no triangle uses may have no weights (as exports leave it); a used one may not', () => {
+    // (it is no part of the cloth; it was refused: "of particle 4 sum to 0")
+    const world = makeWorld()
+    const bone = addEntity(world)
+    setTransform(world, bone, [0, 1, 0])
+    const positions = [0, 1, 0, 1, 1, 0, 0, 0, 0, 1, 0, 0, 5, 5, 5]
+    const cloth = createClothFromMesh(world, { positions, indices: [0, 2, 1, 1, 2, 3] })
+    const joints = new Array(20).fill(0)
+    const weights = [1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0]
+    setClothMotionConstraints(world, cloth, { maxDistance: 0.1 })
+    setClothSkinning(world, cloth, { bones: [bone], joints, weights })
+    expect(getClothReference(world, cloth)!.every(Number.isFinite)).toBe(true)
+    stepCloth(world, DT)
+    expect(allFinite(world, cloth)).toBe(true)
+    const unweighted = weights.slice()
+    unweighted[12] = 0 // particle 3, used
+    expect(() => setClothSkinning(world, cloth, { bones: [bone], joints, weights: unweighted })).toThrow(ClothError)
   })
 })

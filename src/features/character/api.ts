@@ -216,6 +216,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
   }
   if (!isArrayLike(weights) || weights.length !== 4 * n)
     throw new ClothError('skinning.weights', weights, `must hold 4 weights per particle (${4 * n} numbers)`)
+  const unused = c.topology.unused
   for (let i = 0; i < n; i++) {
     let sum = 0
     for (let k = 4 * i; k < 4 * i + 4; k++) {
@@ -225,7 +226,8 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
         throw new ClothError(`skinning.weights[${k}]`, w, 'must be a weight in [0, 1]')
       sum += w
     }
-    if (!(Math.abs(sum - 1) <= 1e-3))
+    // (a vertex no triangle uses is no part of the cloth: it may have no weights, as exports leave it)
+    if (!(Math.abs(sum - 1) <= 1e-3) && !(sum === 0 && unused !== null && unused[i] === 1))
       throw new ClothError('skinning.weights', weights, `of particle ${i} sum to ${sum}; each particle's 4 weights must sum to 1`)
   }
   const ch = ensureCharacter(state, c)
@@ -245,7 +247,8 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     for (let k = 4 * i; k < 4 * i + 4; k++) sum += weights[k]
     for (let k = 4 * i; k < 4 * i + 4; k++) {
       skin.joints[k] = joints[k]
-      skin.weights[k] = weights[k] / sum // exactly 1 in total
+      // exactly 1 in total (an unused vertex without weights: all on its first joint)
+      skin.weights[k] = sum > 0 ? weights[k] / sum : k === 4 * i ? 1 : 0
     }
   }
   ch.skin = skin
