@@ -113,7 +113,10 @@ export interface CreateClothOptions extends ClothOptions {
 export interface CreateClothFromMeshOptions extends ClothOptions {
   /** World positions, xyz per vertex. */
   positions: ArrayLike<number>
-  /** Triangle indices, 3 per triangle (counter-clockwise from the front). */
+  /**
+   * Triangle indices, 3 per triangle (counter-clockwise from the front). Windings that disagree with
+   * their neighbours are made to agree with most of their patch (`getClothMesh` gives them so).
+   */
   indices: ArrayLike<number>
   /** Per-vertex masses, kg (overrides density and `mass`). */
   masses?: ArrayLike<number>
