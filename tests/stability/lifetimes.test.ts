@@ -12,6 +12,7 @@ import {
   saveClothState,
   drainClothResets,
   drainClothTears,
+  getClothTearCount,
   getClothLod,
   getClothState,
   getClothStats,
@@ -192,6 +193,25 @@ describe('events of a cloth removed before they are delivered are dropped: its i
     stepCloth(world, frame) // one tear each; from the next step on, three each
     return { world, sheets }
   }
+
+  it('tear events: the undrained events of a removed cloth give their room in the drain queue back', () => {
+    // (they were only marked dead: a game that drains rarely then lost the events of live cloths)
+    const world = installClothPlugin(createWorld())
+    const big = createCloth(world, { width: 1, height: 1, resolution: 24, position: [0, 2, 0] })
+    pinRow(world, big, 0)
+    makeTearable(world, big, { strain: 1e-6, maxTearsPerStep: 64, hysteresis: 1 })
+    for (let f = 0; f < 600 && getClothTearCount(world, big) < 300; f++) stepCloth(world, frame)
+    expect(getClothTearCount(world, big)).toBeGreaterThanOrEqual(300) // more than the queue's 256
+    removeCloth(world, big)
+    const small = createCloth(world, { width: 1, height: 1, resolution: 6, position: [3, 2, 0] })
+    pinRow(world, small, 0)
+    makeTearable(world, small, { strain: 1e-6, maxTearsPerStep: 3, hysteresis: 1 })
+    for (let f = 0; f < 3; f++) stepCloth(world, frame)
+    const drained: number[] = []
+    drainClothTears(world, (e) => drained.push(e.cloth))
+    expect(drained.length).toBeGreaterThan(0)
+    expect(drained.every((c) => c === small)).toBe(true)
+  })
 
   it('tear events: a listener removes the other torn cloth and creates one that reuses its id; no later event names the new cloth', () => {
     const { world, sheets } = twoTearing()

@@ -47,7 +47,15 @@ export function forgetTearEvents(state: ClothWorldState, cloth: number): void {
   const tw = state.tearing
   const pending = tw.pendingCount > tw.delivering ? tw.pendingCount : tw.delivering
   for (let i = 0; i < pending; i++) if (tw.pending[i * EV] === cloth) tw.pending[i * EV] = -1
-  for (let i = 0; i < tw.queueCount; i++) if (tw.queue[i * EV] === cloth) tw.queue[i * EV] = -1
+  // the drain queue is compacted (its dead events would keep the room live cloths' need; a drain in
+  // progress has emptied it first)
+  let kept = 0
+  for (let i = 0; i < tw.queueCount; i++) {
+    if (tw.queue[i * EV] === cloth) continue
+    if (kept !== i) tw.queue.copyWithin(kept * EV, i * EV, (i + 1) * EV)
+    kept++
+  }
+  tw.queueCount = kept
 }
 
 function readEvent(buf: Float64Array, i: number, e: ClothTearEvent): ClothTearEvent {
