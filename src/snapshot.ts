@@ -89,12 +89,14 @@ export interface ClothSnapshot
   bodyScales?: Float64Array
   /** Their generations (see `PinsSnapshot.targetGenerations`): a body that lost its transform since is not rewound. */
   bodyGenerations?: Uint32Array
-  /**
-   * The tag of the world it was saved in (`Kinematics.tag`): the generations above are compared
-   * only in that world. Absent in older snapshots: compared in any world.
-   */
-  worldTag?: number
 }
+
+/**
+ * The world each snapshot object was last saved in: the generations a snapshot holds are compared
+ * only when it is restored there (a copy, or one loaded from storage, is restored as into a twin
+ * world). Kept outside the snapshot so that twin worlds save the same bytes.
+ */
+const savedIn = new WeakMap<object, object>()
 
 type Writable = { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
 
@@ -116,7 +118,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   }
   const s = (into ?? { format: 'bitecs-cloth-state/1' }) as Writable
   saveCore(state, c, s)
-  s.worldTag = state.kinematics.tag
+  savedIn.set(s, state.kinematics)
   savePins(state, c, s)
   saveGrabs(c, s)
   saveBodies(state, s)
@@ -147,7 +149,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   const s = snapshot
   const arg = 'state'
   const k = state.kinematics
-  k.foreign = s !== null && typeof s === 'object' && s.worldTag !== undefined && s.worldTag !== k.tag
+  k.foreign = s === null || typeof s !== 'object' || savedIn.get(s) !== k
   try {
     restoreChecked(world, state, c, s, arg)
   } finally {

@@ -16,8 +16,6 @@ export function createKinematics(): Kinematics {
   return {
     slotOf: new Int32Array(64).fill(-1),
     generation: new Uint32Array(64),
-    // (identity only: the simulation never reads it, so it costs no determinism)
-    tag: 1 + Math.floor(Math.random() * 0x7ffffffe),
     foreign: false,
     eid: new Int32Array(0),
     refs: new Int32Array(0),

@@ -337,12 +337,10 @@ export interface Kinematics {
    */
   generation: Uint32Array
   /**
-   * This world's tag (random, drawn at install): a snapshot carries it, and generations are
-   * compared only when restoring into the world the snapshot came from; another world's counts,
-   * however its ids were used before, say nothing about this one's.
+   * True while a snapshot this world did not save is restored: generations are not compared
+   * (`generationChanged`); another world's counts, however its ids were used before, say nothing
+   * about this one's.
    */
-  tag: number
-  /** True while a snapshot from another world is restored: generations are not compared (`generationChanged`). */
   foreign: boolean
   /** Entity of each slot, −1 when free. */
   eid: Int32Array
