@@ -17,6 +17,7 @@ export {
   type RenderProxyOptions,
 } from './proxy'
 export type { ProxyBinding } from './model/proxy'
+export { getClothDrawTransform } from './draw'
 export {
   createCloth,
   createClothFromMesh,

@@ -30,8 +30,16 @@
  * @module bitecs-cloth/three
  */
 import { BufferAttribute, BufferGeometry, Box3, DoubleSide, DynamicDrawUsage, Mesh, MeshStandardMaterial, Sphere } from 'three'
-import type { Material, NormalBufferAttributes } from 'three'
-import { ClothError, getClothMesh, getClothStats, updateRenderProxy, type ClothMesh, type ClothRenderProxy } from '../index'
+import type { Material, NormalBufferAttributes, Object3D } from 'three'
+import {
+  ClothError,
+  getClothDrawTransform,
+  getClothMesh,
+  getClothStats,
+  updateRenderProxy,
+  type ClothMesh,
+  type ClothRenderProxy,
+} from '../index'
 
 /**
  * The attributes of a cloth geometry (and its index, `geometry.index`); a geometry takes others of
@@ -336,4 +344,27 @@ export function createProxyMesh<M extends Material = MeshStandardMaterial>(
   const mesh = new Mesh(createProxyGeometry(world, proxy), material ?? (new MeshStandardMaterial({ side: DoubleSide }) as unknown as M))
   mesh.name = 'cloth proxy'
   return mesh
+}
+
+/**
+ * Puts a cloth's mesh (or its proxy's) where the cloth's character is now: sets `object.matrix` to
+ * `getClothDrawTransform` (the anchor's rigid motion since the step the mesh shows) and turns its
+ * `matrixAutoUpdate` off. Call it each frame after the geometry update, on an object whose parent
+ * has no transform of its own (cloth positions are world positions). On displays faster than the
+ * 60 Hz step, with uneven frame times or a pipelined frame, the pinned edge then stays on its
+ * character every frame.
+ *
+ * @param world A bitECS world with the cloth plugin installed.
+ * @param cloth A cloth entity of that world.
+ * @param object The three.js object drawing it (the mesh of createClothMesh or createProxyMesh).
+ */
+export function updateClothDrawMatrix(world: object, cloth: number, object: Object3D): Object3D {
+  checkWorld(world)
+  if (typeof object !== 'object' || object === null || !(object as { isObject3D?: boolean }).isObject3D) {
+    throw new ClothError('object', object, 'must be a three.js Object3D')
+  }
+  object.matrixAutoUpdate = false
+  getClothDrawTransform(world, cloth, object.matrix.elements)
+  object.matrixWorldNeedsUpdate = true
+  return object
 }

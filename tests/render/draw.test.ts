@@ -1,0 +1,129 @@
+// Drawing a cloth where its character is now (getClothDrawTransform; updateClothDrawMatrix in the
+// three.js entry): between fixed steps (displays faster than 60 Hz, uneven frames, a pipelined
+// frame) the mesh shows the last finished step; moved by its anchor's rigid motion since then, its
+// pinned edge is where its pins hold it, with the anchor turning and scaling too.
+import { addEntity } from 'bitecs'
+import { Mesh, type Object3D } from 'three'
+import { describe, expect, it } from 'vitest'
+import {
+  ClothError,
+  beginClothStep,
+  createCloth,
+  endClothStep,
+  getClothComponents,
+  getClothDrawTransform,
+  getClothState,
+  pinRow,
+  setClothInertia,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
+import { createClothMesh, updateClothDrawMatrix, updateClothGeometry } from '../../src/three/index'
+import { makeWorld } from '../helpers'
+
+const yawQuat = (a: number): [number, number, number, number] => [0, Math.sin(a / 2), 0, Math.cos(a / 2)]
+
+function scene() {
+  const world = makeWorld({ sleep: false })
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 1.6, 0])
+  const cloth = createCloth(world, { width: 0.5, height: 0.8, resolution: [6, 9], position: [0, 1.55, -0.15] })
+  const pins = pinRow(world, cloth, 0, hero)
+  return { world, hero, cloth, pins }
+}
+
+/** The hero at time t: walking a curve at 3 m/s, turning, growing 1 → 1.5×. */
+function pose(t: number) {
+  const s = 1 + 0.25 * t
+  return { p: [3 * t, 1.6, Math.sin(t)] as [number, number, number], q: yawQuat(0.8 * t), s: [s, s, s] as [number, number, number] }
+}
+
+/** Largest distance between the drawn pinned particles (moved by m) and where their pins hold them now. */
+function offPins(world: object, cloth: number, pins: number[], m: ArrayLike<number>, now: ReturnType<typeof pose>): number {
+  const P = getClothComponents(world).Pin
+  const pos = getClothState(world, cloth).pos
+  const [qx, qy, qz, qw] = now.q
+  let worst = 0
+  for (const pin of pins) {
+    const i = 3 * P.particle[pin]
+    const x = pos[i], y = pos[i + 1], z = pos[i + 2]
+    const dx = m[0] * x + m[4] * y + m[8] * z + m[12],
+      dy = m[1] * x + m[5] * y + m[9] * z + m[13],
+      dz = m[2] * x + m[6] * y + m[10] * z + m[14]
+    // where the pin holds it: p + q·(s ⊙ offset)
+    const vx = now.s[0] * P.ox[pin], vy = now.s[1] * P.oy[pin], vz = now.s[2] * P.oz[pin]
+    const tx = 2 * (qy * vz - qz * vy), ty = 2 * (qz * vx - qx * vz), tz = 2 * (qx * vy - qy * vx)
+    const hx = now.p[0] + vx + qw * tx + (qy * tz - qz * ty)
+    const hy = now.p[1] + vy + qw * ty + (qz * tx - qx * tz)
+    const hz = now.p[2] + vz + qw * tz + (qx * ty - qy * tx)
+    worst = Math.max(worst, Math.hypot(dx - hx, dy - hy, dz - hz))
+  }
+  return worst
+}
+
+describe('getClothDrawTransform', () => {
+  it('at 144 Hz, with the anchor turning and scaling, the drawn pinned row is where the pins hold it now (up to a step off undrawn)', () => {
+    for (const inertia of [false, true]) {
+      const { world, hero, cloth, pins } = scene()
+      if (inertia) setClothInertia(world, cloth, { linear: 0.5, angular: 0.5 }) // the anchor: the frame
+      const m = new Float64Array(16), identity = Array.from({ length: 16 }, (_, j) => (j % 5 === 0 ? 1 : 0))
+      let t = 0, drawn = 0, raw = 0
+      for (let f = 0; f < 288; f++) {
+        t += 1 / 144
+        const now = pose(t)
+        setTransform(world, hero, now.p, now.q, now.s)
+        stepCloth(world, 1 / 144)
+        drawn = Math.max(drawn, offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), now))
+        raw = Math.max(raw, offPins(world, cloth, pins, identity, now))
+      }
+      expect(raw).toBeGreaterThan(0.02) // (up to a step of 3 m/s: 5 cm)
+      expect(drawn).toBeLessThan(1e-6)
+    }
+  })
+
+  it('pipelined by a frame (animate → beginClothStep → draw → endClothStep), the drawn pinned row is on the pins too', () => {
+    const { world, hero, cloth, pins } = scene()
+    const m = new Float64Array(16)
+    stepCloth(world, 1 / 60)
+    getClothState(world, cloth) // (read once outside a frame)
+    let t = 0, drawn = 0
+    for (let f = 0; f < 60; f++) {
+      t += 1 / 60
+      const now = pose(t)
+      setTransform(world, hero, now.p, now.q, now.s)
+      beginClothStep(world, 1 / 60)
+      drawn = Math.max(drawn, offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), now))
+      endClothStep(world)
+    }
+    expect(drawn).toBeLessThan(1e-6)
+  })
+
+  it('is the identity for a cloth without an anchor, and for one whose anchor lost its Transform; checks its out array', () => {
+    const { world, hero, cloth } = scene()
+    const free = createCloth(world, { width: 0.5, height: 0.5, resolution: 4, position: [5, 2, 0] })
+    const m = new Float64Array(16).fill(7)
+    const identity = Array.from({ length: 16 }, (_, j) => (j % 5 === 0 ? 1 : 0))
+    expect(Array.from(getClothDrawTransform(world, free, m))).toEqual(identity)
+    setTransform(world, hero, [1, 1.6, 0])
+    stepCloth(world, 1 / 144) // no step: the hero moved 1 m since the last
+    expect(getClothDrawTransform(world, cloth, m)[12]).toBeCloseTo(1, 12)
+    expect(() => getClothDrawTransform(world, cloth, new Float64Array(15))).toThrow(ClothError)
+    expect(() => getClothDrawTransform(world, cloth, null as never)).toThrow(ClothError)
+  })
+})
+
+describe('updateClothDrawMatrix (three.js)', () => {
+  it("sets the object's matrix to the draw transform and stops three from overwriting it", () => {
+    const { world, hero, cloth } = scene()
+    const mesh = createClothMesh(world, cloth)
+    setTransform(world, hero, [0.5, 1.6, 0])
+    stepCloth(world, 1 / 144)
+    updateClothGeometry(world, cloth, mesh.geometry)
+    expect(updateClothDrawMatrix(world, cloth, mesh)).toBe(mesh)
+    expect(mesh.matrixAutoUpdate).toBe(false)
+    expect(Array.from(mesh.matrix.elements)).toEqual(Array.from(getClothDrawTransform(world, cloth, new Float64Array(16))))
+    expect(mesh.matrix.elements[12]).toBeCloseTo(0.5, 12)
+    expect(() => updateClothDrawMatrix(world, cloth, {} as Object3D)).toThrow(ClothError)
+    expect(() => updateClothDrawMatrix(world, cloth, new Mesh())).not.toThrow()
+  })
+})
