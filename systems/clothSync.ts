@@ -7,6 +7,7 @@ import { advanceWind } from '../src/features/wind/step'
 import { sweepColliders } from '../src/features/collision/step'
 import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
 import { wakeSleepers } from '../src/features/sleep/step'
+import { markCarriedSlots } from '../src/features/character/carry'
 import { beginCharacterStep, characterJumped, markFrameTeleports, noteIdle, wakeMovedCharacters } from '../src/features/character/step'
 
 /**
@@ -25,6 +26,7 @@ export function clothSync<W extends object>(world: W): W {
   const frameStart = !k.framed || k.newFrame
   if (frameStart) {
     markFrameTeleports(state) // per-cloth teleport thresholds (nothing without character cloths)
+    markCarriedSlots(state) // what dropped frame time's motion carries (nothing without a hitch)
     sampleFrame(state)
     k.newFrame = false
   }

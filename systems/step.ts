@@ -65,7 +65,14 @@ function openFrame(world: object, dt: number, blocking: boolean): number {
   // the tolerance keeps 1/60-s frames from drifting into an alternating 0/2-step pattern
   let steps = Math.floor(state.accumulator / fixed + 1e-9)
   const overflow = steps > state.maxStepsPerFrame
-  if (overflow) steps = state.maxStepsPerFrame
+  if (overflow) {
+    steps = state.maxStepsPerFrame
+    // (time kept from a frame refused at its sample): what the steps cannot take is dropped too
+    const excess = state.accumulator - steps * fixed
+    state.accumulator -= excess
+    time[K_SINCE_SAMPLE] -= excess
+    time[K_DROPPED] += excess
+  }
   if (steps === 0) return 0
   k.framed = true
   f.steps = steps

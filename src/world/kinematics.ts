@@ -32,6 +32,7 @@ export function createKinematics(): Kinematics {
     jumped: new Uint8Array(0),
     moved: new Uint8Array(0),
     forceJump: new Uint8Array(0),
+    carry: new Uint8Array(0),
     jump: new Float64Array(0),
     time: Float64Array.from([0, 1, 0]),
     newFrame: true,
@@ -151,6 +152,7 @@ function growSlots(k: Kinematics, n: number): void {
   k.jumped = grow(k.jumped, 1)
   k.moved = grow(k.moved, 1)
   k.forceJump = grow(k.forceJump, 1)
+  k.carry = grow(k.carry, 1)
   k.jump = grow(k.jump, 10)
 }
 
@@ -214,10 +216,12 @@ export function readScaleInto(state: ClothWorldState, eid: number, out: Float64A
  * The span since the previous sample is `time[K_SINCE_SAMPLE]` plus the dropped `time[K_DROPPED]`
  * inside `stepCloth`, and one fixed step when an engine runs `clothFixedStep` itself. When frame
  * time was dropped (a hitch longer than `maxStepsPerFrame` steps), that share of every entity's
- * motion since its last sample is carried rather than simulated: a jump (jumped = 2, `K_CARRIED`)
- * to the pose that share of the way along (position lerp, rotation slerp), which cloths following
- * the entity are carried by too, so the steps simulate only the motion of the time they cover (a
- * 0.5 s hitch squeezed 2 m of a running character's motion into 4 steps: 114 % stretch).
+ * motion since its last sample is carried rather than simulated, for each entity some cloth follows
+ * as a whole and none only in part (`carry`, CARRY_WHOLE; see `markCarriedSlots`): a jump (jumped
+ * = 2, `K_CARRIED`) to the pose that share of the way along (position lerp, rotation slerp), which
+ * those cloths are carried by too, so the steps simulate only the motion of the time they cover (a
+ * 0.5 s hitch squeezed 2 m of a running character's motion into 4 steps: 114 % stretch). Other
+ * entities (colliders, wind zones, a target of part of a cloth) sweep across the whole motion.
  */
 export function sampleFrame(state: ClothWorldState): void {
   const k = state.kinematics
@@ -228,7 +232,6 @@ export function sampleFrame(state: ClothWorldState): void {
   // the steps simulate (what a teleport leaves to them)
   const ratio = (simulated + dropped) / state.fixedTimeStep, simRatio = simulated / state.fixedTimeStep
   const carry = dropped / (simulated + dropped) // (0 when nothing was dropped)
-  k.time[K_DROPPED] = 0
   // every transform is checked before any is taken: a rejected one leaves the sample untouched
   for (let slot = 0; slot < k.count; slot++) {
     const eid = k.eid[slot]
@@ -236,6 +239,7 @@ export function sampleFrame(state: ClothWorldState): void {
     readPoseInto(state, eid, pose)
     readScaleInto(state, eid, scale, 0)
   }
+  k.time[K_DROPPED] = 0
   for (let slot = 0; slot < k.count; slot++) {
     const eid = k.eid[slot]
     k.jumped[slot] = 0
@@ -268,7 +272,7 @@ export function sampleFrame(state: ClothWorldState): void {
       applyJump(k.jump, j, k.sampleTo, o)
       applyJump(k.jump, j, k.stepTo, o)
       applyJump(k.jump, j, k.stepFrom, o)
-    } else if (carry > 0) {
+    } else if (carry > 0 && k.carry[slot] === CARRY_WHOLE) {
       // the dropped time's share of the motion, carried: a jump to `carry` of the way to the pose
       const j = 10 * slot
       k.jump[j] = k.sampleTo[o]
@@ -299,6 +303,11 @@ export function sampleFrame(state: ClothWorldState): void {
 
 /** A jump that carries the dropped time's share of the motion (`Kinematics.jumped`); 1 is a teleport. */
 export const K_CARRIED = 2
+
+/** `Kinematics.carry`: some cloth follows the slot as a whole, and no cloth follows it only in part. */
+export const CARRY_WHOLE = 1
+/** `Kinematics.carry`: a cloth follows the slot and something else (other pins, the world, bones). */
+export const CARRY_PART = 2
 
 /** Scratch of the carried share: the last sample's pose (0..6), the pose that share along (7..13), the share (14). */
 const carried = new Float64Array(15)

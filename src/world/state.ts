@@ -364,6 +364,12 @@ export interface Kinematics {
    * but it is no teleport: not counted, no teleport reset). 0 otherwise.
    */
   jumped: Uint8Array
+  /**
+   * Per slot, at a sample after dropped frame time: whether its motion in that time is carried
+   * (CARRY_WHOLE: cloths following it follow nothing else) or swept (0, or CARRY_PART). Set by
+   * `markCarriedSlots` (features/character) before the sample.
+   */
+  carry: Uint8Array
   /** 1 when the entity's pose or scale changes during the current fixed step (or it jumped): wakes sleepers. */
   moved: Uint8Array
   /** 1 to treat the next sample as a jump whatever its distance (set by teleportCloth). */

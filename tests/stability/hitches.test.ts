@@ -309,6 +309,65 @@ describe('a frame refused for a bad Transform keeps its step for the next frame'
     )
     expect(r.steps[0]).toBe(2) // was 1: the refused frame took a fixed step off the accumulator, and stretch went to 13.8 %
   })
+
+  it('a refused hitch: the next frame carries the dropped time as an accepted hitch does', () => {
+    // (the dropped time was forgotten at the refused sample, and what the 4 steps could not take of
+    // the kept time was squeezed into them: 45.1 % against 2.6 %)
+    const sc = capeScene()
+    run(sc, fill(180, 1 / 60), runZ(4))
+    getClothComponents(sc.world).Transform.px[sc.hero] = NaN
+    expect(() => stepCloth(sc.world, 0.5)).toThrow(ClothError)
+    const r = run(sc, fill(60, 1 / 60), (t: number) => runZ(4)(t + 3 + 0.5))
+    const base = hitchVsBaseline(4, 0.5).base
+    expect(max(r.maxStretch)).toBeLessThan(allowed(base))
+  })
+})
+
+describe('hitches: what is carried and what sweeps', () => {
+  it('a sheet pinned to the world and to a turning corner is not carried by the corner (it swung 0.7 rad about it: 39 % stretch)', () => {
+    const sheet = (h: number) => {
+      const world = makeWorld({ sleep: false })
+      const corner = addEntity(world)
+      setTransform(world, corner, [1, 2, 0])
+      const cloth = createCloth(world, { width: 2, height: 1, resolution: [16, 8], position: [0, 2, 0] })
+      for (let c = 0; c < 8; c++) pinParticle(world, cloth, c)
+      pinParticle(world, cloth, 15, corner)
+      const dts = [...fill(120, 1 / 60), h || 1 / 60, ...fill(60, 1 / 60)]
+      let t = 0, worst = 0
+      for (let f = 0; f < dts.length; f++) {
+        t += dts[f]
+        setTransform(world, corner, [1, 2, 0], yq(0.8 * Math.sin(2 * t)))
+        stepCloth(world, dts[f])
+        if (f >= 120) worst = Math.max(worst, getClothStretch(world, cloth).max)
+      }
+      return worst
+    }
+    const base = sheet(0), hitched = sheet(0.5)
+    expect(hitched).toBeLessThan(allowed(base))
+  })
+
+  it('a ball nothing follows sweeps through a hitch: it pushes the curtain it crosses (it passed through unswept)', () => {
+    const curtain = (h: number) => {
+      const world = makeWorld({ sleep: false })
+      const cloth = createCloth(world, { width: 2, height: 2, resolution: 16, position: [0, 2.5, 0] })
+      pinRow(world, cloth, 0)
+      const ball = addEntity(world)
+      setTransform(world, ball, [0, 1.5, -2.5])
+      addSphereCollider(world, addEntity(world), { body: ball, radius: 0.3 })
+      const dts = [...fill(30, 1 / 60), h || 1 / 60, ...fill(30, 1 / 60)]
+      let t = 0, pushed = 0
+      for (let f = 0; f < dts.length; f++) {
+        t += dts[f]
+        setTransform(world, ball, [0, 1.5, -2.5 + 3 * t])
+        stepCloth(world, dts[f])
+        const c = getClothState(world, cloth)
+        for (let i = 0; i < c.count; i++) pushed = Math.max(pushed, c.pos[3 * i + 2])
+      }
+      return pushed
+    }
+    expect(curtain(0)).toBeGreaterThan(0.5)
+    expect(curtain(0.5)).toBeGreaterThan(0.5) // was 0.000 m
+  })
 })
 
 describe('variable frame times', () => {

@@ -32,8 +32,7 @@ export function drainClothTears(world: object, fn: ClothTearListener): number {
   tw.queueCount = 0
   let delivered = 0
   for (let i = 0; i < n; i++) {
-    if (tw.queue[i * EV] < 0) continue // its cloth was removed (see forgetTearEvents)
-    fn(readEvent(tw.queue, i, tw.event))
+    fn(readEvent(tw.queue, i, tw.event)) // (a removed cloth's events left the queue: forgetTearEvents)
     delivered++
   }
   return delivered
