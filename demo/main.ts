@@ -18,7 +18,13 @@ import {
   setClothTethers,
   stepCloth,
 } from '../src/index'
-import { createClothGeometry, createProxyGeometry, updateClothGeometry, updateProxyGeometry } from '../src/three/index'
+import {
+  createClothGeometry,
+  createProxyGeometry,
+  updateClothDrawMatrix,
+  updateClothGeometry,
+  updateProxyGeometry,
+} from '../src/three/index'
 import { setInputDeferral, type DemoScene, type DemoSettings, type SceneInstance, type SceneLabel } from './scene'
 import { scenes } from './scenes/index'
 import { View } from './view'
@@ -209,9 +215,14 @@ function paintStretch(v: ClothView): void {
 
 function updateCloths(): void {
   for (const v of clothViews) {
-    if (v.proxy?.mesh.visible) updateProxyGeometry(world, v.proxy.handle, v.proxy.mesh.geometry)
+    // drawn moved with their characters since the last fixed step (displays faster than 60 Hz)
+    if (v.proxy?.mesh.visible) {
+      updateProxyGeometry(world, v.proxy.handle, v.proxy.mesh.geometry)
+      updateClothDrawMatrix(world, v.cloth, v.proxy.mesh)
+    }
     if (!v.mesh.visible) continue
     updateClothGeometry(world, v.cloth, v.geometry)
+    updateClothDrawMatrix(world, v.cloth, v.mesh)
     if (tint) paintStretch(v)
   }
 }
