@@ -32,7 +32,10 @@ export function placeOf(file: string): Place | null {
     return { layer: 6, name: 'features', feature: order }
   }
   if (f.startsWith('src/world/')) return { layer: 5, name: 'world' }
-  if (['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts', 'src/draw.ts'].includes(f) || f.startsWith('src/threads/'))
+  if (
+    ['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts', 'src/draw.ts'].includes(f) ||
+    f.startsWith('src/threads/')
+  )
     return { layer: 7, name: 'composition' }
   if (f.startsWith('systems/')) return { layer: 8, name: 'systems' }
   if (
