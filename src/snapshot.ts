@@ -80,7 +80,7 @@ export interface ClothSnapshot
   tetherMode: TetherMode
   /** The cloth's tethers (immutable arrays, shared rather than copied). */
   tethers: TetherSet
-  /** World: accumulator, time since the last frame sample, step fraction, newFrame, framed. */
+  /** World: accumulator, time since the last frame sample, step fraction, newFrame, framed, dropped time not yet sampled (absent in older snapshots). */
   world: Float64Array
   /** Entities the world's colliders and wind zones follow (distinct, creation order), and their motion history. */
   bodies: Int32Array
@@ -221,12 +221,13 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.settings[9] = c.pins.skipTeleport ? 1 : 0
   s.tetherMode = ct.mode
   s.tethers = ct.set
-  s.world = fit64(s.world, 5)
+  s.world = fit64(s.world, 6)
   s.world[0] = state.accumulator
   s.world[1] = k.time[K_SINCE_SAMPLE]
   s.world[2] = k.time[K_STEP_FRACTION]
   s.world[3] = k.newFrame ? 1 : 0
   s.world[4] = k.framed ? 1 : 0
+  s.world[5] = k.time[K_DROPPED] // (pending after a frame refused at its sample)
 }
 
 /** Throws unless every value of `a` lies within ±MAX_COORDINATE. */
@@ -249,7 +250,7 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
     x.pos.length !== 3 * n || !(x.prev instanceof Float64Array) || x.prev.length !== 3 * n || !(x.vel instanceof Float64Array) ||
     x.vel.length !== 3 * n ||
     !(x.invMass instanceof Float64Array) || x.invMass.length !== n || !(x.settings instanceof Float64Array) || x.settings.length !== 10 ||
-    !(x.world instanceof Float64Array) || x.world.length !== 5
+    !(x.world instanceof Float64Array) || (x.world.length !== 5 && x.world.length !== 6)
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
@@ -257,6 +258,9 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
     !allFinite(x.pos) || !allFinite(x.prev) || !allFinite(x.vel) || !allFinite(x.invMass) || !allFinite(x.settings) || !allFinite(x.world)
   ) {
     throw new ClothError(arg, s, 'holds a non-finite number')
+  }
+  if (x.world.length > 5 && !(x.world[5] >= 0 && x.world[5] <= 1e9)) {
+    throw new ClothError(arg, s, 'holds a dropped frame time outside [0, 1e9] s')
   }
   // what the API accepts: points within ±MAX_COORDINATE (speeds too: a step moves at most that),
   // inverse masses 0 (pinned) or normal numbers whose inverse is finite
@@ -323,7 +327,7 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   state.accumulator = s.world[0]
   k.time[K_SINCE_SAMPLE] = s.world[1]
   k.time[K_STEP_FRACTION] = s.world[2]
-  k.time[K_DROPPED] = 0 // (taken at the sample that follows it: never pending between frames that ran)
+  k.time[K_DROPPED] = s.world.length > 5 ? s.world[5] : 0 // (older snapshots: none)
   k.newFrame = s.world[3] === 1
   k.framed = s.world[4] === 1
 }

@@ -216,12 +216,13 @@ export function readScaleInto(state: ClothWorldState, eid: number, out: Float64A
  * The span since the previous sample is `time[K_SINCE_SAMPLE]` plus the dropped `time[K_DROPPED]`
  * inside `stepCloth`, and one fixed step when an engine runs `clothFixedStep` itself. When frame
  * time was dropped (a hitch longer than `maxStepsPerFrame` steps), that share of every entity's
- * motion since its last sample is carried rather than simulated, for each entity some cloth follows
- * as a whole and none only in part (`carry`, CARRY_WHOLE; see `markCarriedSlots`): a jump (jumped
- * = 2, `K_CARRIED`) to the pose that share of the way along (position lerp, rotation slerp), which
- * those cloths are carried by too, so the steps simulate only the motion of the time they cover (a
- * 0.5 s hitch squeezed 2 m of a running character's motion into 4 steps: 114 % stretch). Other
- * entities (colliders, wind zones, a target of part of a cloth) sweep across the whole motion.
+ * motion since its last sample is carried rather than simulated, for every entity but those a cloth
+ * follows only in part (`carry`, CARRY_PART; see `markCarriedSlots`): a jump (jumped = 2,
+ * `K_CARRIED`) to the pose that share of the way along (position lerp, rotation slerp), which the
+ * cloths following it as a whole are carried by too, so the steps simulate only the motion of the
+ * time they cover (a 0.5 s hitch squeezed 2 m of a running character's motion into 4 steps: 114 %
+ * stretch). Colliders jump with their bodies (a leg on its own entity stays where it was relative
+ * to the carried cape; swept, it ran through it: 347 %); an entity a cloth follows in part sweeps.
  */
 export function sampleFrame(state: ClothWorldState): void {
   const k = state.kinematics
@@ -272,7 +273,7 @@ export function sampleFrame(state: ClothWorldState): void {
       applyJump(k.jump, j, k.sampleTo, o)
       applyJump(k.jump, j, k.stepTo, o)
       applyJump(k.jump, j, k.stepFrom, o)
-    } else if (carry > 0 && k.carry[slot] === CARRY_WHOLE) {
+    } else if (carry > 0 && k.carry[slot] !== CARRY_PART) {
       // the dropped time's share of the motion, carried: a jump to `carry` of the way to the pose
       const j = 10 * slot
       k.jump[j] = k.sampleTo[o]
@@ -306,7 +307,7 @@ export const K_CARRIED = 2
 
 /** `Kinematics.carry`: some cloth follows the slot as a whole, and no cloth follows it only in part. */
 export const CARRY_WHOLE = 1
-/** `Kinematics.carry`: a cloth follows the slot and something else (other pins, the world, bones). */
+/** `Kinematics.carry`: a cloth follows the slot and something else (other pins, the world, bones): not carried. */
 export const CARRY_PART = 2
 
 /** Scratch of the carried share: the last sample's pose (0..6), the pose that share along (7..13), the share (14). */

@@ -365,8 +365,9 @@ export interface Kinematics {
    */
   jumped: Uint8Array
   /**
-   * Per slot, at a sample after dropped frame time: whether its motion in that time is carried
-   * (CARRY_WHOLE: cloths following it follow nothing else) or swept (0, or CARRY_PART). Set by
+   * Per slot, at a sample after dropped frame time: whether its motion in that time is swept
+   * (CARRY_PART: a cloth follows it and something else) or carried (0: nothing follows it, a
+   * collider's body; CARRY_WHOLE: cloths following it follow nothing else). Set by
    * `markCarriedSlots` (features/character) before the sample.
    */
   carry: Uint8Array

@@ -15,6 +15,7 @@ import {
   setClothSkinning,
   setTransform,
   stepCloth,
+  unpin,
 } from '../../src/index'
 import { hashBytes, makeWorld } from '../helpers'
 import { capeBehind, carriedRest, DT, positionsNow, yawQuat } from './scenes'
@@ -154,6 +155,18 @@ describe('character cloth reference pose: frames and setup orders', () => {
       if (pinned) expect(maxDiff(ref.subarray(0, 18), row)).toBeLessThan(1e-5)
       else expect(maxDiff(ref, rest)).toBeLessThan(1e-5)
     }
+  })
+
+  it('known limit: a pin made after the cloth moved away from where it was created records its target then, and later settings bind the cloth as created to that pose', () => {
+    // (re-pinned in place after a 3 m walk and a 1.2 rad turn: the reference 3.33 m off its pins)
+    const { world, hero, cloth } = cape()
+    const pins = pinRow(world, cloth, 0, hero)
+    walk(world, hero, 1, 60)
+    for (const pin of pins) unpin(world, pin)
+    pinRow(world, cloth, 0, hero)
+    const row = getClothState(world, cloth).pos.slice(0, 18)
+    setClothMotionConstraints(world, cloth, { maxDistance: paint })
+    expect(maxDiff(getClothReference(world, cloth)!.subarray(0, 18), row)).toBeGreaterThan(1)
   })
 
   it('getClothReference of a skinned cloth with motion constraints is its reference right after configuration (not null)', () => {

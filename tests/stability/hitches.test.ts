@@ -346,7 +346,8 @@ describe('hitches: what is carried and what sweeps', () => {
     expect(hitched).toBeLessThan(allowed(base))
   })
 
-  it('a ball nothing follows sweeps through a hitch: it pushes the curtain it crosses (it passed through unswept)', () => {
+  it('a ball nothing follows jumps with the dropped time, as a collider body does (documented): the curtain it crosses in that time is not pushed', () => {
+    // (a collider on its own entity jumps so that legs stay with the carried cape they belong to)
     const curtain = (h: number) => {
       const world = makeWorld({ sleep: false })
       const cloth = createCloth(world, { width: 2, height: 2, resolution: 16, position: [0, 2.5, 0] })
@@ -366,7 +367,7 @@ describe('hitches: what is carried and what sweeps', () => {
       return pushed
     }
     expect(curtain(0)).toBeGreaterThan(0.5)
-    expect(curtain(0.5)).toBeGreaterThan(0.5) // was 0.000 m
+    expect(curtain(0.5)).toBeLessThan(0.05)
   })
 })
 

@@ -3,13 +3,13 @@ import type { ClothState, ClothWorldState } from '../../world/state'
 
 /**
  * Sync phase, before a frame sample after dropped frame time (a hitch longer than the steps a frame
- * may run): which tracked entities' motion in that time is carried rather than swept
- * (`Kinematics.carry`, read by `sampleFrame`). An entity is carried when some cloth follows it as a
- * whole (every pin on it, its character frame it or none, no skin) and no cloth follows it only in
- * part: carried with it, such a cloth keeps its shape through the hitch. A cloth also held by the
- * world or by another entity would be torn between the carried and the uncarried (a sheet pinned
- * to the world and to a turning corner was swung 0.7 rad about the corner: 39 % stretch), and a
- * collider nothing follows would jump through cloths unswept, so those sweep the whole motion.
+ * may run): which tracked entities' motion in that time is swept rather than carried
+ * (`Kinematics.carry`, read by `sampleFrame`): those a cloth follows only in part (pins on it and
+ * on the world or another entity, or a skin). Carried, such a cloth would be torn between the
+ * carried and the uncarried (a sheet pinned to the world and to a turning corner was swung 0.7 rad
+ * about the corner: 39 % stretch). Every other entity is carried: one a cloth follows as a whole
+ * (every pin on it, its character frame it or none, no skin) with the cloth, and a collider's body
+ * with it (a leg on its own entity, swept while the cape was carried, ran through it: 347 %).
  */
 export function markCarriedSlots(state: ClothWorldState): void {
   const k = state.kinematics
