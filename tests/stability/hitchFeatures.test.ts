@@ -6,7 +6,6 @@ import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   addCapsuleCollider,
-  addPlaneCollider,
   beginClothStep,
   createCloth,
   createWindZone,
@@ -25,48 +24,9 @@ import {
   isClothSleeping,
 } from '../../src/index'
 import { makeWorld } from '../helpers'
+import { capeScene, yq } from './hitchScene'
 
 type V3 = [number, number, number]
-const yq = (a: number): [number, number, number, number] => [0, Math.sin(a / 2), 0, Math.cos(a / 2)]
-
-function capeScene(opts: { legs?: boolean; character?: boolean; world?: object } = {}) {
-  const world = makeWorld({ sleep: false, ...(opts.world ?? {}) })
-  const hero = addEntity(world)
-  setTransform(world, hero, [0, 0, 0])
-  const torso = addEntity(world)
-  addCapsuleCollider(world, torso, { body: hero, offset: [0, 1.15, 0], radius: 0.19, halfHeight: 0.22 })
-  const ground = addEntity(world)
-  setTransform(world, ground, [0, 0, 0])
-  addPlaneCollider(world, ground)
-  const legs: number[] = []
-  if (opts.legs) {
-    for (let s = 0; s < 2; s++) {
-      const leg = addEntity(world)
-      setTransform(world, leg, [s ? 0.1 : -0.1, 0.45, -0.02])
-      addCapsuleCollider(world, leg, { radius: 0.09, halfHeight: 0.3 })
-      legs.push(leg)
-    }
-  }
-  const cape = createCloth(world, {
-    width: 0.55,
-    height: 1.35,
-    resolution: [14, 24],
-    position: [0, 1.47, -0.14],
-    rotation: [0, 1, 0, 0],
-    material: 'wool',
-  })
-  pinRow(world, cape, 0, hero)
-  if (opts.character !== false) {
-    setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
-    const maxDistance = Array.from({ length: 14 * 24 }, (_, i) => {
-      const u = Math.floor(i / 14) / 23
-      return u === 1 ? Infinity : 0.9 * u * u
-    })
-    setClothMotionConstraints(world, cape, { maxDistance, backstop: { distance: 0.02, radius: 0.5 } })
-  }
-  createWindZone(world, { direction: [1, 0, 0], strength: 0 })
-  return { world, hero, cape, legs }
-}
 
 const runZ = (speed: number) => (t: number): V3 => {
   const t0 = 0.5, ta = speed / 10
@@ -100,7 +60,7 @@ describe('hitch: carried cape vs uncarried leg colliders on bone entities', () =
   it('a 0.5 s hitch at 4 m/s: the carried cape is not swept through by the legs (stretch within 2 points of the unhitched run, no particle in front of the body)', () => {
     const res: Record<string, { stretch: number; front: number; depth: number }> = {}
     for (const [speed, hitch] of [[4, 0], [4, 0.5], [1.5, 0], [1.5, 1]]) {
-      const s = capeScene({ legs: true })
+      const s = capeScene({ legs: true, height: 1.35, behind: -0.14 })
       const mot = runZ(speed)
       let t = 0, worstStretch = 0, worstDepth = -1, front = 0
       for (let f = 0; f < 120; f++) {
@@ -143,7 +103,7 @@ describe('hitch: carried cape vs uncarried leg colliders on bone entities', () =
 
 describe('snapshot after a refused hitch frame', () => {
   it('restoring a snapshot saved after a refused 0.5 s frame replays byte for byte', () => {
-    const s = capeScene({ character: true })
+    const s = capeScene({ height: 1.35, behind: -0.14 })
     const mot = runZ(4)
     let t = 0
     const _frames: number[] = []

@@ -7,8 +7,6 @@ import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   gustWind,
-  addCapsuleCollider,
-  addPlaneCollider,
   addSphereCollider,
   beginClothStep,
   ClothError,
@@ -28,56 +26,13 @@ import {
   saveClothState,
   restoreClothState,
   setClothInertia,
-  setClothMotionConstraints,
   setTransform,
   stepCloth,
 } from '../../src/index'
 import { makeWorld } from '../helpers'
+import { capeScene, yq } from './hitchScene'
 
 type Pose = { p: [number, number, number]; yaw: number }
-const yq = (a: number): [number, number, number, number] => [0, Math.sin(a / 2), 0, Math.cos(a / 2)]
-
-interface SceneOpts {
-  character?: boolean
-  colliders?: boolean
-  speed?: number
-  world?: Parameters<typeof makeWorld>[0]
-}
-
-/** README's character guide: 14×24 wool cape pinned to the hero, inertia 0.5, painted max distance, backstop, body colliders. */
-function capeScene(o: SceneOpts = {}) {
-  const world = makeWorld({ sleep: false, ...(o.world ?? {}) })
-  const hero = addEntity(world)
-  setTransform(world, hero, [0, 0, 0])
-  if (o.colliders !== false) {
-    const torso = addEntity(world)
-    addCapsuleCollider(world, torso, { body: hero, offset: [0, 1.15, 0], radius: 0.19, halfHeight: 0.22 })
-    const head = addEntity(world)
-    addSphereCollider(world, head, { body: hero, offset: [0, 1.68, 0.02], radius: 0.13 })
-    const ground = addEntity(world)
-    setTransform(world, ground, [0, 0, 0])
-    addPlaneCollider(world, ground)
-  }
-  const cape = createCloth(world, {
-    width: 0.55,
-    height: 1.05,
-    resolution: [14, 24],
-    position: [0, 1.47, -0.2],
-    rotation: [0, 1, 0, 0],
-    material: 'wool',
-  })
-  pinRow(world, cape, 0, hero)
-  if (o.character !== false) {
-    setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
-    const maxDistance = Array.from({ length: 14 * 24 }, (_, i) => {
-      const u = Math.floor(i / 14) / 23
-      return u === 1 ? Infinity : 0.9 * u * u
-    })
-    setClothMotionConstraints(world, cape, { maxDistance, backstop: { distance: 0.02, radius: 0.5 } })
-  }
-  createWindZone(world, { direction: [1, 0, 0], strength: 0 })
-  return { world, hero, cape }
-}
 
 /** Run along +z at `speed` after 0.5 s standing (accelerating 10 m/s²), heading +z (yaw 0). */
 const runZ = (speed: number) => (t: number): Pose => {
