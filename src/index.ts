@@ -32,7 +32,8 @@ export {
   type CreateClothFromMeshOptions,
   type TetherOptions,
 } from './cloth'
-export { pinParticle, pinRow, unpin, getPins, teleportCloth, type PinOptions } from './features/pins/api'
+export { pinParticle, pinRow, unpin, getPins, type PinOptions } from './features/pins/api'
+export { teleportCloth } from './teleport'
 export {
   grabParticle,
   moveGrab,

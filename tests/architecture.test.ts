@@ -33,7 +33,7 @@ export function placeOf(file: string): Place | null {
   }
   if (f.startsWith('src/world/')) return { layer: 5, name: 'world' }
   if (
-    ['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts', 'src/draw.ts'].includes(f) ||
+    ['src/cloth.ts', 'src/plugin.ts', 'src/snapshot.ts', 'src/mesh.ts', 'src/proxy.ts', 'src/draw.ts', 'src/teleport.ts'].includes(f) ||
     f.startsWith('src/threads/')
   )
     return { layer: 7, name: 'composition' }

@@ -1,21 +1,12 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
-import type { quat, vec3 } from 'gl-matrix'
-import {
-  ClothError,
-  MAX_COORDINATE,
-  checkIndex,
-  checkInteger,
-  checkNonNegative,
-  checkObject,
-  checkPoint,
-  checkQuat,
-} from '../../core/errors'
-import { normalizedQuat, rotateVec3 } from '../../core/math'
+import type { vec3 } from 'gl-matrix'
+import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint } from '../../core/errors'
+import { rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
-import { carryFrozen, moveClothRigidly } from '../../world/rigid'
-import type { ClothWorldState } from '../../world/state'
+import { carryFrozen } from '../../world/rigid'
+import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
 import { touchLayout } from '../../core/shared'
@@ -30,7 +21,7 @@ export interface PinOptions {
 }
 
 const tmp = new Float64Array(16)
-const IDENTITY = [0, 0, 0, 1]
+const _IDENTITY = [0, 0, 0, 1]
 
 /**
  * Pins one particle. With a `target` entity (which must have a Transform), the particle follows
@@ -193,69 +184,39 @@ function toLocal(
 }
 
 /**
- * Teleports a cloth: moves it rigidly by `translation`, rotated by `rotation` about `pivot`
- * (default: the cloth's centroid), keeping its shape and velocities (rotated). World-space pins
- * move with it. Pins on targets start the next step at their targets' new pose, without
- * interpolation and without the automatic teleport detection (so moving the character and calling
- * this does not move the cloth twice).
- *
- * Moving a character far in one frame without calling this also works: the plugin detects the
- * jump (`teleportDistance`) and carries the cloth along by the target's motion.
+ * `teleportCloth`'s part for pins (after the cloth moved by x' = to + R·(x − from), R the unit
+ * quaternion r): world-space pins move with it, and pins on targets start the next step at their
+ * targets' pose then (a jump, without the automatic teleport test).
  */
-export function teleportCloth(
-  world: object,
-  cloth: number,
-  translation: Readonly<vec3> | ArrayLike<number>,
-  rotation?: Readonly<quat> | ArrayLike<number>,
-  pivot?: Readonly<vec3> | ArrayLike<number>,
+export function carryPins(
+  state: ClothWorldState,
+  c: ClothState,
+  px: number,
+  py: number,
+  pz: number,
+  rx: number,
+  ry: number,
+  rz: number,
+  rw: number,
+  tx: number,
+  ty: number,
+  tz: number,
 ): void {
-  const state = getClothWorldForChange(world)
-  const c = getCloth(state, cloth)
-  checkPoint('translation', translation)
-  const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))
-  if (pivot !== undefined) checkPoint('pivot', pivot)
-  carryFrozen(c, state.kinematics.stepTo) // moved from where its pins have carried it
-  let px = 0, py = 0, pz = 0
-  if (pivot !== undefined) {
-    checkPoint('pivot', pivot)
-    px = pivot[0]
-    py = pivot[1]
-    pz = pivot[2]
-  } else {
-    // the centroid of the particles triangles use (a vertex no triangle uses is no part of the cloth)
-    const unused = c.topology.unused
-    let m = 0
-    for (let i = 0; i < c.count; i++) {
-      if (unused !== null && unused[i] === 1) continue
-      px += c.pos[3 * i]
-      py += c.pos[3 * i + 1]
-      pz += c.pos[3 * i + 2]
-      m++
-    }
-    if (m > 0) {
-      px /= m
-      py /= m
-      pz /= m
-    }
-  }
-  moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, px + translation[0], py + translation[1], pz + translation[2])
   const P = state.components.Pin
   for (const pin of c.pins.list) {
     if (P.target[pin] !== 0) continue
     rotateVec3(rx, ry, rz, rw, P.ox[pin] - px, P.oy[pin] - py, P.oz[pin] - pz, tmp, 0)
-    P.ox[pin] = px + translation[0] + tmp[0]
-    P.oy[pin] = py + translation[1] + tmp[1]
-    P.oz[pin] = pz + translation[2] + tmp[2]
+    P.ox[pin] = tx + tmp[0]
+    P.oy[pin] = ty + tmp[1]
+    P.oz[pin] = tz + tmp[2]
     const b = 3 * pin
     rotateVec3(rx, ry, rz, rw, P.blendFrom[b] - px, P.blendFrom[b + 1] - py, P.blendFrom[b + 2] - pz, tmp, 0)
-    P.blendFrom[b] = px + translation[0] + tmp[0]
-    P.blendFrom[b + 1] = py + translation[1] + tmp[1]
-    P.blendFrom[b + 2] = pz + translation[2] + tmp[2]
+    P.blendFrom[b] = tx + tmp[0]
+    P.blendFrom[b + 1] = ty + tmp[1]
+    P.blendFrom[b + 2] = tz + tmp[2]
   }
   // the targets' next sample is a jump (whatever its size): the pins start from the new place
   const k = state.kinematics
   for (const pin of c.pins.list) if (P.slot[pin] >= 0) k.forceJump[P.slot[pin]] = 1
   c.pins.skipTeleport = true
-  state.stats.teleports++
-  wakeClothState(state, c)
 }

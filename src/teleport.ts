@@ -1,0 +1,64 @@
+import type { quat, vec3 } from 'gl-matrix'
+import { checkPoint, checkQuat } from './core/errors'
+import { normalizedQuat } from './core/math'
+import { carryWorldFrame } from './features/character/frames'
+import { carryPins } from './features/pins/api'
+import { getCloth, getClothWorldForChange } from './world/access'
+import { carryFrozen, moveClothRigidly } from './world/rigid'
+import { wakeClothState } from './world/wake'
+
+const IDENTITY = [0, 0, 0, 1]
+
+/**
+ * Teleports a cloth: moves it rigidly by `translation`, rotated by `rotation` about `pivot`
+ * (default: the cloth's centroid), keeping its shape and velocities (rotated). World-space pins
+ * move with it, and so does the reference pose of character cloth whose frame is the world (no
+ * frame entity and no skin: see `setClothMotionConstraints`). Pins on targets start the next step
+ * at their targets' new pose, without interpolation and without the automatic teleport detection
+ * (so moving the character and calling this does not move the cloth twice).
+ *
+ * Moving a character far in one frame without calling this also works: the plugin detects the
+ * jump (`teleportDistance`) and carries the cloth along by the target's motion.
+ */
+export function teleportCloth(
+  world: object,
+  cloth: number,
+  translation: Readonly<vec3> | ArrayLike<number>,
+  rotation?: Readonly<quat> | ArrayLike<number>,
+  pivot?: Readonly<vec3> | ArrayLike<number>,
+): void {
+  const state = getClothWorldForChange(world)
+  const c = getCloth(state, cloth)
+  checkPoint('translation', translation)
+  const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))
+  if (pivot !== undefined) checkPoint('pivot', pivot)
+  carryFrozen(c, state.kinematics.stepTo) // moved from where its pins have carried it
+  let px = 0, py = 0, pz = 0
+  if (pivot !== undefined) {
+    px = pivot[0]
+    py = pivot[1]
+    pz = pivot[2]
+  } else {
+    // the centroid of the particles triangles use (a vertex no triangle uses is no part of the cloth)
+    const unused = c.topology.unused
+    let m = 0
+    for (let i = 0; i < c.count; i++) {
+      if (unused !== null && unused[i] === 1) continue
+      px += c.pos[3 * i]
+      py += c.pos[3 * i + 1]
+      pz += c.pos[3 * i + 2]
+      m++
+    }
+    if (m > 0) {
+      px /= m
+      py /= m
+      pz /= m
+    }
+  }
+  const tx = px + translation[0], ty = py + translation[1], tz = pz + translation[2]
+  moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, tx, ty, tz)
+  carryPins(state, c, px, py, pz, rx, ry, rz, rw, tx, ty, tz)
+  carryWorldFrame(c, px, py, pz, rx, ry, rz, rw, tx, ty, tz)
+  state.stats.teleports++
+  wakeClothState(state, c)
+}
