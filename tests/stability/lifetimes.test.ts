@@ -213,6 +213,30 @@ describe('events of a cloth removed before they are delivered are dropped: its i
     expect(drained.every((c) => c === small)).toBe(true)
   })
 
+  it('tear events: a drain callback removes a cloth: the rest of its queued events are not handed over', () => {
+    // (they were: the drain had emptied the queue before the callback removed the cloth)
+    const { world, sheets } = twoTearing()
+    for (let f = 0; f < 3; f++) stepCloth(world, frame)
+    const queued: number[] = []
+    const drained: number[] = []
+    let removed = false
+    // every queued event, in order, to find one of sheets[1] with more of its own after it
+    drainClothTears(world, (e) => queued.push(e.cloth))
+    expect(queued.filter((c) => c === sheets[1]).length).toBeGreaterThan(1)
+    for (let f = 0; f < 3; f++) stepCloth(world, frame)
+    const delivered = drainClothTears(world, (e) => {
+      drained.push(e.cloth)
+      if (!removed && e.cloth === sheets[1]) {
+        removeCloth(world, sheets[1])
+        removed = true
+      }
+    })
+    expect(removed).toBe(true)
+    expect(delivered).toBe(drained.length)
+    expect(drained.filter((c) => c === sheets[1])).toEqual([sheets[1]]) // the one that led to its removal, no later
+    expect(drained.filter((c) => c === sheets[0]).length).toBeGreaterThan(0)
+  })
+
   it('tear events: a listener removes the other torn cloth and creates one that reuses its id; no later event names the new cloth', () => {
     const { world, sheets } = twoTearing()
     const seen: number[] = []

@@ -74,6 +74,7 @@ export function createTearWorld(): TearWorld {
     pending: new Float64Array(0),
     pendingCount: 0,
     delivering: 0,
+    draining: 0,
     queue: new Float64Array(256 * EV),
     queueCount: 0,
     dropped: 0,

@@ -31,23 +31,31 @@ export function drainClothTears(world: object, fn: ClothTearListener): number {
   const n = tw.queueCount
   tw.queueCount = 0
   let delivered = 0
-  for (let i = 0; i < n; i++) {
-    fn(readEvent(tw.queue, i, tw.event)) // (a removed cloth's events left the queue: forgetTearEvents)
-    delivered++
+  // while `fn` runs, a cloth it removes has its remaining events dropped (forgetTearEvents)
+  tw.draining = n
+  try {
+    for (let i = 0; i < n; i++) {
+      if (tw.queue[i * EV] < 0) continue
+      fn(readEvent(tw.queue, i, tw.event))
+      delivered++
+    }
+  } finally {
+    tw.draining = 0
   }
   return delivered
 }
 
 /**
  * Called when a cloth is removed: its tear events not yet delivered (to the listeners of the
- * current step, or to `drainClothTears`) are dropped, since its id may soon name another cloth.
+ * current step, or by `drainClothTears`, queued or in a drain in progress) are dropped, since its id may soon name another cloth.
  */
 export function forgetTearEvents(state: ClothWorldState, cloth: number): void {
   const tw = state.tearing
   const pending = tw.pendingCount > tw.delivering ? tw.pendingCount : tw.delivering
   for (let i = 0; i < pending; i++) if (tw.pending[i * EV] === cloth) tw.pending[i * EV] = -1
-  // the drain queue is compacted (its dead events would keep the room live cloths' need; a drain in
-  // progress has emptied it first)
+  // in a drain in progress (emptied first), its events not yet handed over are marked dead
+  for (let i = 0; i < tw.draining; i++) if (tw.queue[i * EV] === cloth) tw.queue[i * EV] = -1
+  // the drain queue is compacted (its dead events would keep the room live cloths' need)
   let kept = 0
   for (let i = 0; i < tw.queueCount; i++) {
     if (tw.queue[i * EV] === cloth) continue

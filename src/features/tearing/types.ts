@@ -31,6 +31,8 @@ export interface TearWorld {
   /** Events waiting for `drainClothTears`. */
   queue: Float64Array
   queueCount: number
+  /** Events of `queue` being handed to a `drainClothTears` callback (0 otherwise). */
+  draining: number
   /** Events that found the drain queue full (nobody drained it). */
   dropped: number
   listeners: ClothTearListener[]
