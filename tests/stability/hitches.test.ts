@@ -204,6 +204,25 @@ describe("the teleport test extrapolates over the frame's whole span (dropped ti
     console.log(`0.75 s hitch at 4 m/s: teleports ${r.teleports} (predicted 4 × 6.7 cm = 0.27 m, moved 3 m)`)
     expect(r.teleports).toBe(0) // was 1 (reset onto the reference pose): the velocity was extrapolated over 4 steps only
   })
+
+  it('a 0.75 s hitch while turning steadily at 3 rad/s (2.25 rad, beyond the π/2 teleport angle) is not a teleport; a 180° snap still is', () => {
+    const turning = (snap: number) => (t: number): Pose => ({ p: [0, 0, 0], yaw: t < 3 ? 3 * t : 9 + 3 * (t - 3) + snap })
+    for (const snap of [0, Math.PI]) {
+      const sc = capeScene()
+      setClothInertia(sc.world, sc.cape, {
+        frame: sc.hero,
+        linear: 0.5,
+        angular: 0.5,
+        centrifugal: 0.5,
+        teleport: { mode: 'reset', angle: Math.PI / 2 },
+      })
+      const motion = turning(snap)
+      run(sc, fill(180, 1 / 60), motion)
+      const r = run(sc, [0.75], (t: number) => motion(t + 3))
+      console.log(`0.75 s hitch turning at 3 rad/s, snapped ${snap.toFixed(2)} rad: teleports ${r.teleports}`)
+      expect(r.teleports).toBe(snap === 0 ? 0 : 1) // was 1 without the snap: the angle was not extrapolated
+    }
+  })
 })
 
 describe("display rates other than 60 Hz (documented in the README's frame table)", () => {

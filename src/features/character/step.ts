@@ -1,4 +1,4 @@
-import { rotateVecAt } from '../../core/math'
+import { multiplyQuatAt, relativeRotationAt, rotateVecAt } from '../../core/math'
 import { G_ANCHOR, clearGuardAnchor } from '../../kernels/guard'
 import { updateVelocities } from '../../kernels/integrate'
 import {
@@ -35,8 +35,39 @@ import {
   type ClothCharacter,
 } from './types'
 
-/** Pose scratch of the teleport test. */
+/** Pose and quaternion scratch of the teleport test. */
 const pose = new Float64Array(7)
+const turn = new Float64Array(4)
+
+/**
+ * The orientation a frame turning steadily would have `ratio` steps after its last sample: the
+ * turn from `from` to `to` (its last step), scaled by `ratio` about the same axis, after `at` (all
+ * unit quaternions at offset o), into out[0..3].
+ */
+function predictTurn(to: Float64Array, from: Float64Array, at: Float64Array, o: number, ratio: number, out: Float64Array): void {
+  relativeRotationAt(to, o, from, o, out, 0)
+  let x = out[0], y = out[1], z = out[2], w = out[3]
+  if (w < 0) {
+    x = -x
+    y = -y
+    z = -z
+    w = -w
+  }
+  const sin = Math.sqrt(x * x + y * y + z * z)
+  if (sin > 1e-12) {
+    const half = Math.atan2(sin, w) * ratio, s = Math.sin(half) / sin
+    out[0] = x * s
+    out[1] = y * s
+    out[2] = z * s
+    out[3] = Math.cos(half)
+  } else {
+    out[0] = 0
+    out[1] = 0
+    out[2] = 0
+    out[3] = 1
+  }
+  multiplyQuatAt(out, 0, at, o, out, 0)
+}
 
 /**
  * Sync phase, before the frame sample: a frame about to arrive farther than its cloth's teleport
@@ -60,7 +91,9 @@ export function markFrameTeleports(state: ClothWorldState): void {
     const ey = pose[1] - k.sampleTo[o + 1] - (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
     const ez = pose[2] - k.sampleTo[o + 2] - (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
     const limit = ch.settings[S_TELEPORT_DISTANCE]
-    let dot = pose[3] * k.sampleTo[o + 3] + pose[4] * k.sampleTo[o + 4] + pose[5] * k.sampleTo[o + 5] + pose[6] * k.sampleTo[o + 6]
+    // the rotation too: the last step's turn, scaled to the span, after the last sample
+    predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, ratio, turn)
+    let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
     if (dot < 0) dot = -dot
     const turned = 2 * Math.acos(dot > 1 ? 1 : dot)
     if (!c.pins.skipTeleport && !(ex * ex + ey * ey + ez * ez > limit * limit) && !(turned > ch.settings[S_TELEPORT_ANGLE])) continue

@@ -22,9 +22,10 @@ export interface ClothTeleportOptions {
    */
   distance?: number
   /**
-   * A frame sample turned by more than this from the previous one counts as a teleport, rad, in
-   * (0, π]. Default: off (Infinity); π/2 catches a character snapped around in one frame while a
-   * 3 rad/s turn at 60 Hz (0.05 rad per frame) stays a turn.
+   * A frame sample turned by more than this from where the frame's turn (its last step's, over the
+   * frame's span) would have taken it counts as a teleport, rad, in (0, π]. Default: off
+   * (Infinity); π/2 catches a character snapped around in one frame while a steady turn stays a
+   * turn, even through a long frame.
    */
   angle?: number
 }
