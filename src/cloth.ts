@@ -29,6 +29,7 @@ import { createClothGuard, resolveGuardOptions } from './features/guard/api'
 import { createClothCollision } from './features/collision/api'
 import { createClothSleep } from './features/sleep/api'
 import { createClothGrabs } from './features/grab/api'
+import { HAND } from './features/pins/types'
 import { rebuildTearTethers } from './features/tearing/tethers'
 import { arrayOf, newArray, touchLayout } from './core/shared'
 
@@ -331,7 +332,7 @@ function spawnCloth(
       mesh: null,
     },
     sleep: createClothSleep(state.sleep.defaults),
-    pins: { list: [], skipTeleport: false },
+    pins: { list: [], skipTeleport: false, hand: new Float64Array(HAND) },
     grab: createClothGrabs(),
     wind: null,
     collision: createClothCollision(Math.max(4, state.collision.colliders.length)),

@@ -24,6 +24,7 @@
  */
 import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
 import { ClothError, MAX_COORDINATE } from './core/errors'
+import { HAND } from './features/pins/types'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorldForChange } from './world/access'
 import {
@@ -75,7 +76,11 @@ export interface ClothSnapshot
   prev: Float64Array
   vel: Float64Array
   invMass: Float64Array
-  /** substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle, tethersDirty (0; 1; 2: after a change of pins or settings), skipTeleport. */
+  /**
+   * substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle,
+   * tethersDirty (0; 1; 2: after a change of pins or settings), skipTeleport, then the pending hand
+   * move of `teleportCloth` (`ClothPins.hand`, 11 values; absent in older snapshots).
+   */
   settings: Float64Array
   tetherMode: TetherMode
   /** The cloth's tethers (immutable arrays, shared rather than copied). */
@@ -207,7 +212,7 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.vel = copyInto(s.vel, c.vel, 3 * n)
   s.invMass = copyInto(s.invMass, c.invMass, n)
   const ct = c.tethers
-  s.settings = fit64(s.settings, 10)
+  s.settings = fit64(s.settings, 10 + HAND)
   s.settings[0] = c.substeps
   s.settings[1] = c.iterations
   s.settings[2] = c.h
@@ -219,6 +224,7 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   // 1: rebuild; 2: rebuild after a change of pins or settings (loosened, see loosenTethers)
   s.settings[8] = ct.dirty ? (ct.loosen ? 2 : 1) : 0
   s.settings[9] = c.pins.skipTeleport ? 1 : 0
+  s.settings.set(c.pins.hand, 10)
   s.tetherMode = ct.mode
   s.tethers = ct.set
   s.world = fit64(s.world, 6)
@@ -249,7 +255,8 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
   if (
     x.pos.length !== 3 * n || !(x.prev instanceof Float64Array) || x.prev.length !== 3 * n || !(x.vel instanceof Float64Array) ||
     x.vel.length !== 3 * n ||
-    !(x.invMass instanceof Float64Array) || x.invMass.length !== n || !(x.settings instanceof Float64Array) || x.settings.length !== 10 ||
+    !(x.invMass instanceof Float64Array) || x.invMass.length !== n || !(x.settings instanceof Float64Array) ||
+    (x.settings.length !== 10 && x.settings.length !== 10 + HAND) ||
     !(x.world instanceof Float64Array) || (x.world.length !== 5 && x.world.length !== 6)
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
@@ -281,6 +288,12 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
       v,
       'must be the settings saved by saveClothState (substeps and iterations 1…256, h in (0, 1e6] s, 1…16 tethers per particle, ...)',
     )
+  }
+  if (v.length > 10 && v[20] === 1) {
+    const q = Math.hypot(v[13], v[14], v[15], v[16])
+    let bounded = Math.abs(q - 1) < 1e-6
+    for (const d of [10, 11, 12, 17, 18, 19]) bounded &&= Math.abs(v[d]) <= MAX_COORDINATE
+    if (!bounded) throw new ClothError(`${arg}.settings`, v, 'holds a bad teleport (a unit quaternion and points within ±1e9 m)')
   }
   const t = x.tethers
   if (
@@ -320,6 +333,8 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   ct.dirty = s.settings[8] === 1 || s.settings[8] === 2
   ct.loosen = s.settings[8] === 2
   c.pins.skipTeleport = s.settings[9] === 1
+  if (s.settings.length > 10) c.pins.hand.set(s.settings.subarray(10, 10 + HAND))
+  else c.pins.hand[10] = 0 // (an older snapshot: the hand move is not known, and stays)
   ct.mode = s.tetherMode
   if (ct.set !== s.tethers) touchLayout() // the cloth holds another tether set
   ct.set = s.tethers

@@ -13,9 +13,12 @@ const IDENTITY = [0, 0, 0, 1]
  * Teleports a cloth: moves it rigidly by `translation`, rotated by `rotation` about `pivot`
  * (default: the cloth's centroid), keeping its shape and velocities (rotated). World-space pins
  * move with it, and so does the reference pose of character cloth whose frame is the world (no
- * frame entity and no skin: see `setClothMotionConstraints`). Pins on targets start the next step
- * at their targets' new pose, without interpolation and without the automatic teleport detection
- * (so moving the character and calling this does not move the cloth twice).
+ * frame entity and no skin: see `setClothMotionConstraints`). At the next frame sample the pins'
+ * targets jump (however short the distance) and the cloth is not carried a second time. A cloth
+ * whose pins all hold it to one target then follows that target's jump exactly as a detected
+ * teleport does: its motion beyond what its velocity predicts is the jump, and the rest is
+ * simulated, so moving the cloth by the target's whole displacement (this frame's running
+ * included) or by the jump alone gives the same result, in a frame of any length.
  *
  * Moving a character far in one frame without calling this also works: the plugin detects the
  * jump (`teleportDistance`) and carries the cloth along by the target's motion.

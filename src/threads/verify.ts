@@ -9,7 +9,7 @@ import { clothFingerprint } from './layout'
  */
 
 /** Parts of a cloth only the main thread keeps current. */
-const MAIN_ONLY = ['.pins.skipTeleport', '.character.frame', '.character.frameSlot']
+const MAIN_ONLY = ['.pins.skipTeleport', '.pins.hand', '.character.frame', '.character.frameSlot']
 
 /** Throws when worker `w`'s copies of its cloths differ from the main thread's (call after reading the handoff back). */
 export function verifyWorker(th: ClothThreads, w: number): void {

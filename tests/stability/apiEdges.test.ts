@@ -148,6 +148,17 @@ describe('restoreClothState: a snapshot that passes the checks but holds values 
     })
   }
 
+  it('a pending teleportCloth move that is no rigid motion (a quaternion of length 2) is refused by restore', () => {
+    const { world, cloth } = scene()
+    const snapshot = saveClothState(world, cloth)
+    expect(snapshot.settings.length).toBe(21)
+    snapshot.settings[9] = 1
+    snapshot.settings.set([0, 2, 0, 0, 0, 0, 2, 1, 2, 0, 1], 10)
+    expect(() => restoreClothState(world, cloth, snapshot)).toThrow(/settings.*holds a bad teleport/)
+    snapshot.settings[16] = 1 // a unit quaternion: restored
+    restoreClothState(world, cloth, snapshot)
+  })
+
   it('substeps beyond 256 (setClothQuality and createCloth refuse them) are refused by restore too', () => {
     const { world, cloth } = scene()
     const snapshot = saveClothState(world, cloth)

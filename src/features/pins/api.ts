@@ -219,4 +219,16 @@ export function carryPins(
   const k = state.kinematics
   for (const pin of c.pins.list) if (P.slot[pin] >= 0) k.forceJump[P.slot[pin]] = 1
   c.pins.skipTeleport = true
+  const hand = c.pins.hand
+  hand[0] = px
+  hand[1] = py
+  hand[2] = pz
+  hand[3] = rx
+  hand[4] = ry
+  hand[5] = rz
+  hand[6] = rw
+  hand[7] = tx
+  hand[8] = ty
+  hand[9] = tz
+  hand[10] = 1
 }

@@ -1,7 +1,15 @@
+/** Values of `ClothPins.hand`. */
+export const HAND = 11
+
 /** Pins of one cloth (`ClothState.pins`). The pin data itself lives in the `Pin` store. */
 export interface ClothPins {
   /** Pin entities holding the cloth, in creation order. */
   list: number[]
   /** Do not follow a pin target's jump at the next frame sample (set by `teleportCloth`). */
   skipTeleport: boolean
+  /**
+   * With `skipTeleport`: the rigid motion `teleportCloth` moved the cloth by (x' = to + R·(x − from):
+   * from xyz, R as quaternion xyzw, to xyz), then 1 (0: not known, from an older snapshot).
+   */
+  hand: Float64Array
 }
