@@ -23,7 +23,7 @@
  * the mesh it was saved with (no tear since); otherwise restoring throws.
  */
 import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
-import { ClothError, MAX_COORDINATE } from './core/errors'
+import { ClothError, MAX_COORDINATE, MAX_SCALE } from './core/errors'
 import { HAND } from './features/pins/types'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorldForChange } from './world/access'
@@ -37,6 +37,7 @@ import {
   restoreSlotScale,
   saveSlot,
   saveSlotScale,
+  scalesInRange,
   generationChanged,
   transformGeneration,
 } from './world/kinematics'
@@ -385,6 +386,8 @@ function checkBodies(s: ClothSnapshot, arg: string): void {
   }
   if (!allFinite(s.bodyData) || (s.bodyScales !== undefined && !allFinite(s.bodyScales)))
     throw new ClothError(arg, s, 'holds a non-finite number')
+  if (s.bodyScales !== undefined && !scalesInRange(s.bodyScales))
+    throw new ClothError(`${arg}.bodyScales`, s.bodyScales, `must hold scales in (0, ${MAX_SCALE}], as a Transform's`)
 }
 
 /**

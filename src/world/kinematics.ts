@@ -436,6 +436,16 @@ export function saveSlot(k: Kinematics, slot: number, out: Float64Array, e: numb
 /** Values saved per tracked entity by `saveSlotScale`: its scale at the two frame samples and the step's ends (3 each). */
 export const SLOT_SCALE_DATA = 12
 
+/**
+ * Whether a[from..from + count) are scales a Transform can hold (`setTransform`: in (0, MAX_SCALE]),
+ * for restores: a snapshot's scale history of 0, −1 (mirrored) or 1e300 restored without an error
+ * and swept its pins through mirrored positions (16–31 % stretch) or overflowed to a guard reset.
+ */
+export function scalesInRange(a: Float64Array, from = 0, count = a.length - from): boolean {
+  for (let q = from; q < from + count; q++) if (!(a[q] > 0 && a[q] <= MAX_SCALE)) return false
+  return true
+}
+
 /** Copies a slot's scale history into out[e..e + SLOT_SCALE_DATA) (snapshots). */
 export function saveSlotScale(k: Kinematics, slot: number, out: Float64Array, e: number): void {
   const o = 3 * slot

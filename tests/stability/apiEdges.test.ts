@@ -20,6 +20,7 @@ import {
   restoreClothState,
   sampleWind,
   saveClothState,
+  setClothInertia,
   setTransform,
   stepCloth,
   type ClothSnapshot,
@@ -145,6 +146,28 @@ describe('restoreClothState: a snapshot that passes the checks but holds values 
       edit(snapshot)
       // observed: accepted; NaN positions within 30 steps (the last: RangeError "Invalid typed array length" from stepCloth)
       rejectsOrStaysFinite(world, () => [cloth], () => restoreClothState(world, cloth, snapshot), 'state')
+    })
+  }
+
+  for (const bad of [-1, 0, 1e300]) {
+    it(`scale histories of ${bad} (no Transform holds one) are refused by restore: pin targets, collider bodies, character frames`, () => {
+      // observed: accepted; the pins swept through mirrored positions (16–31 % stretch) or overflowed
+      const { world, hero, cloth } = scene()
+      const ball = addEntity(world)
+      setTransform(world, ball, [0, 1, 0.3])
+      addSphereCollider(world, addEntity(world), { body: ball, radius: 0.1 })
+      setClothInertia(world, cloth, { frame: hero, linear: 0.5 })
+      stepCloth(world, 1 / 60)
+      const edits: [string, (s: ClothSnapshot) => void][] = [
+        ['targetScales', (s) => s.targetScales!.fill(bad)],
+        ['bodyScales', (s) => s.bodyScales!.fill(bad)],
+        ['frame or bone scale', (s) => s.character.fill(bad, s.character.length - 3)],
+      ]
+      for (const [name, edit] of edits) {
+        const snapshot = saveClothState(world, cloth)
+        edit(snapshot)
+        expect(() => restoreClothState(world, cloth, snapshot)).toThrow(new RegExp(name.replace(/ /g, '.')))
+      }
     })
   }
 

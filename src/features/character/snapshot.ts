@@ -1,7 +1,7 @@
 import { entityExists, hasComponent } from 'bitecs'
 import { fit32, fit64, fit8 } from '../../core/arrays'
 import { newArray, touchLayout } from '../../core/shared'
-import { ClothError } from '../../core/errors'
+import { ClothError, MAX_SCALE } from '../../core/errors'
 import { BLEND, LIMITS, RIGID } from '../../kernels/motion'
 import {
   SLOT_DATA,
@@ -10,6 +10,7 @@ import {
   restoreSlotScale,
   saveSlot,
   saveSlotScale,
+  scalesInRange,
   trackEntity,
   generationChanged,
   transformGeneration,
@@ -18,7 +19,7 @@ import {
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { reserveBoneScratch } from './reference'
 import { blankCharacter, blankSkin } from './state'
-import { MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
+import { M_BIND, M_POSE, MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
 
 /**
  * Character cloth's section of a snapshot: its settings, the frame's motion history (and the
@@ -52,6 +53,8 @@ const PER = 6 + LIMITS
 /** The frame's slot and scale history in the header, when tracked. */
 const TRACK = SLOT_DATA + SLOT_SCALE_DATA
 const BONE_GEN = 20 + TRACK, BONE = BONE_GEN + 1
+/** Where the frame's pose and bind pose keep their scale in `motion`. */
+const MOTION_POSE_SCALE = M_POSE + 7, MOTION_BIND_SCALE = M_BIND + 7
 
 export function saveCharacter(state: ClothWorldState, c: ClothState, s: CharacterSnapshot): void {
   const ch = c.character
@@ -155,6 +158,13 @@ export function checkCharacter(world: object, state: ClothWorldState, s: Charact
   for (let q = 0; q < s.characterJoints.length; q++) {
     if (!(s.characterJoints[q] >= 0 && s.characterJoints[q] < nb)) throw new ClothError(arg, s, 'holds a skin joint out of range')
   }
+  // scales as a Transform holds them: the frame's pose and bind pose, its tracked history, each bone's
+  let scales = scalesInRange(h, HEADER + SETTINGS + MOTION_POSE_SCALE, 3) && scalesInRange(h, HEADER + SETTINGS + MOTION_BIND_SCALE, 3)
+  if (tracked) scales &&= scalesInRange(h, HEADER + SETTINGS + MOTION + SLOT_DATA, SLOT_SCALE_DATA)
+  for (let b = 0; b < nb && scales; b++) {
+    scales = scalesInRange(s.characterBoneData, BONE * b + 7, 3) && scalesInRange(s.characterBoneData, BONE * b + 17, 3)
+  }
+  if (!scales) throw new ClothError(arg, s, `holds a frame or bone scale outside (0, ${MAX_SCALE}] (a Transform's)`)
   const k = state.kinematics
   const frame = h[H_FRAME]
   if (tracked && !live(world, state, frame))

@@ -9,6 +9,7 @@ import {
   restoreSlotScale,
   saveSlot,
   saveSlotScale,
+  scalesInRange,
   transformGeneration,
 } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
@@ -118,6 +119,9 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
     (s.pinPoses !== undefined && !allFinite(s.pinPoses))
   ) {
     throw new ClothError(arg, s, 'holds a non-finite number')
+  }
+  if (s.targetScales !== undefined && !scalesInRange(s.targetScales)) {
+    throw new ClothError(`${arg}.targetScales`, s.targetScales, `must hold scales in (0, ${MAX_SCALE}], as a Transform's`)
   }
   const gens = s.targetGenerations
   if (gens !== undefined && (!(gens instanceof Uint32Array) || gens.length !== s.targets.length)) {
