@@ -119,6 +119,14 @@ type Writable = { -readonly [K in keyof ClothSnapshot]: ClothSnapshot[K] }
 export function saveClothState(world: object, cloth: number, into?: ClothSnapshot): ClothSnapshot {
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
+  const f = state.frame
+  if (f.open && f.next <= f.steps) {
+    throw new ClothError(
+      'world',
+      world,
+      "is between two fixed steps of one frame (a listener of a step before the frame's last): save in a listener of the frame's last step or after the frame",
+    )
+  }
   if (into !== undefined && (typeof into !== 'object' || into === null || into.format !== 'bitecs-cloth-state/1')) {
     throw new ClothError('into', into, 'must be a snapshot returned by saveClothState')
   }
@@ -235,6 +243,14 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.world[3] = k.newFrame ? 1 : 0
   s.world[4] = k.framed ? 1 : 0
   s.world[5] = k.time[K_DROPPED] // (pending after a frame refused at its sample)
+  if (state.frame.open) {
+    // a listener after the frame's last step: the timing the frame leaves when it closes (saved as
+    // it stood, a restore outside a frame never sampled the next frame's transforms: 3.5 cm off)
+    s.world[0] = state.frame.overflow || state.accumulator < 0 ? 0 : state.accumulator
+    s.world[1] = 0
+    s.world[3] = 1
+    s.world[4] = 0
+  }
 }
 
 /** Throws unless every value of `a` lies within ±MAX_COORDINATE. */

@@ -15,6 +15,7 @@ import {
   enableSelfCollision,
   gustWind,
   makeTearable,
+  onClothTear,
   setClothQualityTarget,
   beginClothStep,
   createCloth,
@@ -417,6 +418,59 @@ describe('snapshots in the middle of a frame (between beginClothStep and endClot
     endClothStep(s.world)
     expect(err === null || err instanceof ClothError).toBe(true)
     expect(err2).toBeInstanceOf(ClothError)
+  })
+})
+
+describe('snapshots saved in an event listener', () => {
+  // a game checkpoints the cape in its tear listener (a curtain tore); the snapshot kept the timing
+  // of the still-open frame, and a restore outside a frame never sampled the next frame's
+  // transforms (3.5 cm off at the first replayed frame)
+  const scene = () => {
+    const s = capeScene({ skin: false })()
+    const curtain = createCloth(s.world, { width: 1, height: 1, resolution: 8, position: [5, 2, 0] })
+    pinRow(s.world, curtain, 0)
+    makeTearable(s.world, curtain, { strain: 1e-6, maxTearsPerStep: 1, hysteresis: 1 })
+    return s
+  }
+  it("after the frame's last step: the replay repeats the run byte for byte", () => {
+    const s = scene()
+    let saved: ClothSnapshot | null = null, at = -1, frame = 0
+    onClothTear(s.world, () => {
+      if (frame < 20 || saved !== null) return
+      saved = saveClothState(s.world, s.cape)
+      at = frame
+    })
+    const run: Float64Array[][] = []
+    for (frame = 0; frame < 60; frame++) {
+      stepCloth(s.world, s.inputs(frame))
+      run[frame] = bytes(s.world, [s.cape])
+    }
+    expect(at).toBe(20)
+    restoreClothState(s.world, s.cape, saved!)
+    for (let f = at + 1; f < 60; f++) {
+      stepCloth(s.world, s.inputs(f))
+      expect(maxDiff(bytes(s.world, [s.cape]), run[f])).toBe(0)
+    }
+  })
+  it('after a step before the last of a frame (the frame goes on): a ClothError, not a snapshot that cannot replay', () => {
+    const s = scene()
+    const errors: unknown[] = []
+    let saves = 0
+    onClothTear(s.world, () => {
+      try {
+        saveClothState(s.world, s.cape)
+        saves++ // (the listener of the frame's last step)
+      } catch (e) {
+        errors.push(e)
+      }
+    })
+    for (let f = 0; f < 6; f++) {
+      for (let q = 0; q < 2; q++) s.inputs(2 * f + q)
+      stepCloth(s.world, 2 / 60) // two fixed steps a frame
+    }
+    expect(errors.length).toBeGreaterThan(1)
+    expect(saves).toBeGreaterThan(1)
+    for (const e of errors) expect(String(e)).toMatch(/between two fixed steps of one frame/)
   })
 })
 
