@@ -139,7 +139,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   saveWind(state, s)
   saveCollision(c, s)
   saveBudget(state, c, s)
-  saveSleep(c, s)
+  saveSleep(state, c, s)
   saveGuard(c, s)
   saveCharacter(state, c, s)
   saveTearing(state, c, s)
