@@ -2,7 +2,7 @@ import { entityExists, hasComponent } from 'bitecs'
 import { checkOut } from './core/errors'
 import { quatToMatrix } from './core/math'
 import { getCloth, getClothWorld } from './world/access'
-import { readPoseInto, readScaleInto } from './world/kinematics'
+import { readPoseInto } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 
 /**
@@ -14,14 +14,16 @@ import type { ClothState, ClothWorldState } from './world/state'
  * only the swing is up to a step old.
  */
 
-/** Scratch: the anchor's pose now (0..6) and its scale (7..9), the drawn step's (10..16, 17..19), two rotations (20..37). */
+/** Scratch: the anchor's pose now (0..6), the drawn step's (10..16), two rotations (20..37). */
 const t = new Float64Array(38)
 
 /**
  * The rigid motion, as a column-major 4×4 matrix into `out` (16 numbers; three.js `Matrix4.elements`
  * order), of the cloth's anchor from the step the cloth's mesh shows (`getClothMesh`: the last
  * finished step) to the anchor's Transform now: M = M_now · M_step⁻¹ with M = translation ·
- * rotation · scale. The anchor is the cloth's character frame (`setClothInertia`), else the target
+ * rotation. A change of the anchor's scale is left out: it moves the pins, not the rest of the
+ * cloth, which follows at the next step (drawn scaled with its anchor, a cape whose character grew
+ * from 0.01 to 1 in half a second was drawn 3.9 m long). The anchor is the cloth's character frame (`setClothInertia`), else the target
  * of its first pin that has one; without either (or once the anchor lost its Transform) the
  * identity. Draw the cloth's mesh with this as its world matrix (`updateClothDrawMatrix` in the
  * three.js entry does that). Exactly the identity while the anchor has not moved since that step
@@ -40,17 +42,11 @@ export function getClothDrawTransform<T extends { [i: number]: number; length: n
   const k = state.kinematics
   // the step the mesh shows: while a frame runs, the one before it (its first step's start)
   const poses = state.frame.open ? k.stepFrom : k.stepTo
-  const scales = state.frame.open ? k.scaleStepFrom : k.scaleStepTo
   readPoseInto(state, eid, t)
-  readScaleInto(state, eid, t, 7)
   let same = true
   for (let j = 0; j < 7; j++) {
     t[10 + j] = poses[7 * slot + j]
     same &&= t[10 + j] === t[j]
-  }
-  for (let j = 0; j < 3; j++) {
-    t[17 + j] = scales[3 * slot + j]
-    same &&= t[17 + j] === t[7 + j]
   }
   if (same) {
     for (let j = 0; j < 16; j++) out[j] = j % 5 === 0 ? 1 : 0
@@ -58,11 +54,11 @@ export function getClothDrawTransform<T extends { [i: number]: number; length: n
   }
   quatToMatrix(t, 3, t, 20) // R_now (row-major)
   quatToMatrix(t, 13, t, 29) // R_step
-  // A = R_now · diag(s_now / s_step) · R_stepᵀ, b = p_now − A · p_step
+  // A = R_now · R_stepᵀ, b = p_now − A · p_step
   for (let r = 0; r < 3; r++) {
     for (let col = 0; col < 3; col++) {
       let a = 0
-      for (let m = 0; m < 3; m++) a += t[20 + 3 * r + m] * (t[7 + m] / t[17 + m]) * t[29 + 3 * col + m]
+      for (let m = 0; m < 3; m++) a += t[20 + 3 * r + m] * t[29 + 3 * col + m]
       out[4 * col + r] = a
     }
     out[12 + r] = t[r] - (out[r] * t[10] + out[4 + r] * t[11] + out[8 + r] * t[12])

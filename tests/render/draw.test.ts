@@ -1,7 +1,9 @@
 // Drawing a cloth where its character is now (getClothDrawTransform; updateClothDrawMatrix in the
 // three.js entry): between fixed steps (displays faster than 60 Hz, uneven frames, a pipelined
 // frame) the mesh shows the last finished step; moved by its anchor's rigid motion since then, its
-// pinned edge is where its pins hold it, with the anchor turning and scaling too.
+// pinned edge is where its pins hold it, with the anchor turning; a change of the anchor's scale is
+// left out (it moves the pins by the scale change of less than a step; drawn scaled with it, a cape
+// whose character grew from 0.01 to 1 in 0.5 s was 3.9 m long).
 import { addEntity } from 'bitecs'
 import { Mesh, type Object3D } from 'three'
 import { describe, expect, it } from 'vitest'
@@ -32,9 +34,9 @@ function scene() {
   return { world, hero, cloth, pins }
 }
 
-/** The hero at time t: walking a curve at 3 m/s, turning, growing 1 → 1.5×. */
-function pose(t: number) {
-  const s = 1 + 0.25 * t
+/** The hero at time t: walking a curve at 3 m/s, turning, growing 1 → 1.5× over 2 s (`growth`). */
+function pose(t: number, growth = 0.25) {
+  const s = 1 + growth * t
   return { p: [3 * t, 1.6, Math.sin(t)] as [number, number, number], q: yawQuat(0.8 * t), s: [s, s, s] as [number, number, number] }
 }
 
@@ -62,23 +64,55 @@ function offPins(world: object, cloth: number, pins: number[], m: ArrayLike<numb
 }
 
 describe('getClothDrawTransform', () => {
-  it('at 144 Hz, with the anchor turning and scaling, the drawn pinned row is where the pins hold it now (up to a step off undrawn)', () => {
-    for (const inertia of [false, true]) {
-      const { world, hero, cloth, pins } = scene()
-      if (inertia) setClothInertia(world, cloth, { linear: 0.5, angular: 0.5 }) // the anchor: the frame
-      const m = new Float64Array(16), identity = Array.from({ length: 16 }, (_, j) => (j % 5 === 0 ? 1 : 0))
-      let t = 0, drawn = 0, raw = 0
-      for (let f = 0; f < 288; f++) {
-        t += 1 / 144
-        const now = pose(t)
-        setTransform(world, hero, now.p, now.q, now.s)
-        stepCloth(world, 1 / 144)
-        drawn = Math.max(drawn, offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), now))
-        raw = Math.max(raw, offPins(world, cloth, pins, identity, now))
+  for (const growth of [0, 0.25]) {
+    it(`at 144 Hz, with the anchor turning${growth > 0 ? ' and growing' : ''}, the drawn pinned row is where the pins hold it now${growth > 0 ? ' but for the scale change within a step' : ''} (up to a step off undrawn)`, () => {
+      for (const inertia of [false, true]) {
+        const { world, hero, cloth, pins } = scene()
+        if (inertia) setClothInertia(world, cloth, { linear: 0.5, angular: 0.5 }) // the anchor: the frame
+        const m = new Float64Array(16), identity = Array.from({ length: 16 }, (_, j) => (j % 5 === 0 ? 1 : 0))
+        let t = 0, drawn = 0, raw = 0
+        for (let f = 0; f < 288; f++) {
+          t += 1 / 144
+          const now = pose(t, growth)
+          setTransform(world, hero, now.p, now.q, now.s)
+          stepCloth(world, 1 / 144)
+          drawn = Math.max(drawn, offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), now))
+          raw = Math.max(raw, offPins(world, cloth, pins, identity, now))
+        }
+        expect(raw).toBeGreaterThan(0.02) // (up to a step of 3 m/s: 5 cm)
+        // growing: the pins (0.25 m from the anchor at most) move with a step's scale change, 0.25/60
+        expect(drawn).toBeLessThan(growth === 0 ? 1e-6 : 0.3 * (growth / 60))
       }
-      expect(raw).toBeGreaterThan(0.02) // (up to a step of 3 m/s: 5 cm)
-      expect(drawn).toBeLessThan(1e-6)
+    })
+  }
+
+  it('a character growing from 0.01 to 1 in 0.5 s: the drawn cloth keeps its size (drawn scaled with it, it was 3.9 m long)', () => {
+    // the hero's origin at its feet, the cape pinned at the shoulders: shrunk to 0.01, settled, then grown
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 0, 0])
+    const cloth = createCloth(world, { width: 0.55, height: 1.05, resolution: [8, 12], position: [0, 1.47, -0.2], material: 'wool' })
+    pinRow(world, cloth, 0, hero)
+    for (let f = 0; f < 120; f++) stepCloth(world, 1 / 60)
+    setTransform(world, hero, [0, 0, 0], [0, 0, 0, 1], [0.01, 0.01, 0.01])
+    for (let f = 0; f < 120; f++) stepCloth(world, 1 / 60)
+    const m = new Float64Array(16)
+    const c = getClothState(world, cloth)
+    let t = 0, farthest = 0
+    for (let f = 0; f < 144; f++) {
+      t += 1 / 144
+      const s = Math.min(1, 0.01 + 2 * t)
+      setTransform(world, hero, [0, 0, 0], [0, 0, 0, 1], [s, s, s])
+      stepCloth(world, 1 / 144)
+      getClothDrawTransform(world, cloth, m)
+      // the drawn particles' distance from the collar's middle (where the pins hold it now)
+      for (let i = 0; i < c.count; i++) {
+        const x = c.pos[3 * i], y = c.pos[3 * i + 1], z = c.pos[3 * i + 2]
+        const d = [0, 1, 2].map((r) => m[r] * x + m[4 + r] * y + m[8 + r] * z + m[12 + r])
+        farthest = Math.max(farthest, Math.hypot(d[0], d[1] - 1.47 * s, d[2] + 0.2 * s))
+      }
     }
+    expect(farthest).toBeLessThan(1.3) // the cape: 1.05 m long, 0.55 m wide
   })
 
   it('pipelined by a frame (animate → beginClothStep → draw → endClothStep), the drawn pinned row is on the pins too', () => {
@@ -89,7 +123,7 @@ describe('getClothDrawTransform', () => {
     let t = 0, drawn = 0
     for (let f = 0; f < 60; f++) {
       t += 1 / 60
-      const now = pose(t)
+      const now = pose(t, 0)
       setTransform(world, hero, now.p, now.q, now.s)
       beginClothStep(world, 1 / 60)
       drawn = Math.max(drawn, offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), now))
