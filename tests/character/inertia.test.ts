@@ -3,7 +3,16 @@
 // in the character's frame (see scenes.ts).
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import { ClothError, type ClothInertiaOptions, createCloth, getClothState, setClothInertia, setTransform, stepCloth } from '../../src/index'
+import {
+  ClothError,
+  type ClothInertiaOptions,
+  createCloth,
+  getClothState,
+  setClothInertia,
+  setClothSkinning,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { allFinite, makeWorld, momentum } from '../helpers'
 import { DT, capeOnCharacter, drive, expectClothErrors, localShape, rms, sprintTurnStop } from './scenes'
 
@@ -135,7 +144,17 @@ describe('setClothInertia input', () => {
     expectClothErrors(bad, (options) => setClothInertia(world, cape, options as never))
     const noTransform = addEntity(world)
     expect(() => setClothInertia(world, cape, { frame: noTransform })).toThrow(/options\.frame.*Transform/)
+    // a frame or bone scaled so small that the cloth lies beyond ±1e9 m in its frame (as pinParticle
+    // refuses such a target): bound at 1e-39, the reference was NaN and the constraints stopped holding
+    const tiny = addEntity(world)
+    setTransform(world, tiny, [0, 1.6, 0], [0, 0, 0, 1], [1e-39, 1e-39, 1e-39])
+    expect(() => setClothInertia(world, cape, { frame: tiny })).toThrow(/options\.frame.*scaled so small/)
+    const joints = new Array(4 * getClothState(world, cape).count).fill(0)
+    const weights = Array.from({ length: joints.length }, (_, k) => (k % 4 === 0 ? 1 : 0))
+    expect(() => setClothSkinning(world, cape, { bones: [tiny], joints, weights })).toThrow(/skinning\.bones\[0\].*scaled so small/)
+    setTransform(world, tiny, [0, 1.6, 0], [0, 0, 0, 1], [1e-6, 1e-6, 1e-6]) // small, but the cloth lies within ±1e9 m
     expect(() => setClothInertia(world, 12345, {})).toThrow(ClothError)
     expect(getClothState(world, cape).character).toBeNull() // nothing half-configured
+    setClothInertia(world, cape, { frame: tiny })
   })
 })

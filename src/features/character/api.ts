@@ -1,9 +1,9 @@
 import { hasComponent, observe, onAdd, onRemove } from 'bitecs'
-import { ClothError, checkObject, checkOneOf, isArrayLike } from '../../core/errors'
+import { ClothError, MAX_COORDINATE, checkObject, checkOneOf, isArrayLike } from '../../core/errors'
 import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
-import { trackEntity, untrackEntity } from '../../world/kinematics'
+import { readPoseInto, readScaleInto, trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
@@ -67,7 +67,7 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
   }
   checkObject('options', options)
   const frame = options.frame === undefined ? undefined
-    : options.frame === null ? 0 : checkFrameEntity(world, state, 'options.frame', options.frame)
+    : options.frame === null ? 0 : checkFrameEntity(world, state, c, 'options.frame', options.frame)
   const linear = share('options.linear', options.linear)
   const angular = share('options.angular', options.angular)
   const centrifugal = share('options.centrifugal', options.centrifugal)
@@ -206,7 +206,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
   const { bones, joints, weights } = skinning
   if (!isArrayLike(bones) || bones.length === 0 || bones.length > 65535)
     throw new ClothError('skinning.bones', bones, 'must be an array of 1 to 65535 bone entities')
-  for (let b = 0; b < bones.length; b++) checkFrameEntity(world, state, `skinning.bones[${b}]`, bones[b])
+  for (let b = 0; b < bones.length; b++) checkFrameEntity(world, state, c, `skinning.bones[${b}]`, bones[b])
   if (!isArrayLike(joints) || joints.length !== 4 * n)
     throw new ClothError('skinning.joints', joints, `must hold 4 bone indices per particle (${4 * n} numbers)`)
   for (let k = 0; k < 4 * n; k++) {
@@ -468,13 +468,29 @@ function driveFrequency(f: number): number {
 // ---------------------------------------------------------------------------------------------
 // Input checks
 
-function checkFrameEntity(world: object, state: ClothWorldState, arg: string, eid: unknown): number {
+function checkFrameEntity(world: object, state: ClothWorldState, c: ClothState, arg: string, eid: unknown): number {
   checkEntity(world, arg, eid)
   if (eid === 0 || !hasComponent(world as never, eid as number, state.transforms.component)) {
     throw new ClothError(arg, eid, 'must be an entity with a Transform (call setTransform first)')
   }
+  // the cloth in the entity's frame (its rest shape and where it is now), as `pinParticle` checks a
+  // target: bound at a scale of 1e-39, the float32 bind overflowed and the reference was NaN
+  const pose = frameScratch
+  readPoseInto(state, eid as number, pose)
+  readScaleInto(state, eid as number, pose, 7)
+  const s = Math.min(pose[7], pose[8], pose[9])
+  let far = 0
+  for (const xs of [c.pos, c.guard.rest]) {
+    for (let j = 0; j < 3 * c.count; j += 3) far = Math.max(far, Math.hypot(xs[j] - pose[0], xs[j + 1] - pose[1], xs[j + 2] - pose[2]))
+  }
+  if (!(far / s <= MAX_COORDINATE)) {
+    throw new ClothError(arg, eid, `is scaled so small that the cloth would lie beyond ±${MAX_COORDINATE} m in its frame`)
+  }
   return eid as number
 }
+
+/** Scratch of `checkFrameEntity`: a pose and scale. */
+const frameScratch = new Float64Array(10)
 
 function share(arg: string, v: unknown): number {
   if (v === undefined) return 1
