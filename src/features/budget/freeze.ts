@@ -1,5 +1,6 @@
 import { particleBounds } from '../../kernels/mesh'
 import { carryFrozen } from '../../world/rigid'
+import { glideThawingPins } from '../pins/api'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 
@@ -50,6 +51,8 @@ export function freezeCloth(state: ClothWorldState, c: ClothState, poses: Float6
 export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array): void {
   const lod = c.budget
   if (carryFrozen(c, poses)) wakeClothState(state, c)
+  const k = state.kinematics
+  glideThawingPins(state, c, poses, poses === k.stepFrom ? k.scaleStepFrom : k.scaleStepTo)
   lod.frozen = false
   lod.phase = lod.stepEvery - 1 // a far cloth steps at once: where it was carried to is this step's start
   lod.refPin = -1

@@ -168,6 +168,7 @@ function toLocal(
   z: number,
   out: Float64Array,
   o: number,
+  scales: Float64Array = state.kinematics.scaleStepTo,
 ): void {
   if (slot < 0) {
     out[o] = x
@@ -177,10 +178,44 @@ function toLocal(
   }
   // inverse rotation: conjugate quaternion
   rotateVec3(-pose[po + 3], -pose[po + 4], -pose[po + 5], pose[po + 6], x - pose[po], y - pose[po + 1], z - pose[po + 2], out, o)
-  const s = state.kinematics.scaleStepTo
-  out[o] /= s[3 * slot]
-  out[o + 1] /= s[3 * slot + 1]
-  out[o + 2] /= s[3 * slot + 2]
+  out[o] /= scales[3 * slot]
+  out[o + 1] /= scales[3 * slot + 1]
+  out[o + 2] /= scales[3 * slot + 2]
+}
+
+/**
+ * A frozen cloth thawing (features/budget): it was carried rigidly by one pin's target, so a pin
+ * whose target moved otherwise meanwhile (scaled, or another target moving apart from it) holds
+ * its particle elsewhere now. Such a pin glides from where its particle is, in its target's frame
+ * at `poses`/`scales` (`stepFrom` or `stepTo`, with their scales), to its offset over its
+ * `blendTime` (0: it snaps), as a pin given an offset does. (Snapped, a cape whose character
+ * shrank to 0.6 while it was frozen thawed at 36 % stretch and 30 m/s; 2.3 % when it watched.)
+ */
+export function glideThawingPins(state: ClothWorldState, c: ClothState, poses: Float64Array, scales: Float64Array): void {
+  const P = state.components.Pin
+  const pins = c.pins.list
+  for (let q = 0; q < pins.length; q++) {
+    const pin = pins[q]
+    const slot = P.slot[pin]
+    if (slot < 0 || !(P.blendTime[pin] > 0)) continue
+    const i = 3 * P.particle[pin]
+    toLocal(state, slot, poses, 7 * slot, c.pos[i], c.pos[i + 1], c.pos[i + 2], tmp, 0, scales)
+    // where the pin holds it now, in the target's frame (mid-glide: where the glide has got to)
+    let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
+    if (P.blendLeft[pin] > 0) {
+      const u = 1 - P.blendLeft[pin] / P.blendTime[pin], s = u * u * (3 - 2 * u), b = 3 * pin
+      lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * s
+      ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * s
+      lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * s
+    }
+    const so = 3 * slot
+    const off = Math.hypot((tmp[0] - lx) * scales[so], (tmp[1] - ly) * scales[so + 1], (tmp[2] - lz) * scales[so + 2])
+    if (!(off > 1e-4)) continue
+    P.blendFrom[3 * pin] = tmp[0]
+    P.blendFrom[3 * pin + 1] = tmp[1]
+    P.blendFrom[3 * pin + 2] = tmp[2]
+    P.blendLeft[pin] = P.blendTime[pin]
+  }
 }
 
 /**
