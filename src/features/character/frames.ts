@@ -68,19 +68,124 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
 }
 
 /**
- * The pose `eid` had when the cloth's first pin on it was made (`PinStore.pose`) into out[o..o+9];
- * left alone when no pin of the cloth targets it. The rest shape is the cloth as created, and a
- * pin holds a particle where it was when pinned: bound to this pose, the reference puts the pinned
- * particles where their pins hold them, however far the frame moved before the character settings
- * came (bound to the pose then, a cape configured after a 3 m walk had its reference 3.3 m off).
+ * The pose to bind the rest shape (the cloth as created) to, so that the reference puts the pinned
+ * particles where their pins on `eid` hold them, into out[o..o+9]; left alone when no pin of the
+ * cloth targets it. A pin records its target's pose when made (`PinStore.pose`) and holds its
+ * particle where it was then: for pins made while the cloth was where it was created (as pinning
+ * at creation does), the first pin's pose is that (bound to the pose at the call instead, a cape
+ * configured after a 3 m walk had its reference 3.3 m off). Pins made after the cloth moved (re-
+ * pinned after a walk, or given offsets elsewhere) hold particles where the rest shape does not
+ * put them at that pose: the rest shape is then fitted to the pins, the rigid motion that best
+ * takes their rest positions onto their offsets in the target's frame (`fitRigid`), with the
+ * first pin's scale (re-pinned after a walk and a turn, the reference lay 3.3 m off its pins).
  */
 function attachPose(state: ClothWorldState, c: ClothState, eid: number, out: Float64Array, o: number): void {
   const P = state.components.Pin
+  const ch = c.character!
+  let first = -1, off = 0
   for (const pin of c.pins.list) {
     if (P.target[pin] !== eid) continue
-    for (let j = 0; j < 10; j++) out[o + j] = P.pose[10 * pin + j]
-    return
+    if (first < 0) {
+      first = pin
+      for (let j = 0; j < 10; j++) out[o + j] = P.pose[10 * pin + j]
+    }
+    // where the rest shape puts the pin's particle at that pose, against where the pin holds it
+    const i = 3 * P.particle[pin]
+    fit[0] = out[o + 7] * P.ox[pin]
+    fit[1] = out[o + 8] * P.oy[pin]
+    fit[2] = out[o + 9] * P.oz[pin]
+    rotateVecAt(out, o + 3, fit, 0, fit, 0)
+    off = Math.max(
+      off,
+      Math.hypot(out[o] + fit[0] - ch.rest[i], out[o + 1] + fit[1] - ch.rest[i + 1], out[o + 2] + fit[2] - ch.rest[i + 2]),
+    )
   }
+  if (first < 0 || !(off > 1e-6)) return
+  fitRigid(state, c, eid, out, o)
+}
+
+/** Scratch of `attachPose` and `fitRigid`: a vector (0..2), centroids (3..8), S (9..17), N (18..33), a quaternion (34..37). */
+const fit = new Float64Array(38)
+
+/**
+ * The rigid motion (rotation about and position of out[o..o+6], the scale at out[o+7..o+9] kept)
+ * that best takes the pins' offsets on `eid` (scaled) onto their particles' rest positions, in
+ * the least-squares sense (Horn's quaternion method: the eigenvector of the largest eigenvalue of
+ * the 4×4 matrix N built from the cross-covariance S, by power iteration from the pose's own
+ * rotation, so that a turn the pins leave open (one pin, or a row of them) stays as that pose has
+ * it).
+ */
+function fitRigid(state: ClothWorldState, c: ClothState, eid: number, out: Float64Array, o: number): void {
+  const P = state.components.Pin
+  const rest = c.character!.rest
+  const s0 = out[o + 7], s1 = out[o + 8], s2 = out[o + 9]
+  const f = fit
+  f.fill(0, 3, 18)
+  let n = 0
+  for (const pin of c.pins.list) {
+    if (P.target[pin] !== eid) continue
+    const i = 3 * P.particle[pin]
+    f[3] += s0 * P.ox[pin]
+    f[4] += s1 * P.oy[pin]
+    f[5] += s2 * P.oz[pin]
+    for (let a = 0; a < 3; a++) f[6 + a] += rest[i + a]
+    n++
+  }
+  for (let a = 3; a < 9; a++) f[a] /= n
+  for (const pin of c.pins.list) {
+    if (P.target[pin] !== eid) continue
+    const i = 3 * P.particle[pin]
+    const ax = s0 * P.ox[pin] - f[3], ay = s1 * P.oy[pin] - f[4], az = s2 * P.oz[pin] - f[5]
+    const bx = rest[i] - f[6], by = rest[i + 1] - f[7], bz = rest[i + 2] - f[8]
+    f[9] += ax * bx
+    f[10] += ax * by
+    f[11] += ax * bz
+    f[12] += ay * bx
+    f[13] += ay * by
+    f[14] += ay * bz
+    f[15] += az * bx
+    f[16] += az * by
+    f[17] += az * bz
+  }
+  const xx = f[9], xy = f[10], xz = f[11], yx = f[12], yy = f[13], yz = f[14], zx = f[15], zy = f[16], zz = f[17]
+  // N (symmetric, row-major), in quaternion order w, x, y, z
+  // dprint-ignore
+  const N = [
+    xx + yy + zz, yz - zy, zx - xz, xy - yx,
+    yz - zy, xx - yy - zz, xy + yx, zx + xz,
+    zx - xz, xy + yx, -xx + yy - zz, yz + zy,
+    xy - yx, zx + xz, yz + zy, -xx - yy + zz,
+  ]
+  let norm = 0
+  for (const v of N) norm += v * v
+  norm = Math.sqrt(norm)
+  // from the pose's rotation (w, x, y, z); shifted by ‖N‖ so the largest eigenvalue dominates
+  let qw = out[o + 6], qx = out[o + 3], qy = out[o + 4], qz = out[o + 5]
+  if (norm > 1e-12) {
+    for (let it = 0; it < 200; it++) {
+      const w = (N[0] + norm) * qw + N[1] * qx + N[2] * qy + N[3] * qz
+      const x = N[4] * qw + (N[5] + norm) * qx + N[6] * qy + N[7] * qz
+      const y = N[8] * qw + N[9] * qx + (N[10] + norm) * qy + N[11] * qz
+      const z = N[12] * qw + N[13] * qx + N[14] * qy + (N[15] + norm) * qz
+      const l = Math.hypot(w, x, y, z)
+      qw = w / l
+      qx = x / l
+      qy = y / l
+      qz = z / l
+    }
+  }
+  out[o + 3] = qx
+  out[o + 4] = qy
+  out[o + 5] = qz
+  out[o + 6] = qw
+  // the position: the rest centroid less the turned offset centroid
+  f[0] = f[3]
+  f[1] = f[4]
+  f[2] = f[5]
+  rotateVecAt(out, o + 3, f, 0, f, 0)
+  out[o] = f[6] - f[0]
+  out[o + 1] = f[7] - f[1]
+  out[o + 2] = f[8] - f[2]
 }
 
 /**
