@@ -62,8 +62,10 @@ export function clothSync<W extends object>(world: W): W {
     }
     if (c.substeps > total) total = c.substeps
     const pinJump = frameStart ? followTargetJumps(state, c) : 0
-    if (c.grab.count > 0) advanceGrabs(state, c)
     if (c.character !== null) beginCharacterStep(state, c, frameStart, pinJump)
+    // (after the jumps carried the cloth and its grabs' targets so far: the hand's new target is not
+    // carried again; a cape held by its frame alone had its hand's target moved twice by a 10 m jump)
+    if (c.grab.count > 0) advanceGrabs(state, c)
     if (c.tethers.dirty) rebuildTethers(state, c)
   }
   state.substepCount = total

@@ -55,17 +55,59 @@ export function moveClothRigidly(
     vel[i + 1] = m10 * x + m11 * y + m12 * z
     vel[i + 2] = m20 * x + m21 * y + m22 * z
   }
+  carryGrabTargets(c, M, fromX, fromY, fromZ, toX, toY, toZ)
+  c.version++
+}
+
+/** `carryGrabTargets` by the rigid motion x' = to + R·(x − from), R the unit quaternion r. */
+export function carryGrabTargetsRigidly(
+  c: ClothState,
+  fromX: number,
+  fromY: number,
+  fromZ: number,
+  rx: number,
+  ry: number,
+  rz: number,
+  rw: number,
+  toX: number,
+  toY: number,
+  toZ: number,
+): void {
+  if (c.grab.count === 0) return
+  const M = ROTATION
+  M[9] = rx
+  M[10] = ry
+  M[11] = rz
+  M[12] = rw
+  quatToMatrix(M, 9, M, 0)
+  carryGrabTargets(c, M, fromX, fromY, fromZ, toX, toY, toZ)
+}
+
+/**
+ * Moves the grabs' targets so far (where each glides from, not the target asked for) by
+ * x' = to + M·(x − from), M the row-major rotation at m[0..8]: `moveClothRigidly`'s, and a
+ * teleport reset's (the cloth is put on its reference; the hands that followed the jump stay with it).
+ */
+export function carryGrabTargets(
+  c: ClothState,
+  m: Float64Array,
+  fromX: number,
+  fromY: number,
+  fromZ: number,
+  toX: number,
+  toY: number,
+  toZ: number,
+): void {
   const G = c.grab
   for (let g = 0; g < G.count; g++) {
     for (let q = 0; q < CARRIED_TARGETS.length; q++) {
       const o = GRAB_STRIDE * g + CARRIED_TARGETS[q]
       const x = G.data[o] - fromX, y = G.data[o + 1] - fromY, z = G.data[o + 2] - fromZ
-      G.data[o] = toX + m00 * x + m01 * y + m02 * z
-      G.data[o + 1] = toY + m10 * x + m11 * y + m12 * z
-      G.data[o + 2] = toZ + m20 * x + m21 * y + m22 * z
+      G.data[o] = toX + m[0] * x + m[1] * y + m[2] * z
+      G.data[o + 1] = toY + m[3] * x + m[4] * y + m[5] * z
+      G.data[o + 2] = toZ + m[6] * x + m[7] * y + m[8] * z
     }
   }
-  c.version++
 }
 
 /** Rotation scratch of carryFrozen. */

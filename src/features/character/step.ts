@@ -10,7 +10,7 @@ import {
   releaseLimitHolds,
 } from '../../kernels/motion'
 import { K_DROPPED, K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
-import { moveClothRigidly } from '../../world/rigid'
+import { carryGrabTargetsRigidly, moveClothRigidly } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
@@ -173,11 +173,17 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   if (jumped) turnVelocities(m, k.jump, 10 * slot + 3)
   const reset = teleported && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT
   if (reset) m[M_PRIMED] = 0
-  if (jumped && !reset && pinJump === JUMP_NONE) {
+  if (jumped && pinJump === JUMP_NONE) {
     const j = 10 * slot, J = k.jump
     const cx = J[j], cy = J[j + 1], cz = J[j + 2]
-    moveClothRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9])
-    if (teleported) state.stats.teleports++
+    if (!reset) {
+      moveClothRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9])
+      if (teleported) state.stats.teleports++
+    } else {
+      // the cloth goes onto its reference below; the hands holding it jumped with the frame (their
+      // targets swept the 10 m gap in one step: 47 % stretch)
+      carryGrabTargetsRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9])
+    }
   }
   beginFrameStep(state, c, ch)
   if (ch.constrained || reset) updateReference(state, ch)
