@@ -40,12 +40,22 @@ export function getClothDrawTransform<T extends { [i: number]: number; length: n
     return out
   }
   const k = state.kinematics
-  // the step the mesh shows: while a frame runs, the one before it (its first step's start)
-  const poses = state.frame.open ? k.stepFrom : k.stepTo
+  // the step the mesh shows: while a frame runs, the one before it (its first step's start); a
+  // frozen cloth, where it froze (the pose its thaw carries it from); a cloth sitting steps out
+  // (the budget steps it every n-th), its own last step
+  const lod = c.budget
+  let poses = state.frame.open ? k.stepFrom : k.stepTo, po = 7 * slot
+  if (lod.frozen && lod.refSlot === slot) {
+    poses = lod.refPose
+    po = 0
+  } else if (c.idle && !lod.frozen && lod.shownSlot === slot) {
+    poses = lod.shownPose
+    po = 0
+  }
   readPoseInto(state, eid, t)
   let same = true
   for (let j = 0; j < 7; j++) {
-    t[10 + j] = poses[7 * slot + j]
+    t[10 + j] = poses[po + j]
     same &&= t[10 + j] === t[j]
   }
   if (same) {
@@ -66,6 +76,23 @@ export function getClothDrawTransform<T extends { [i: number]: number; length: n
   }
   out[15] = 1
   return out
+}
+
+/**
+ * After each fixed step: every cloth that ran it records its anchor's pose at the step's end (what
+ * its mesh shows until it runs again). Drawn from the world's last step instead, a far cloth the
+ * budget steps every 4th step was 15 cm off its pins at 3 m/s.
+ */
+export function noteShownAnchors(state: ClothWorldState): void {
+  const cloths = state.cloths
+  const to = state.kinematics.stepTo
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    if (c.idle) continue
+    const slot = anchorSlot(state, c), lod = c.budget
+    lod.shownSlot = slot
+    if (slot >= 0) { for (let j = 0; j < 7; j++) lod.shownPose[j] = to[7 * slot + j] }
+  }
 }
 
 /** The kinematic slot of the cloth's anchor: its character frame, else its first pin target; −1 when none. */

@@ -1,12 +1,16 @@
 import { getClothWorld } from '../src/world/access'
 import { dispatchTearEvents } from '../src/features/tearing/events'
+import { noteShownAnchors } from '../src/draw'
 
 /**
- * Events phase, once per fixed step after the substeps: hands the step's tear events to the
- * `onClothTear` listeners and the `drainClothTears` queue. It runs outside the solver, so a
- * listener may change the world (remove a cloth, add a pin). Nothing to do without tears.
+ * Events phase, once per fixed step after the substeps: notes where each cloth that ran the step
+ * shows its anchor (for `getClothDrawTransform` while it sits steps out), then hands the step's
+ * tear events to the `onClothTear` listeners and the `drainClothTears` queue. It runs outside the
+ * solver, so a listener may change the world (remove a cloth, add a pin).
  */
 export function clothEvents<W extends object>(world: W): W {
-  dispatchTearEvents(getClothWorld(world))
+  const state = getClothWorld(world)
+  noteShownAnchors(state)
+  dispatchTearEvents(state)
   return world
 }

@@ -162,6 +162,8 @@ export function createClothBudget(substeps: number, iterations: number): ClothBu
     refPin: -1,
     refSlot: -1,
     refPose: new Float64Array(7),
+    shownSlot: -1,
+    shownPose: new Float64Array(7),
     measure: new Float64Array(7),
   }
 }

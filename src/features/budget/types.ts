@@ -87,6 +87,12 @@ export interface ClothBudget {
   refPin: number
   refSlot: number
   refPose: Float64Array
+  /**
+   * The kinematic slot of the cloth's draw anchor (`src/draw.ts`) and its pose at the end of the
+   * last step the cloth ran (−1: none yet): what its mesh shows while it sits steps out.
+   */
+  shownSlot: number
+  shownPose: Float64Array
   /** Measurement scratch: the particles' bounds (6), then the largest edge strain. */
   measure: Float64Array
 }
