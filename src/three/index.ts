@@ -35,6 +35,7 @@ import {
   ClothError,
   getClothDrawTransform,
   getClothMesh,
+  getClothState,
   getClothStats,
   updateRenderProxy,
   type ClothMesh,
@@ -65,6 +66,9 @@ export type ClothGeometry = BufferGeometry<ClothGeometryAttributes>
 interface GeometryState {
   /** The mesh views last copied (getClothMesh hands out new ones when the topology changes). */
   mesh: ClothMesh | null
+  /** The cloth last copied (its entity and its state: an id a removed cloth left may name another). */
+  cloth: number
+  clothState: object | null
   position: BufferAttribute
   normal: BufferAttribute
   uv: BufferAttribute
@@ -102,7 +106,7 @@ function attributes(geometry: ClothGeometry, vertices: number, indices: number):
   geometry.setAttribute('normal', normal)
   geometry.setAttribute('uv', uv)
   geometry.setIndex(index)
-  return { mesh: null, position, normal, uv, index }
+  return { mesh: null, cloth: -1, clothState: null, position, normal, uv, index }
 }
 
 /**
@@ -114,6 +118,7 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
   const indices = 3 * mesh.triangleCount
   const vertexRoom = state.position.count
   const indexRoom = state.index.count
+  const old = state
   if (vertices > vertexRoom || indices > indexRoom) {
     geometry.dispose() // the renderer frees the old buffers and uploads the new ones at the next draw
     state = attributes(
@@ -121,6 +126,8 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
       vertices > vertexRoom ? roomFor(vertices, vertexRoom) : vertexRoom,
       indices > indexRoom ? roomFor(indices, indexRoom) : indexRoom,
     )
+    state.cloth = old.cloth
+    state.clothState = old.clothState
     states.set(geometry, state)
   }
   const index = state.index.array as Uint32Array
@@ -218,7 +225,10 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
  * Brings a geometry made by createClothGeometry up to date with the cloth: positions, normals and
  * bounds always; after a tear also the new vertices, the rewritten index and the draw range. It
  * allocates nothing unless a tear outgrew the geometry's arrays. The geometry may be moved to
- * another cloth: the next update copies that cloth's topology.
+ * another cloth: the next update copies that cloth's topology. A ClothError when the cloth it
+ * showed was removed and its id now names another cloth: the old mesh, left in a scene, would
+ * silently draw the new one twice (make a mesh for the new cloth, as a render proxy must be made
+ * again).
  *
  * @param world A bitECS world with the cloth plugin installed.
  * @param cloth A cloth entity of that world.
@@ -230,6 +240,16 @@ export function updateClothGeometry(world: object, cloth: number, geometry: Buff
   let state = states.get(geometry)
   if (state === undefined) throw new ClothError('geometry', geometry, 'must be a geometry made by createClothGeometry')
   const mesh = getClothMesh(world, cloth)
+  const clothState = getClothState(world, cloth)
+  if (state.cloth === cloth && state.clothState !== clothState) {
+    throw new ClothError(
+      'cloth',
+      cloth,
+      'is not the cloth this geometry showed: that one was removed and its id names a new cloth (make a mesh for the new one)',
+    )
+  }
+  state.cloth = cloth
+  state.clothState = clothState
   const clothGeometry = geometry as ClothGeometry // it is: createClothGeometry made it
   if (mesh !== state.mesh) state = copyTopology(clothGeometry, state, mesh)
   ;(state.position.array as Float32Array).set(mesh.positions)

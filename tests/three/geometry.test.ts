@@ -136,6 +136,21 @@ describe('bitecs-cloth/three', () => {
     expectFollows(world, small, geometry)
   })
 
+  it('the geometry of a removed cloth does not silently show a new cloth that took its id (a ClothError, as a proxy gives)', () => {
+    // observed: the old mesh, left in the scene, drew the respawned cloth a second time
+    const world = makeWorld()
+    const old = createCloth(world, { width: 1, height: 1, resolution: 4 })
+    const geometry = createClothGeometry(world, old)
+    removeCloth(world, old)
+    const respawned = createCloth(world, { width: 1, height: 1, resolution: 4, position: [50, -1, 0] })
+    expect(respawned).toBe(old) // bitECS gave the id back
+    expect(() => updateClothGeometry(world, respawned, geometry)).toThrow(/not the cloth this geometry showed/)
+    const fresh = createClothGeometry(world, respawned)
+    stepCloth(world, 1 / 60)
+    updateClothGeometry(world, respawned, fresh)
+    expectFollows(world, respawned, fresh)
+  })
+
   it('createClothMesh draws the geometry with a double-sided standard material, or the material given', () => {
     const world = makeWorld()
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 5 })
