@@ -69,6 +69,8 @@ interface GeometryState {
   /** The cloth last copied (its entity and its state: an id a removed cloth left may name another). */
   cloth: number
   clothState: object | null
+  /** The cloth's `version` at the last copy (a sleeping or frozen cloth is not uploaded again). */
+  version: number
   position: BufferAttribute
   normal: BufferAttribute
   uv: BufferAttribute
@@ -106,7 +108,7 @@ function attributes(geometry: ClothGeometry, vertices: number, indices: number):
   geometry.setAttribute('normal', normal)
   geometry.setAttribute('uv', uv)
   geometry.setIndex(index)
-  return { mesh: null, cloth: -1, clothState: null, position, normal, uv, index }
+  return { mesh: null, cloth: -1, clothState: null, version: -1, position, normal, uv, index }
 }
 
 /**
@@ -128,6 +130,7 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
     )
     state.cloth = old.cloth
     state.clothState = old.clothState
+    state.version = old.version
     states.set(geometry, state)
   }
   const index = state.index.array as Uint32Array
@@ -223,7 +226,8 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
 
 /**
  * Brings a geometry made by createClothGeometry up to date with the cloth: positions, normals and
- * bounds always; after a tear also the new vertices, the rewritten index and the draw range. It
+ * bounds when the cloth changed since the last update (a sleeping or frozen cloth, or a frame that
+ * ran no step, uploads nothing); after a tear also the new vertices, the rewritten index and the draw range. It
  * allocates nothing unless a tear outgrew the geometry's arrays. The geometry may be moved to
  * another cloth: the next update copies that cloth's topology. A ClothError when the cloth it
  * showed was removed and its id now names another cloth: the old mesh, left in a scene, would
@@ -248,10 +252,13 @@ export function updateClothGeometry(world: object, cloth: number, geometry: Buff
       'is not the cloth this geometry showed: that one was removed and its id names a new cloth (make a mesh for the new one)',
     )
   }
+  const clothGeometry = geometry as ClothGeometry // it is: createClothGeometry made it
+  // unchanged since the last copy (asleep, frozen, between steps): nothing to upload again
+  if (state.clothState === clothState && mesh === state.mesh && state.version === clothState.version) return clothGeometry
   state.cloth = cloth
   state.clothState = clothState
-  const clothGeometry = geometry as ClothGeometry // it is: createClothGeometry made it
   if (mesh !== state.mesh) state = copyTopology(clothGeometry, state, mesh)
+  state.version = clothState.version
   ;(state.position.array as Float32Array).set(mesh.positions)
   ;(state.normal.array as Float32Array).set(mesh.normals)
   state.position.needsUpdate = true
@@ -287,6 +294,8 @@ interface ProxyGeometryState {
   proxy: ClothRenderProxy
   /** The proxy mesh's `indexVersion` last uploaded. */
   indexVersion: number
+  /** The cloth's `version` at the last upload (a sleeping or frozen cloth is not uploaded again). */
+  version: number
   position: BufferAttribute
   normal: BufferAttribute
   index: BufferAttribute
@@ -313,7 +322,8 @@ export function createProxyGeometry(world: object, proxy: ClothRenderProxy): Clo
   geometry.setAttribute('normal', normal)
   geometry.setAttribute('uv', new BufferAttribute(mesh.uvs, 2))
   geometry.setIndex(index)
-  proxyStates.set(geometry, { proxy, indexVersion: mesh.indexVersion, position, normal, index })
+  const version = getClothState(world, proxy.cloth).version
+  proxyStates.set(geometry, { proxy, indexVersion: mesh.indexVersion, version, position, normal, index })
   fitBounds(geometry, mesh.positions, mesh.vertexCount)
   return geometry
 }
@@ -334,13 +344,16 @@ export function updateProxyGeometry(world: object, proxy: ClothRenderProxy, geom
   if (state === undefined) throw new ClothError('geometry', geometry, 'must be a geometry made by createProxyGeometry')
   if (state.proxy !== proxy) throw new ClothError('geometry', geometry, 'was made for another render proxy')
   const mesh = updateRenderProxy(world, proxy)
+  const clothGeometry = geometry as ClothGeometry // it is: createProxyGeometry made it
+  const version = getClothState(world, proxy.cloth).version
+  if (version === state.version) return clothGeometry
+  state.version = version
   state.position.needsUpdate = true
   state.normal.needsUpdate = true
   if (mesh.indexVersion !== state.indexVersion) {
     state.indexVersion = mesh.indexVersion
     state.index.needsUpdate = true
   }
-  const clothGeometry = geometry as ClothGeometry // it is: createProxyGeometry made it
   fitBounds(clothGeometry, mesh.positions, mesh.vertexCount)
   return clothGeometry
 }

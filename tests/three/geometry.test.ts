@@ -6,6 +6,7 @@ import {
   createCloth,
   getClothMesh,
   getClothTearCount,
+  isClothSleeping,
   makeTearable,
   pinRow,
   removeCloth,
@@ -149,6 +150,31 @@ describe('bitecs-cloth/three', () => {
     stepCloth(world, 1 / 60)
     updateClothGeometry(world, respawned, fresh)
     expectFollows(world, respawned, fresh)
+  })
+
+  it('a sleeping cloth is not uploaded again (the attributes stay unchanged) until it moves', () => {
+    // observed: 60 uploads of unchanged positions and normals in 60 frames of a sleeping cape
+    const world = makeWorld({ sleep: { delay: 0.2 } })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.5, 0])
+    const cloth = createCloth(world, { width: 0.6, height: 0.6, resolution: 6, position: [0, 1.5, 0] })
+    pinRow(world, cloth, 0, hero)
+    const geometry = createClothGeometry(world, cloth)
+    const position = () => geometry.getAttribute('position').version
+    for (let f = 0; f < 300 && !isClothSleeping(world, cloth); f++) stepCloth(world, 1 / 60)
+    expect(isClothSleeping(world, cloth)).toBe(true)
+    updateClothGeometry(world, cloth, geometry)
+    const asleep = position()
+    for (let f = 0; f < 60; f++) {
+      stepCloth(world, 1 / 60)
+      updateClothGeometry(world, cloth, geometry)
+    }
+    expect(position()).toBe(asleep)
+    setTransform(world, hero, [0.2, 1.5, 0]) // wakes it
+    stepCloth(world, 1 / 60)
+    updateClothGeometry(world, cloth, geometry)
+    expect(position()).toBeGreaterThan(asleep)
+    expectFollows(world, cloth, geometry)
   })
 
   it('createClothMesh draws the geometry with a double-sided standard material, or the material given', () => {
