@@ -59,6 +59,27 @@ describe('bitecs-cloth/three render proxies', () => {
     expect(geometry.boundingSphere!.center.x - start.x).toBeGreaterThan(2)
   })
 
+  it('a proxy of a cloth that did not change (a frame that ran no step, or asleep) is not uploaded again', () => {
+    const world = makeWorld()
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0])
+    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [8, 12], position: [0, 1.5, -0.1] })
+    pinRow(world, cape, 0, hero)
+    const proxy = createRenderProxy(world, cape, buildGridMesh({ width: 0.5, height: 0.8, resolution: [29, 45] }))
+    const geometry = createProxyGeometry(world, proxy)
+    const uploads = () => geometry.getAttribute('position').version
+    let ran = 0
+    const before = uploads()
+    for (let f = 1; f <= 144; f++) {
+      setTransform(world, hero, [3 * (f / 144), 1.6, 0])
+      ran += stepCloth(world, 1 / 144) > 0 ? 1 : 0 // (144 Hz: some frames run no fixed step)
+      updateProxyGeometry(world, proxy, geometry)
+    }
+    expect(ran).toBeLessThan(144)
+    expect(uploads() - before).toBe(ran) // (it was 144)
+    expectShows(world, proxy, geometry)
+  })
+
   it('the index is sent again when a tear hides render triangles', () => {
     const world = makeWorld()
     const n = 10
