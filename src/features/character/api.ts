@@ -438,8 +438,49 @@ export function copyCharacterParticle(c: ClothState, from: number, to: number): 
       skin.weights[4 * to + k] = skin.weights[4 * from + k]
     }
   }
+  copy3(ch.start, from, to) // (where it started the substep: the limits' velocity bound reads it)
   if (ch.held[from] === 1) holdParticle(c, ch, to)
 }
+
+/**
+ * After a tear split the cloth into pieces: a piece that neither a held particle (max distance 0)
+ * nor a pin on the character (its frame entity, or a skin bone) holds is no longer part of the
+ * garment, so its particles lose their motion constraints (max distance, backstop, drive). Kept,
+ * they held a scrap torn off by a nail in the world to the running character: one triangle from
+ * the nail to the hero at 34,657 % stretch. A cloth nothing holds to the character at all (limits
+ * alone) keeps them everywhere.
+ */
+export function releaseDetachedPieces(state: ClothWorldState, c: ClothState): void {
+  const ch = c.character
+  if (ch === null || !ch.constrained || c.piece === null) return
+  const label = c.piece, n = c.pieceCount
+  if (attachedScratch.length < n) attachedScratch = new Uint8Array(Math.max(2 * attachedScratch.length, n))
+  const attached = attachedScratch
+  attached.fill(0, 0, n)
+  let any = false
+  for (let q = 0; q < ch.heldCount; q++) {
+    attached[label[ch.heldList[q]]] = 1
+    any = true
+  }
+  const P = state.components.Pin
+  const bones = ch.skin?.bones
+  for (const pin of c.pins.list) {
+    const t = P.target[pin]
+    if (t === 0 || (t !== ch.frame && (bones === undefined || bones.indexOf(t) < 0))) continue
+    attached[label[P.particle[pin]]] = 1
+    any = true
+  }
+  if (!any) return
+  for (let i = 0; i < c.count; i++) {
+    if (attached[label[i]] === 1) continue
+    ch.lim[LIMITS * i + L_MAX] = Infinity
+    ch.lim[LIMITS * i + L_RADIUS] = 0
+    if (ch.drive !== null) ch.drive[i] = 0
+  }
+}
+
+/** Scratch of `releaseDetachedPieces`: whether each piece is held (grown on a tear, rarely). */
+let attachedScratch = new Uint8Array(64)
 
 function copy3(a: Float64Array, from: number, to: number): void {
   a[3 * to] = a[3 * from]

@@ -2,6 +2,7 @@ import { findOverstrained } from '../../kernels/strain'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { applySplit, chooseCut, cutsSmallPiece, gatherFan, tensionAt } from './crack'
 import { repairConstraints } from './repair'
+import { releaseDetachedPieces } from '../character/api'
 import { EV, type ClothTear } from './types'
 
 /** New cracks a cloth may start per step; the rest of the step's tears grow cracks that exist. */
@@ -90,6 +91,7 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
   if (tears === 0) return
   repairConstraints(T)
   labelPieces(c, T)
+  releaseDetachedPieces(state, c)
   if (c.tethers.enabled) c.tethers.dirty = true
   store.tears[eid] += tears
   state.stats.tears += tears
