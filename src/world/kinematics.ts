@@ -45,10 +45,15 @@ const scale = new Float64Array(3)
 
 /**
  * Starts tracking `eid` (or adds a reference) and returns its slot. A new slot starts at rest at
- * the entity's current pose.
+ * the entity's current pose, read first: a transform that throws (NaN, an id beyond a host store)
+ * leaves nothing tracked (a refused pin left its target tracked, and every later step threw).
  */
 export function trackEntity(state: ClothWorldState, eid: number): number {
   const k = state.kinematics
+  if (!(eid < k.slotOf.length && k.slotOf[eid] >= 0)) {
+    readPoseInto(state, eid, pose)
+    readScaleInto(state, eid, scale, 0)
+  }
   if (eid >= k.slotOf.length) {
     let n = k.slotOf.length
     while (n <= eid) n *= 2
@@ -72,8 +77,6 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
   k.jumped[slot] = 0
   k.moved[slot] = 0
   k.forceJump[slot] = 0
-  readPoseInto(state, eid, pose)
-  readScaleInto(state, eid, scale, 0)
   const o = 7 * slot
   for (let j = 0; j < 7; j++) {
     k.sampleFrom[o + j] = pose[j]

@@ -1,7 +1,7 @@
 // Hard cases, round two: scale as an input, host transform stores, the order of setup calls,
 // garbage written straight into the transform stores, and meshes with vertices no triangle uses.
 // Public API only, as a host would use it.
-import { addComponent, addEntity, createWorld } from 'bitecs'
+import { addComponent, addEntity, createWorld, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   ClothError,
@@ -346,6 +346,24 @@ describe('host transform stores: every feature works with them', () => {
     const e = addEntity(world)
     expect(() => setTransform(world, e, [0, 1, 0])).toThrow(ClothError)
     expect(() => createWindZone(world, { direction: [1, 0, 0], strength: 1 })).toThrow(ClothError)
+  })
+
+  it('a pin or collider refused for a bad host transform leaves nothing tracked: the world steps on once the entity is gone', () => {
+    // observed: the refused target stayed tracked, and every later step threw for its transform
+    const host = hostStores(64)
+    const world = installClothPlugin(createWorld(), { transforms: host.source })
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 6, position: [0, 2, 0] })
+    const hero = host.add(world, [0, 2, 0]), body = host.add(world, [0, 1, 0])
+    host.T.px[hero] = NaN // the host's uninitialised entities
+    host.T.py[body] = Infinity
+    expect(() => pinParticle(world, cloth, 0, hero)).toThrow(ClothError)
+    expect(() => addSphereCollider(world, addEntity(world), { body, radius: 0.2 })).toThrow(ClothError)
+    for (let k = 0; k < 10; k++) addEntity(world) // an id beyond the host arrays
+    const far = addEntity(world)
+    expect(() => pinParticle(world, cloth, 1, far)).toThrow(ClothError)
+    removeEntity(world, hero)
+    removeEntity(world, body)
+    expect(() => stepCloth(world, 1 / 60)).not.toThrow()
   })
 
   it('host arrays replaced when they grow: the plugin reads them through the object it was given, so updating its fields is enough', () => {
