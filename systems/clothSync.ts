@@ -28,7 +28,10 @@ export function clothSync<W extends object>(world: W): W {
     markFrameTeleports(state) // per-cloth teleport thresholds (nothing without character cloths)
     markCarriedSlots(state) // what dropped frame time's motion carries (nothing without a hitch)
     sampleFrame(state)
-    k.newFrame = false
+    // inside a frame, its later steps interpolate this sample; a step outside frames
+    // (`clothFixedStep`, the phases run by hand) leaves the next frame to sample anew (it took
+    // none, and its pins stood still for its first step: 6.7 cm behind at 4 m/s)
+    if (k.framed) k.newFrame = false
   }
   beginKinematicStep(k)
   if (state.collision.colliders.length > 0) sweepColliders(state)

@@ -146,6 +146,31 @@ describe('stepping by hand', () => {
   })
 })
 
+describe('clothFixedStep, then stepCloth', () => {
+  it('the first stepCloth frame after steps outside frames samples the Transforms (its pins stood still for a step)', () => {
+    // a scene warmed up with clothFixedStep, then run at 4 m/s in stepCloth frames: the first frame
+    // took no sample, its pinned corner 6.7 cm behind its target
+    for (const warmUp of ['stepCloth', 'clothFixedStep'] as const) {
+      const world = makeWorld({ sleep: false })
+      const hero = addEntity(world)
+      setTransform(world, hero, [0, 1.5, 0])
+      const cape = createCloth(world, { width: 0.55, height: 1.05, resolution: [14, 24], position: [0, 1.5, -0.2], material: 'wool' })
+      pinRow(world, cape, 0, hero)
+      for (let i = 0; i < 60; i++) {
+        if (warmUp === 'stepCloth') stepCloth(world, 1 / 60)
+        else clothFixedStep(world)
+      }
+      const c = getClothState(world, cape)
+      for (let f = 1; f <= 5; f++) {
+        const x = (4 * f) / 60
+        setTransform(world, hero, [x, 1.5, 0])
+        stepCloth(world, 1 / 60)
+        expect(Math.abs(c.pos[0] - (x - 0.275)), warmUp).toBeLessThan(1e-9) // the pinned corner on its target
+      }
+    }
+  })
+})
+
 describe('getClothMesh', () => {
   it('returns GPU-ready arrays sized to the live cloth, the same arrays every call', () => {
     const world = makeWorld()
