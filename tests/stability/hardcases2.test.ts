@@ -1,7 +1,7 @@
 // Hard cases, round two: scale as an input, host transform stores, the order of setup calls,
 // garbage written straight into the transform stores, and meshes with vertices no triangle uses.
 // Public API only, as a host would use it.
-import { addComponent, addEntity, createWorld, removeEntity } from 'bitecs'
+import { addComponent, addEntity, createWorld, getAllEntities, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   ClothError,
@@ -345,7 +345,19 @@ describe('host transform stores: every feature works with them', () => {
     for (let k = 0; k < 6; k++) addEntity(world)
     const e = addEntity(world)
     expect(() => setTransform(world, e, [0, 1, 0])).toThrow(ClothError)
-    expect(() => createWindZone(world, { direction: [1, 0, 0], strength: 1 })).toThrow(ClothError)
+    // the zone's entity does not stay behind, and the error names the world (not an `eid` the call has not)
+    const before = getAllEntities(world).length
+    for (let k = 0; k < 5; k++) {
+      let error: unknown
+      try {
+        createWindZone(world, { direction: [1, 0, 0], strength: 1 })
+      } catch (x) {
+        error = x
+      }
+      expect(error).toBeInstanceOf(ClothError)
+      expect((error as ClothError).argument).toBe('world')
+    }
+    expect(getAllEntities(world).length).toBe(before) // (was 5 more)
   })
 
   it('a pin or collider refused for a bad host transform leaves nothing tracked: the world steps on once the entity is gone', () => {

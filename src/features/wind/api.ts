@@ -139,7 +139,14 @@ export function createWindZone(world: object, options: WindZoneOptions): number 
 
   const eid = addEntity(world as never)
   growStores(state, eid)
-  setTransform(world, eid, position, rotation)
+  try {
+    setTransform(world, eid, position, rotation)
+  } catch (e) {
+    // (host transform arrays too short for the new entity: it goes again, and the error names the world)
+    removeEntity(world as never, eid)
+    throw e instanceof ClothError && e.argument === 'eid' ? new ClothError('world', world, `has no room for a zone entity: ${e.message}`)
+      : e
+  }
   const Z = state.components.WindZone
   Z.shape[eid] = shape === 'global' ? 0 : shape === 'box' ? 1 : 2
   Z.turbulence[eid] = 0
