@@ -23,7 +23,8 @@ const t = new Float64Array(38)
  * finished step) to the anchor's Transform now: M = M_now · M_step⁻¹ with M = translation ·
  * rotation. A change of the anchor's scale is left out: it moves the pins, not the rest of the
  * cloth, which follows at the next step (drawn scaled with its anchor, a cape whose character grew
- * from 0.01 to 1 in half a second was drawn 3.9 m long). The anchor is the cloth's character frame (`setClothInertia`), else the target
+ * from 0.01 to 1 in half a second was drawn 3.9 m long). The anchor is the cloth's character
+ * frame (`setClothInertia`), else the target
  * of its first pin that has one; without either (or once the anchor lost its Transform) the
  * identity. Draw the cloth's mesh with this as its world matrix (`updateClothDrawMatrix` in the
  * three.js entry does that). Exactly the identity while the anchor has not moved since that step

@@ -227,7 +227,8 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
 /**
  * Brings a geometry made by createClothGeometry up to date with the cloth: positions, normals and
  * bounds when the cloth changed since the last update (a sleeping or frozen cloth, or a frame that
- * ran no step, uploads nothing); after a tear also the new vertices, the rewritten index and the draw range. It
+ * ran no step, uploads nothing); after a tear also the new vertices, the rewritten index and the
+ * draw range. It
  * allocates nothing unless a tear outgrew the geometry's arrays. The geometry may be moved to
  * another cloth: the next update copies that cloth's topology. A ClothError when the cloth it
  * showed was removed and its id now names another cloth: the old mesh, left in a scene, would
