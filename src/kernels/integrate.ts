@@ -44,6 +44,50 @@ export function predictPositions(
 }
 
 /**
+ * `predictPositions` for the particles listed in list[1..list[0]] only, their positions and
+ * velocities first put back from `saved` (6 values each: xyz, v) as they stood before another
+ * predict ran over them (a character cloth's pieces torn free of it: see `releaseDetachedPieces`).
+ */
+export function predictListed(
+  pos: Float64Array,
+  prev: Float64Array,
+  vel: Float64Array,
+  invMass: Float64Array,
+  accel: Float64Array | null,
+  params: Float64Array,
+  list: Int32Array,
+  saved: Float64Array,
+): void {
+  const h = params[P_H], damp = params[P_DAMP]
+  const ax = params[P_GX] * h, ay = params[P_GY] * h, az = params[P_GZ] * h
+  for (let q = 1; q <= list[0]; q++) {
+    const i = list[q], j = 3 * i, s = 6 * (q - 1)
+    const x = saved[s], y = saved[s + 1], z = saved[s + 2]
+    prev[j] = x
+    prev[j + 1] = y
+    prev[j + 2] = z
+    pos[j] = x
+    pos[j + 1] = y
+    pos[j + 2] = z
+    if (invMass[i] === 0) continue
+    let vx = saved[s + 3] * damp + ax
+    let vy = saved[s + 4] * damp + ay
+    let vz = saved[s + 5] * damp + az
+    if (accel !== null) {
+      vx += accel[j] * h
+      vy += accel[j + 1] * h
+      vz += accel[j + 2] * h
+    }
+    vel[j] = vx
+    vel[j + 1] = vy
+    vel[j + 2] = vz
+    pos[j] = x + vx * h
+    pos[j + 1] = y + vy * h
+    pos[j + 2] = z + vz * h
+  }
+}
+
+/**
  * Reads velocities back from the motion of the substep: v = (x − prev)/h. A speed above the
  * limit (`params[P_MAX_SPEED]`, m/s) is scaled down to it: a last line of defence against runaway
  * energy. Positions are left where the solve put them, so a cloth can follow a pin that jumps

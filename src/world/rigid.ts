@@ -27,6 +27,7 @@ export function moveClothRigidly(
   toX: number,
   toY: number,
   toZ: number,
+  keepDetached = false,
 ): void {
   // rotation matrix of the unit quaternion, once
   const M = ROTATION
@@ -56,7 +57,47 @@ export function moveClothRigidly(
     vel[i + 2] = m20 * x + m21 * y + m22 * z
   }
   carryGrabTargets(c, M, fromX, fromY, fromZ, toX, toY, toZ)
+  if (keepDetached && c.character !== null && c.character.detached[0] > 0)
+    putBack(c, c.character.detached, M, fromX, fromY, fromZ, toX, toY, toZ)
   c.version++
+}
+
+/**
+ * The listed particles (list[1..list[0]]) moved back by the inverse of x' = to + M·(x − from):
+ * pieces a tear freed from a character stay where they are when the character's jump carries its
+ * cloth (`keepDetached`).
+ */
+function putBack(
+  c: ClothState,
+  list: Int32Array,
+  m: Float64Array,
+  fx: number,
+  fy: number,
+  fz: number,
+  tx: number,
+  ty: number,
+  tz: number,
+): void {
+  const { pos, prev, vel } = c
+  for (let q = 1; q <= list[0]; q++) {
+    const j = 3 * list[q]
+    let x = pos[j] - tx, y = pos[j + 1] - ty, z = pos[j + 2] - tz
+    pos[j] = fx + m[0] * x + m[3] * y + m[6] * z
+    pos[j + 1] = fy + m[1] * x + m[4] * y + m[7] * z
+    pos[j + 2] = fz + m[2] * x + m[5] * y + m[8] * z
+    x = prev[j] - tx
+    y = prev[j + 1] - ty
+    z = prev[j + 2] - tz
+    prev[j] = fx + m[0] * x + m[3] * y + m[6] * z
+    prev[j + 1] = fy + m[1] * x + m[4] * y + m[7] * z
+    prev[j + 2] = fz + m[2] * x + m[5] * y + m[8] * z
+    x = vel[j]
+    y = vel[j + 1]
+    z = vel[j + 2]
+    vel[j] = m[0] * x + m[3] * y + m[6] * z
+    vel[j + 1] = m[1] * x + m[4] * y + m[7] * z
+    vel[j + 2] = m[2] * x + m[5] * y + m[8] * z
+  }
 }
 
 /** `carryGrabTargets` by the rigid motion x' = to + R·(x − from), R the unit quaternion r. */
@@ -131,7 +172,7 @@ export function carryFrozen(c: ClothState, poses: Float64Array): boolean {
   const rx = CARRY[0], ry = CARRY[1], rz = CARRY[2], rw = CARRY[3]
   const dx = poses[o] - ref[0], dy = poses[o + 1] - ref[1], dz = poses[o + 2] - ref[2]
   if (dx === 0 && dy === 0 && dz === 0 && rx === 0 && ry === 0 && rz === 0) return false
-  moveClothRigidly(c, ref[0], ref[1], ref[2], rx, ry, rz, rw, poses[o], poses[o + 1], poses[o + 2])
+  moveClothRigidly(c, ref[0], ref[1], ref[2], rx, ry, rz, rw, poses[o], poses[o + 1], poses[o + 2], true)
   for (let j = 0; j < 7; j++) ref[j] = poses[o + j]
   return true
 }

@@ -4,6 +4,7 @@ import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import { LIMITS, L_MAX } from '../../src/kernels/motion'
 import {
+  addPlaneCollider,
   createCloth,
   getClothReference,
   getClothState,
@@ -16,6 +17,7 @@ import {
   setClothMotionConstraints,
   setTransform,
   stepCloth,
+  unpin,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
 import { DT, drive } from './scenes'
@@ -116,4 +118,76 @@ describe('a piece torn off a character cloth', () => {
     expect(lim[LIMITS * nail + L_MAX]).toBe(Infinity)
     expect(lim[LIMITS * cols + L_MAX]).toBeCloseTo(0.9 / (rows - 1) ** 2, 6)
   })
+})
+
+describe('a piece torn off a character cloth, lying on the ground', () => {
+  // it moved with the character: carried 10 m by its teleport, 0.87 m by a hitch's dropped
+  // motion, swung 4.4 m round it turning on the spot (inertia 0), slid 0.84 m as it sprinted
+  // (inertia 0.5)
+  const cols = 14, rows = 24
+  const tornCape = (inertia: number) => {
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 0, 0])
+    const ground = addEntity(world)
+    setTransform(world, ground, [0, 0, 0])
+    addPlaneCollider(world, ground)
+    const cape = createCloth(world, {
+      width: 0.55,
+      height: 1.05,
+      resolution: [cols, rows],
+      position: [0, 1.47, -0.2],
+      rotation: [0, 1, 0, 0],
+      material: 'wool',
+    })
+    pinRow(world, cape, 0, hero)
+    setClothInertia(world, cape, { frame: hero, linear: inertia, angular: inertia, centrifugal: inertia })
+    makeTearable(world, cape, { strain: 0.4, maxTearsPerStep: 8 })
+    const nail = pinParticle(world, cape, (rows / 2) * cols)
+    for (let f = 0; f < 60; f++) { // walks 2 m away, tearing the nailed part off
+      setTransform(world, hero, [0, 0, (2 * f) / 60])
+      stepCloth(world, DT)
+    }
+    unpin(world, nail)
+    for (let f = 0; f < 120; f++) stepCloth(world, DT) // the piece falls and settles
+    const c = getClothState(world, cape)
+    const off: number[] = []
+    for (let i = 0; i < c.count; i++) if (c.piece![i] !== c.piece![0]) off.push(i)
+    const at = () => off.map((i) => [c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2]])
+    const moved = (before: number[][]) =>
+      Math.max(...at().map((p, q) => Math.hypot(p[0] - before[q][0], p[1] - before[q][1], p[2] - before[q][2])))
+    return { world, hero, off, at, moved, z: (2 * 59) / 60 }
+  }
+  const events: [string, number, (world: object, hero: number, z: number) => void][] = [
+    ['its character teleports 10 m', 0.5, (world, hero, z) => {
+      setTransform(world, hero, [10, 0, z])
+      for (let f = 0; f < 30; f++) stepCloth(world, DT)
+    }],
+    ['its character turns 180° on the spot (inertia 0)', 0, (world, hero, z) => {
+      for (let f = 1; f <= 30; f++) {
+        setTransform(world, hero, [0, 0, z], [0, Math.sin((Math.PI * f) / 60), 0, Math.cos((Math.PI * f) / 60)])
+        stepCloth(world, DT)
+      }
+    }],
+    ['its character sprints 4 m (inertia 0.5)', 0.5, (world, hero, z) => {
+      for (let f = 1; f <= 60; f++) {
+        setTransform(world, hero, [0, 0, z + 4 * (f / 60) ** 2])
+        stepCloth(world, DT)
+      }
+    }],
+    ['a 0.5 s hitch while its character walks on', 0.5, (world, hero, z) => {
+      setTransform(world, hero, [0, 0, z + 1])
+      stepCloth(world, 0.5)
+      for (let f = 0; f < 10; f++) stepCloth(world, DT)
+    }],
+  ]
+  for (const [name, inertia, event] of events) {
+    it(`stays where it lies when ${name}`, () => {
+      const s = tornCape(inertia)
+      expect(s.off.length).toBeGreaterThan(0)
+      const before = s.at()
+      event(s.world, s.hero, s.z)
+      expect(s.moved(before)).toBeLessThan(0.02)
+    })
+  }
 })

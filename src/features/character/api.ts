@@ -406,6 +406,7 @@ export function reserveCharacter(c: ClothState, P: number): void {
   ch.ref = grownArray(ch.ref, BLEND * P)
   ch.bind = grownArray(ch.bind, RIGID * P)
   ch.limitHeld = grownArray(ch.limitHeld, P + 1)
+  ch.detached = grownArray(ch.detached, P + 1)
   ch.start = grownArray(ch.start, 3 * P)
   if (ch.lim.length < LIMITS * P) {
     const lim = unconstrained(newArray(Float32Array, LIMITS * P))
@@ -447,12 +448,15 @@ export function copyCharacterParticle(c: ClothState, from: number, to: number): 
  * nor a pin on the character (its frame entity, or a skin bone) holds is no longer part of the
  * garment, so its particles lose their motion constraints (max distance, backstop, drive). Kept,
  * they held a scrap torn off by a nail in the world to the running character: one triangle from
- * the nail to the hero at 34,657 % stretch. A cloth nothing holds to the character at all (limits
- * alone) keeps them everywhere.
+ * the nail to the hero at 34,657 % stretch. Such particles are listed in `detached`: they are
+ * predicted in world space and left out of the frame's carries (a piece lying on the ground swung
+ * 4.4 m round its character turning on the spot, and jumped 10 m with its teleport). A cloth
+ * nothing holds to the character at all (limits alone) keeps them everywhere.
  */
 export function releaseDetachedPieces(state: ClothWorldState, c: ClothState): void {
   const ch = c.character
-  if (ch === null || !ch.constrained || c.piece === null) return
+  if (ch === null || c.piece === null) return
+  ch.detached[0] = 0
   const label = c.piece, n = c.pieceCount
   if (attachedScratch.length < n) attachedScratch = new Uint8Array(Math.max(2 * attachedScratch.length, n))
   const attached = attachedScratch
@@ -471,12 +475,15 @@ export function releaseDetachedPieces(state: ClothWorldState, c: ClothState): vo
     any = true
   }
   if (!any) return
+  let n2 = 0
   for (let i = 0; i < c.count; i++) {
     if (attached[label[i]] === 1) continue
+    ch.detached[++n2] = i
     ch.lim[LIMITS * i + L_MAX] = Infinity
     ch.lim[LIMITS * i + L_RADIUS] = 0
     if (ch.drive !== null) ch.drive[i] = 0
   }
+  ch.detached[0] = n2
 }
 
 /** Scratch of `releaseDetachedPieces`: whether each piece is held (grown on a tear, rarely). */

@@ -1,6 +1,6 @@
 import { multiplyQuatAt, relativeRotationAt, rotateVecAt } from '../../core/math'
 import { G_ANCHOR, clearGuardAnchor } from '../../kernels/guard'
-import { updateVelocities } from '../../kernels/integrate'
+import { predictListed, updateVelocities } from '../../kernels/integrate'
 import {
   BLEND,
   constrainAndUpdateVelocities,
@@ -177,7 +177,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
     const j = 10 * slot, J = k.jump
     const cx = J[j], cy = J[j + 1], cz = J[j + 2]
     if (!reset) {
-      moveClothRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9])
+      moveClothRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9], true)
       if (teleported) state.stats.teleports++
     } else {
       // the cloth goes onto its reference below; the hands holding it jumped with the frame (their
@@ -257,9 +257,31 @@ export function predictCharacter(c: ClothState, k: number): boolean {
   const inFrame = ch.inertia
   if (inFrame) {
     frameSubstep(c, ch, k, c.substeps)
+    const detached = ch.detached
+    if (detached[0] > 0) saveDetached(c, detached)
     predictInFrame(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, ch.frameParams, c.count)
+    // pieces a tear freed from the character move in the world, not in its frame
+    if (detached[0] > 0) predictListed(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, detached, detachedScratch)
   }
   return inFrame
+}
+
+/** Positions and velocities of a cloth's detached particles before the predict (grown on a tear, rarely). */
+let detachedScratch = new Float64Array(0)
+
+function saveDetached(c: ClothState, list: Int32Array): void {
+  const n = list[0]
+  if (detachedScratch.length < 6 * n) detachedScratch = new Float64Array(6 * Math.max(n, c.pos.length / 3))
+  const s = detachedScratch
+  for (let q = 1; q <= n; q++) {
+    const j = 3 * list[q], o = 6 * (q - 1)
+    s[o] = c.pos[j]
+    s[o + 1] = c.pos[j + 1]
+    s[o + 2] = c.pos[j + 2]
+    s[o + 3] = c.vel[j]
+    s[o + 4] = c.vel[j + 1]
+    s[o + 5] = c.vel[j + 2]
+  }
 }
 
 /** Predict phase, after the predict: held particles onto their reference at the substep's end. */

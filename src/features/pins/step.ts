@@ -69,6 +69,7 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): number
     cx + k.jump[j + 7],
     cy + k.jump[j + 8],
     cz + k.jump[j + 9],
+    true,
   )
   return 1
 }
@@ -96,7 +97,7 @@ function replaceHandMove(state: ClothWorldState, c: ClothState): void {
   const k = state.kinematics
   if (target === 0 || slot < 0 || k.jumped[slot] !== 1) return
   // T⁻¹: x = from + R⁻¹·(x' − to), then J
-  moveClothRigidly(c, hand[7], hand[8], hand[9], -hand[3], -hand[4], -hand[5], hand[6], hand[0], hand[1], hand[2])
+  moveClothRigidly(c, hand[7], hand[8], hand[9], -hand[3], -hand[4], -hand[5], hand[6], hand[0], hand[1], hand[2], true)
   const j = 10 * slot
   const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
   moveClothRigidly(
@@ -111,6 +112,7 @@ function replaceHandMove(state: ClothWorldState, c: ClothState): void {
     cx + k.jump[j + 7],
     cy + k.jump[j + 8],
     cz + k.jump[j + 9],
+    true,
   )
 }
 
