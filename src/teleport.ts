@@ -9,6 +9,9 @@ import { wakeClothState } from './world/wake'
 
 const IDENTITY = [0, 0, 0, 1]
 
+/** Scratch: the teleport as a rigid-motion record. */
+const motion = new Float64Array(10)
+
 /**
  * Teleports a cloth: moves it rigidly by `translation`, rotated by `rotation` about `pivot`
  * (default: the cloth's centroid), keeping its shape and velocities (rotated). World-space pins
@@ -58,10 +61,19 @@ export function teleportCloth(
       pz /= m
     }
   }
-  const tx = px + translation[0], ty = py + translation[1], tz = pz + translation[2]
-  moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, tx, ty, tz)
-  carryPins(state, c, px, py, pz, rx, ry, rz, rw, tx, ty, tz)
-  carryWorldFrame(c, px, py, pz, rx, ry, rz, rw, tx, ty, tz)
+  // the motion as a record (see `moveClothBy`): about the pivot, then the translation
+  const m = motion
+  m[0] = px
+  m[1] = py
+  m[2] = pz
+  m[3] = rx
+  m[4] = ry
+  m[5] = rz
+  m[6] = rw
+  for (let a = 0; a < 3; a++) m[7 + a] = translation[a]
+  moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, px + m[7], py + m[8], pz + m[9], true) // (torn pieces too)
+  carryPins(state, c, m)
+  carryWorldFrame(c, m)
   state.stats.teleports++
   wakeClothState(state, c)
 }

@@ -7,6 +7,8 @@ import { P_DAMP, P_GX, P_GY, P_GZ, P_H, P_INV_H, P_MAX_SPEED, P_MAX_V2 } from '.
  *
  * @param accel optional per-particle extra acceleration (xyz, m/s²), e.g. aerodynamic forces / mass
  * @param params kernel parameters (see `params.ts`): h, gravity and the damping factor
+ * @param list null: particles 0 to count − 1; else only those at list[1..list[0]] (a character
+ *   cloth's pieces torn free of it, predicted in the world after the predict in its frame)
  */
 export function predictPositions(
   pos: Float64Array,
@@ -16,10 +18,13 @@ export function predictPositions(
   accel: Float64Array | null,
   params: Float64Array,
   count: number,
+  list: Int32Array | null = null,
 ): void {
   const h = params[P_H], damp = params[P_DAMP]
   const ax = params[P_GX] * h, ay = params[P_GY] * h, az = params[P_GZ] * h
-  for (let i = 0; i < count; i++) {
+  const n = list === null ? count : list[0]
+  for (let q = 0; q < n; q++) {
+    const i = list === null ? q : list[q + 1]
     const j = 3 * i
     const x = pos[j], y = pos[j + 1], z = pos[j + 2]
     prev[j] = x
@@ -29,50 +34,6 @@ export function predictPositions(
     let vx = vel[j] * damp + ax
     let vy = vel[j + 1] * damp + ay
     let vz = vel[j + 2] * damp + az
-    if (accel !== null) {
-      vx += accel[j] * h
-      vy += accel[j + 1] * h
-      vz += accel[j + 2] * h
-    }
-    vel[j] = vx
-    vel[j + 1] = vy
-    vel[j + 2] = vz
-    pos[j] = x + vx * h
-    pos[j + 1] = y + vy * h
-    pos[j + 2] = z + vz * h
-  }
-}
-
-/**
- * `predictPositions` for the particles listed in list[1..list[0]] only, their positions and
- * velocities first put back from `saved` (6 values each: xyz, v) as they stood before another
- * predict ran over them (a character cloth's pieces torn free of it: see `releaseDetachedPieces`).
- */
-export function predictListed(
-  pos: Float64Array,
-  prev: Float64Array,
-  vel: Float64Array,
-  invMass: Float64Array,
-  accel: Float64Array | null,
-  params: Float64Array,
-  list: Int32Array,
-  saved: Float64Array,
-): void {
-  const h = params[P_H], damp = params[P_DAMP]
-  const ax = params[P_GX] * h, ay = params[P_GY] * h, az = params[P_GZ] * h
-  for (let q = 1; q <= list[0]; q++) {
-    const i = list[q], j = 3 * i, s = 6 * (q - 1)
-    const x = saved[s], y = saved[s + 1], z = saved[s + 2]
-    prev[j] = x
-    prev[j + 1] = y
-    prev[j + 2] = z
-    pos[j] = x
-    pos[j + 1] = y
-    pos[j + 2] = z
-    if (invMass[i] === 0) continue
-    let vx = saved[s + 3] * damp + ax
-    let vy = saved[s + 4] * damp + ay
-    let vz = saved[s + 5] * damp + az
     if (accel !== null) {
       vx += accel[j] * h
       vy += accel[j + 1] * h

@@ -316,8 +316,11 @@ export const CARRY_PART = 2
 /** Scratch of the carried share: the last sample's pose (0..6), the pose that share along (7..13), the share (14). */
 const carried = new Float64Array(15)
 
-/** Moves a pose (at `po` in `poses`) by the jump transform at `j`: p' = pivot + t + R(p − pivot), q' = R·q. */
-function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: number): void {
+/**
+ * Moves a pose (at `po` in `poses`) by the jump transform at `j` (a rigid-motion record, see
+ * `moveClothBy` in rigid.ts): p' = pivot + t + R(p − pivot), q' = R·q.
+ */
+export function applyJump(jump: Float64Array, j: number, poses: Float64Array, po: number): void {
   const cx = jump[j], cy = jump[j + 1], cz = jump[j + 2]
   const rx = jump[j + 3], ry = jump[j + 4], rz = jump[j + 5], rw = jump[j + 6]
   const vx = poses[po] - cx, vy = poses[po + 1] - cy, vz = poses[po + 2] - cz

@@ -8,12 +8,26 @@ const ROTATION = new Float64Array(13)
 /** The grab targets a rigid move carries: where each glides from (the target asked for stays). */
 const CARRIED_TARGETS = [G_FRAME, G_STEP_FROM, G_STEP_TO, G_AT] as const
 
+/** The row-major rotation matrix of the unit quaternion (rx, ry, rz, rw) into ROTATION[0..8]. */
+function rotation(rx: number, ry: number, rz: number, rw: number): Float64Array {
+  const M = ROTATION
+  M[9] = rx
+  M[10] = ry
+  M[11] = rz
+  M[12] = rw
+  quatToMatrix(M, 9, M, 0)
+  return M
+}
+
 /**
  * Moves a cloth rigidly: x' = to + R·(x − from) for positions and previous positions, v' = R·v,
  * so the motion carries no velocity and the shape is kept exactly. Its grabs' targets so far (where
  * each glides from, not the target asked for last) move with it: a hand that follows the character
  * across a teleport does not drag the cloth back over the gap. Used by teleports (explicit and
- * detected), by a frozen cloth that thaws, and by the guard's rigid placement.
+ * detected), by a frozen cloth that thaws, and by the guard's rigid placement. Pieces a tear freed
+ * from a character (`ClothCharacter.detached`) stay where they are: the motion is the character's
+ * (carried 10 m by its teleport, a piece lying on the ground had jumped with it), unless
+ * `carryDetached` (`teleportCloth`: the game moves the whole cloth).
  */
 export function moveClothRigidly(
   c: ClothState,
@@ -27,15 +41,9 @@ export function moveClothRigidly(
   toX: number,
   toY: number,
   toZ: number,
-  keepDetached = false,
+  carryDetached = false,
 ): void {
-  // rotation matrix of the unit quaternion, once
-  const M = ROTATION
-  M[9] = rx
-  M[10] = ry
-  M[11] = rz
-  M[12] = rw
-  quatToMatrix(M, 9, M, 0)
+  const M = rotation(rx, ry, rz, rw)
   const m00 = M[0], m01 = M[1], m02 = M[2], m10 = M[3], m11 = M[4], m12 = M[5], m20 = M[6], m21 = M[7], m22 = M[8]
   const { pos, prev, vel } = c
   for (let i = 0; i < 3 * c.count; i += 3) {
@@ -57,15 +65,14 @@ export function moveClothRigidly(
     vel[i + 2] = m20 * x + m21 * y + m22 * z
   }
   carryGrabTargets(c, M, fromX, fromY, fromZ, toX, toY, toZ)
-  if (keepDetached && c.character !== null && c.character.detached[0] > 0)
+  if (!carryDetached && c.character !== null && c.character.detached[0] > 0)
     putBack(c, c.character.detached, M, fromX, fromY, fromZ, toX, toY, toZ)
   c.version++
 }
 
 /**
  * The listed particles (list[1..list[0]]) moved back by the inverse of x' = to + M·(x − from):
- * pieces a tear freed from a character stay where they are when the character's jump carries its
- * cloth (`keepDetached`).
+ * pieces a tear freed from a character stay where they are when its motion carries its cloth.
  */
 function putBack(
   c: ClothState,
@@ -100,28 +107,23 @@ function putBack(
   }
 }
 
-/** `carryGrabTargets` by the rigid motion x' = to + R·(x − from), R the unit quaternion r. */
-export function carryGrabTargetsRigidly(
-  c: ClothState,
-  fromX: number,
-  fromY: number,
-  fromZ: number,
-  rx: number,
-  ry: number,
-  rz: number,
-  rw: number,
-  toX: number,
-  toY: number,
-  toZ: number,
-): void {
+/**
+ * Rigid motions kept as records of 10 (`Kinematics.jump`, `ClothPins.hand`): a centre, a unit
+ * quaternion R and a translation d, x' = centre + R·(x − centre) + d.
+ */
+
+/** `moveClothRigidly` by the record at m[o..o+9], or by its inverse. */
+export function moveClothBy(c: ClothState, m: Float64Array, o: number, inverse = false): void {
+  const cx = m[o], cy = m[o + 1], cz = m[o + 2], tx = cx + m[o + 7], ty = cy + m[o + 8], tz = cz + m[o + 9]
+  if (inverse) moveClothRigidly(c, tx, ty, tz, -m[o + 3], -m[o + 4], -m[o + 5], m[o + 6], cx, cy, cz)
+  else moveClothRigidly(c, cx, cy, cz, m[o + 3], m[o + 4], m[o + 5], m[o + 6], tx, ty, tz)
+}
+
+/** `carryGrabTargets` by the record at m[o..o+9] (see `moveClothBy`). */
+export function carryGrabTargetsBy(c: ClothState, m: Float64Array, o: number): void {
   if (c.grab.count === 0) return
-  const M = ROTATION
-  M[9] = rx
-  M[10] = ry
-  M[11] = rz
-  M[12] = rw
-  quatToMatrix(M, 9, M, 0)
-  carryGrabTargets(c, M, fromX, fromY, fromZ, toX, toY, toZ)
+  const cx = m[o], cy = m[o + 1], cz = m[o + 2]
+  carryGrabTargets(c, rotation(m[o + 3], m[o + 4], m[o + 5], m[o + 6]), cx, cy, cz, cx + m[o + 7], cy + m[o + 8], cz + m[o + 9])
 }
 
 /**
@@ -129,7 +131,7 @@ export function carryGrabTargetsRigidly(
  * x' = to + M·(x − from), M the row-major rotation at m[0..8]: `moveClothRigidly`'s, and a
  * teleport reset's (the cloth is put on its reference; the hands that followed the jump stay with it).
  */
-export function carryGrabTargets(
+function carryGrabTargets(
   c: ClothState,
   m: Float64Array,
   fromX: number,
@@ -172,7 +174,7 @@ export function carryFrozen(c: ClothState, poses: Float64Array): boolean {
   const rx = CARRY[0], ry = CARRY[1], rz = CARRY[2], rw = CARRY[3]
   const dx = poses[o] - ref[0], dy = poses[o + 1] - ref[1], dz = poses[o + 2] - ref[2]
   if (dx === 0 && dy === 0 && dz === 0 && rx === 0 && ry === 0 && rz === 0) return false
-  moveClothRigidly(c, ref[0], ref[1], ref[2], rx, ry, rz, rw, poses[o], poses[o + 1], poses[o + 2], true)
+  moveClothRigidly(c, ref[0], ref[1], ref[2], rx, ry, rz, rw, poses[o], poses[o + 1], poses[o + 2])
   for (let j = 0; j < 7; j++) ref[j] = poses[o + j]
   return true
 }

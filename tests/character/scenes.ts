@@ -164,6 +164,18 @@ export function expectClothErrors<T>(cases: [T, string][], call: (input: T) => v
  * to the hem, free at the hem): the scene of the mid-run changes in motion.test.ts.
  */
 export const RUN_COLS = 10, RUN_ROWS = 16
+
+/** The README's wool cape (0.55 × 1.05 m, cols × rows) behind a character standing at the origin, facing +z, not pinned. */
+export function woolCape(world: object, cols: number, rows: number): number {
+  return createCloth(world, {
+    width: 0.55,
+    height: 1.05,
+    resolution: [cols, rows],
+    position: [0, 1.47, -0.2],
+    rotation: [0, 1, 0, 0],
+    material: 'wool',
+  })
+}
 export function paintRows(k: number): number[] {
   return Array.from({ length: RUN_COLS * RUN_ROWS }, (_, i) => {
     const r = Math.floor(i / RUN_COLS)
@@ -173,14 +185,7 @@ export function paintRows(k: number): number[] {
 export function runningCape(maxDistance: number[] | null, every = 1, world = makeWorld({ sleep: false })) {
   const hero = addEntity(world)
   setTransform(world, hero, [0, 0, 0])
-  const cape = createCloth(world, {
-    width: 0.55,
-    height: 1.05,
-    resolution: [RUN_COLS, RUN_ROWS],
-    position: [0, 1.47, -0.2],
-    rotation: [0, 1, 0, 0],
-    material: 'wool',
-  })
+  const cape = woolCape(world, RUN_COLS, RUN_ROWS)
   pinRow(world, cape, 0, hero)
   setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
   if (maxDistance !== null) setClothMotionConstraints(world, cape, { maxDistance, every })

@@ -20,7 +20,7 @@ import {
   unpin,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
-import { DT, drive } from './scenes'
+import { DT, drive, woolCape } from './scenes'
 
 describe('character cloth that tears', () => {
   for (const order of ['tearable first', 'constraints first'] as const) {
@@ -80,14 +80,7 @@ describe('a piece torn off a character cloth', () => {
       const world = makeWorld({ sleep: false })
       const hero = addEntity(world)
       setTransform(world, hero, [0, 0, 0])
-      const cape = createCloth(world, {
-        width: 0.55,
-        height: 1.05,
-        resolution: [cols, rows],
-        position: [0, 1.47, -0.2],
-        rotation: [0, 1, 0, 0],
-        material: 'wool',
-      })
+      const cape = woolCape(world, cols, rows)
       pinRow(world, cape, 0, hero)
       setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
       if (limits) {
@@ -132,14 +125,7 @@ describe('a piece torn off a character cloth, lying on the ground', () => {
     const ground = addEntity(world)
     setTransform(world, ground, [0, 0, 0])
     addPlaneCollider(world, ground)
-    const cape = createCloth(world, {
-      width: 0.55,
-      height: 1.05,
-      resolution: [cols, rows],
-      position: [0, 1.47, -0.2],
-      rotation: [0, 1, 0, 0],
-      material: 'wool',
-    })
+    const cape = woolCape(world, cols, rows)
     pinRow(world, cape, 0, hero)
     setClothInertia(world, cape, { frame: hero, linear: inertia, angular: inertia, centrifugal: inertia })
     makeTearable(world, cape, { strain: 0.4, maxTearsPerStep: 8 })

@@ -21,7 +21,7 @@ import {
   type ClothInertiaOptions,
 } from '../../src/index'
 import { allFinite, makeWorld } from '../helpers'
-import { capeBehind, DT, capeOnCharacter, carriedRest, drive, localShape, positionsNow, rms, yawQuat } from './scenes'
+import { capeBehind, DT, capeOnCharacter, carriedRest, drive, localShape, positionsNow, rms, woolCape, yawQuat } from './scenes'
 
 /** A swinging cape: the character runs at 4 m/s along +x turning at 1 rad/s for 1 s (shares 0.5). */
 function swinging(inertia: ClothInertiaOptions) {
@@ -213,14 +213,7 @@ describe('a hand holding the cape across a 10 m jump of its character', () => {
     const hero = addEntity(world)
     setTransform(world, hero, [0, 0, 0])
     const cols = 14, rows = 24
-    const cape = createCloth(world, {
-      width: 0.55,
-      height: 1.05,
-      resolution: [cols, rows],
-      position: [0, 1.47, -0.2],
-      rotation: [0, 1, 0, 0],
-      material: 'wool',
-    })
+    const cape = woolCape(world, cols, rows)
     if (pins) pinRow(world, cape, 0, hero)
     setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { mode } })
     setClothMotionConstraints(world, cape, { maxDistance: Array.from({ length: cols * rows }, (_, i) => (i < cols ? 0 : Infinity)) })

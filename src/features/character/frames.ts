@@ -1,5 +1,5 @@
 import { multiplyQuatAt, normalizeQuatAt, rotateVecAt } from '../../core/math'
-import { readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
+import { applyJump, readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { releaseAnchor } from '../budget/freeze'
 import { bindRigid, currentReference, restNormals, trackedPose } from './reference'
@@ -242,43 +242,17 @@ export function rebindRest(state: ClothWorldState, c: ClothState, ch: ClothChara
 }
 
 /**
- * `teleportCloth`'s part for character cloth (after the cloth moved by x' = to + R·(x − from), R
- * the unit quaternion r): a cloth whose frame is the world (no frame entity, or one that went away)
- * and whose reference is rigid takes its reference along: the world frame's pose moves as the
- * cloth did. (Its motion constraints held it where it had been: 44× stretched between the moved
- * world pins and the old reference.) A frame entity or bones keep the reference where they are.
+ * `teleportCloth`'s part for character cloth, after the cloth moved by the rigid motion at
+ * motion[0..9] (a record of `moveClothBy`): a cloth whose frame is the world (no frame entity, or
+ * one that went away) and whose reference is rigid takes its reference along, the world frame's
+ * pose moving as the cloth did. (Its motion constraints held it where it had been: 44× stretched
+ * between the moved world pins and the old reference.) A frame entity or bones keep the reference
+ * where they are.
  */
-export function carryWorldFrame(
-  c: ClothState,
-  px: number,
-  py: number,
-  pz: number,
-  rx: number,
-  ry: number,
-  rz: number,
-  rw: number,
-  tx: number,
-  ty: number,
-  tz: number,
-): void {
+export function carryWorldFrame(c: ClothState, motion: Float64Array): void {
   const ch = c.character
   if (ch === null || ch.frameSlot >= 0 || ch.skin !== null) return
-  const m = ch.motion
-  turn[0] = rx
-  turn[1] = ry
-  turn[2] = rz
-  turn[3] = rw
-  turn[4] = m[M_POSE] - px
-  turn[5] = m[M_POSE + 1] - py
-  turn[6] = m[M_POSE + 2] - pz
-  rotateVecAt(turn, 0, turn, 4, turn, 4)
-  m[M_POSE] = tx + turn[4]
-  m[M_POSE + 1] = ty + turn[5]
-  m[M_POSE + 2] = tz + turn[6]
-  multiplyQuatAt(turn, 0, m, M_POSE + 3, m, M_POSE + 3)
-  normalizeQuatAt(m, M_POSE + 3)
-  m[M_REF_VALID] = 0
+  applyJump(motion, 0, ch.motion, M_POSE)
+  normalizeQuatAt(ch.motion, M_POSE + 3)
+  ch.motion[M_REF_VALID] = 0
 }
-
-/** Scratch of `carryWorldFrame`: a quaternion, then a vector. */
-const turn = new Float64Array(7)

@@ -1,6 +1,6 @@
 import { multiplyQuatAt, relativeRotationAt, rotateVecAt } from '../../core/math'
 import { G_ANCHOR, clearGuardAnchor } from '../../kernels/guard'
-import { predictListed, updateVelocities } from '../../kernels/integrate'
+import { predictPositions, updateVelocities } from '../../kernels/integrate'
 import {
   BLEND,
   constrainAndUpdateVelocities,
@@ -10,7 +10,7 @@ import {
   releaseLimitHolds,
 } from '../../kernels/motion'
 import { K_DROPPED, K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
-import { carryGrabTargetsRigidly, moveClothRigidly } from '../../world/rigid'
+import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
@@ -174,15 +174,13 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const reset = teleported && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT
   if (reset) m[M_PRIMED] = 0
   if (jumped && pinJump === JUMP_NONE) {
-    const j = 10 * slot, J = k.jump
-    const cx = J[j], cy = J[j + 1], cz = J[j + 2]
     if (!reset) {
-      moveClothRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9], true)
+      moveClothBy(c, k.jump, 10 * slot)
       if (teleported) state.stats.teleports++
     } else {
       // the cloth goes onto its reference below; the hands holding it jumped with the frame (their
       // targets swept the 10 m gap in one step: 47 % stretch)
-      carryGrabTargetsRigidly(c, cx, cy, cz, J[j + 3], J[j + 4], J[j + 5], J[j + 6], cx + J[j + 7], cy + J[j + 8], cz + J[j + 9])
+      carryGrabTargetsBy(c, k.jump, 10 * slot)
     }
   }
   beginFrameStep(state, c, ch)
@@ -258,10 +256,13 @@ export function predictCharacter(c: ClothState, k: number): boolean {
   if (inFrame) {
     frameSubstep(c, ch, k, c.substeps)
     const detached = ch.detached
-    if (detached[0] > 0) saveDetached(c, detached)
+    if (detached[0] > 0) swapDetached(c, detached, true)
     predictInFrame(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, ch.frameParams, c.count)
-    // pieces a tear freed from the character move in the world, not in its frame
-    if (detached[0] > 0) predictListed(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, detached, detachedScratch)
+    if (detached[0] > 0) {
+      // pieces a tear freed from the character move in the world, not in its frame
+      swapDetached(c, detached, false)
+      predictPositions(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, c.count, detached)
+    }
   }
   return inFrame
 }
@@ -269,18 +270,22 @@ export function predictCharacter(c: ClothState, k: number): boolean {
 /** Positions and velocities of a cloth's detached particles before the predict (grown on a tear, rarely). */
 let detachedScratch = new Float64Array(0)
 
-function saveDetached(c: ClothState, list: Int32Array): void {
+/** Keeps (`keep`) the listed particles' positions and velocities, or puts them back. */
+function swapDetached(c: ClothState, list: Int32Array, keep: boolean): void {
   const n = list[0]
   if (detachedScratch.length < 6 * n) detachedScratch = new Float64Array(6 * Math.max(n, c.pos.length / 3))
-  const s = detachedScratch
+  const s = detachedScratch, pos = c.pos, vel = c.vel
   for (let q = 1; q <= n; q++) {
     const j = 3 * list[q], o = 6 * (q - 1)
-    s[o] = c.pos[j]
-    s[o + 1] = c.pos[j + 1]
-    s[o + 2] = c.pos[j + 2]
-    s[o + 3] = c.vel[j]
-    s[o + 4] = c.vel[j + 1]
-    s[o + 5] = c.vel[j + 2]
+    for (let a = 0; a < 3; a++) {
+      if (keep) {
+        s[o + a] = pos[j + a]
+        s[o + 3 + a] = vel[j + a]
+      } else {
+        pos[j + a] = s[o + a]
+        vel[j + a] = s[o + 3 + a]
+      }
+    }
   }
 }
 

@@ -219,33 +219,23 @@ export function glideThawingPins(state: ClothWorldState, c: ClothState, poses: F
 }
 
 /**
- * `teleportCloth`'s part for pins (after the cloth moved by x' = to + R·(x − from), R the unit
- * quaternion r): world-space pins move with it, and pins on targets start the next step at their
- * targets' pose then (a jump, without the automatic teleport test).
+ * `teleportCloth`'s part for pins, after the cloth moved by the rigid motion at motion[0..9] (a
+ * record of `moveClothBy`: centre, unit quaternion, translation): world-space pins move with it,
+ * pins on targets start the next step at their targets' pose then (a jump, without the automatic
+ * teleport test), and the motion is kept for that jump (`replaceHandMove` in step.ts).
  */
-export function carryPins(
-  state: ClothWorldState,
-  c: ClothState,
-  px: number,
-  py: number,
-  pz: number,
-  rx: number,
-  ry: number,
-  rz: number,
-  rw: number,
-  tx: number,
-  ty: number,
-  tz: number,
-): void {
+export function carryPins(state: ClothWorldState, c: ClothState, motion: Float64Array): void {
   const P = state.components.Pin
+  const cx = motion[0], cy = motion[1], cz = motion[2], rx = motion[3], ry = motion[4], rz = motion[5], rw = motion[6]
+  const tx = cx + motion[7], ty = cy + motion[8], tz = cz + motion[9]
   for (const pin of c.pins.list) {
     if (P.target[pin] !== 0) continue
-    rotateVec3(rx, ry, rz, rw, P.ox[pin] - px, P.oy[pin] - py, P.oz[pin] - pz, tmp, 0)
+    rotateVec3(rx, ry, rz, rw, P.ox[pin] - cx, P.oy[pin] - cy, P.oz[pin] - cz, tmp, 0)
     P.ox[pin] = tx + tmp[0]
     P.oy[pin] = ty + tmp[1]
     P.oz[pin] = tz + tmp[2]
     const b = 3 * pin
-    rotateVec3(rx, ry, rz, rw, P.blendFrom[b] - px, P.blendFrom[b + 1] - py, P.blendFrom[b + 2] - pz, tmp, 0)
+    rotateVec3(rx, ry, rz, rw, P.blendFrom[b] - cx, P.blendFrom[b + 1] - cy, P.blendFrom[b + 2] - cz, tmp, 0)
     P.blendFrom[b] = tx + tmp[0]
     P.blendFrom[b + 1] = ty + tmp[1]
     P.blendFrom[b + 2] = tz + tmp[2]
@@ -254,16 +244,6 @@ export function carryPins(
   const k = state.kinematics
   for (const pin of c.pins.list) if (P.slot[pin] >= 0) k.forceJump[P.slot[pin]] = 1
   c.pins.skipTeleport = true
-  const hand = c.pins.hand
-  hand[0] = px
-  hand[1] = py
-  hand[2] = pz
-  hand[3] = rx
-  hand[4] = ry
-  hand[5] = rz
-  hand[6] = rw
-  hand[7] = tx
-  hand[8] = ty
-  hand[9] = tz
-  hand[10] = 1
+  c.pins.hand.set(motion.subarray(0, 10))
+  c.pins.hand[10] = 1
 }

@@ -1,6 +1,6 @@
 import { P_H, P_STEP_FRACTION } from '../../kernels/params'
 import { interpolatePose, interpolateScale } from '../../world/kinematics'
-import { moveClothRigidly } from '../../world/rigid'
+import { moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 
 /** Pose and scale scratch of placePins: the target's pose and scale at the substep's fraction of the step. */
@@ -54,23 +54,8 @@ export function followTargetJumps(state: ClothWorldState, c: ClothState): number
   }
   const slot = jumpedPinTarget(state, c)
   if (slot < 0) return 0
-  const j = 10 * slot
-  const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
   if (k.jumped[slot] === 1) state.stats.teleports++ // (not the carried motion of dropped time)
-  moveClothRigidly(
-    c,
-    cx,
-    cy,
-    cz,
-    k.jump[j + 3],
-    k.jump[j + 4],
-    k.jump[j + 5],
-    k.jump[j + 6],
-    cx + k.jump[j + 7],
-    cy + k.jump[j + 8],
-    cz + k.jump[j + 9],
-    true,
-  )
+  moveClothBy(c, k.jump, 10 * slot)
   return 1
 }
 
@@ -96,24 +81,8 @@ function replaceHandMove(state: ClothWorldState, c: ClothState): void {
   const slot = P.slot[pins[0]]
   const k = state.kinematics
   if (target === 0 || slot < 0 || k.jumped[slot] !== 1) return
-  // T⁻¹: x = from + R⁻¹·(x' − to), then J
-  moveClothRigidly(c, hand[7], hand[8], hand[9], -hand[3], -hand[4], -hand[5], hand[6], hand[0], hand[1], hand[2], true)
-  const j = 10 * slot
-  const cx = k.jump[j], cy = k.jump[j + 1], cz = k.jump[j + 2]
-  moveClothRigidly(
-    c,
-    cx,
-    cy,
-    cz,
-    k.jump[j + 3],
-    k.jump[j + 4],
-    k.jump[j + 5],
-    k.jump[j + 6],
-    cx + k.jump[j + 7],
-    cy + k.jump[j + 8],
-    cz + k.jump[j + 9],
-    true,
-  )
+  moveClothBy(c, hand, 0, true) // T⁻¹
+  moveClothBy(c, k.jump, 10 * slot) // J
 }
 
 /**

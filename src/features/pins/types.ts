@@ -8,8 +8,9 @@ export interface ClothPins {
   /** Do not follow a pin target's jump at the next frame sample (set by `teleportCloth`). */
   skipTeleport: boolean
   /**
-   * With `skipTeleport`: the rigid motion `teleportCloth` moved the cloth by (x' = to + R·(x − from):
-   * from xyz, R as quaternion xyzw, to xyz), then 1 (0: not known, from an older snapshot).
+   * With `skipTeleport`: the rigid motion `teleportCloth` moved the cloth by, as a record of 10
+   * (centre, unit quaternion, translation: see `moveClothBy` in world/rigid.ts), then 1 (0: not
+   * known, from an older snapshot).
    */
   hand: Float64Array
 }
