@@ -190,16 +190,20 @@ describe('a hitch: the motion of the dropped time is carried, not squeezed into 
   })
 })
 
+/** Inertia 0.5 with teleports by distance or by a π/2 turn putting the cape on its reference ('reset'). */
+const resetOnTeleports = (sc: ReturnType<typeof capeScene>) =>
+  setClothInertia(sc.world, sc.cape, {
+    frame: sc.hero,
+    linear: 0.5,
+    angular: 0.5,
+    centrifugal: 0.5,
+    teleport: { mode: 'reset', angle: Math.PI / 2 },
+  })
+
 describe("the teleport test extrapolates over the frame's whole span (dropped time too)", () => {
   it("a 0.75 s hitch at a steady 4 m/s lands where the character's velocity takes it: not a teleport", () => {
     const sc = capeScene()
-    setClothInertia(sc.world, sc.cape, {
-      frame: sc.hero,
-      linear: 0.5,
-      angular: 0.5,
-      centrifugal: 0.5,
-      teleport: { mode: 'reset', angle: Math.PI / 2 },
-    })
+    resetOnTeleports(sc)
     run(sc, fill(180, 1 / 60), runZ(4))
     const r = run(sc, [0.75], (t: number) => runZ(4)(t + 3))
     console.log(`0.75 s hitch at 4 m/s: teleports ${r.teleports} (predicted 4 × 6.7 cm = 0.27 m, moved 3 m)`)
@@ -210,13 +214,7 @@ describe("the teleport test extrapolates over the frame's whole span (dropped ti
     const turning = (snap: number) => (t: number): Pose => ({ p: [0, 0, 0], yaw: t < 3 ? 3 * t : 9 + 3 * (t - 3) + snap })
     for (const snap of [0, Math.PI]) {
       const sc = capeScene()
-      setClothInertia(sc.world, sc.cape, {
-        frame: sc.hero,
-        linear: 0.5,
-        angular: 0.5,
-        centrifugal: 0.5,
-        teleport: { mode: 'reset', angle: Math.PI / 2 },
-      })
+      resetOnTeleports(sc)
       const motion = turning(snap)
       run(sc, fill(180, 1 / 60), motion)
       const r = run(sc, [0.75], (t: number) => motion(t + 3))

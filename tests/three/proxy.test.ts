@@ -34,15 +34,20 @@ function expectShows(world: object, proxy: Parameters<typeof updateRenderProxy>[
   }
 }
 
+/** A cape pinned to a hero standing at (0, 1.6, 0), with a 4× finer proxy and its geometry. */
+function capeWithProxy() {
+  const world = makeWorld()
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 1.6, 0])
+  const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [8, 12], position: [0, 1.5, -0.1] })
+  pinRow(world, cape, 0, hero)
+  const proxy = createRenderProxy(world, cape, buildGridMesh({ width: 0.5, height: 0.8, resolution: [29, 45] }))
+  return { world, hero, proxy, geometry: createProxyGeometry(world, proxy) }
+}
+
 describe('bitecs-cloth/three render proxies', () => {
   it("a proxy geometry draws the proxy's own arrays, flagged for upload and bounded anew each frame of a running cape", () => {
-    const world = makeWorld()
-    const hero = addEntity(world)
-    setTransform(world, hero, [0, 1.6, 0])
-    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [8, 12], position: [0, 1.5, -0.1] })
-    pinRow(world, cape, 0, hero)
-    const proxy = createRenderProxy(world, cape, buildGridMesh({ width: 0.5, height: 0.8, resolution: [29, 45] }))
-    const geometry = createProxyGeometry(world, proxy)
+    const { world, hero, proxy, geometry } = capeWithProxy()
     expect(geometry).toBeInstanceOf(BufferGeometry)
     expectShows(world, proxy, geometry)
     const uploads = geometry.getAttribute('position').version, indexUploads = geometry.getIndex()!.version
@@ -60,13 +65,7 @@ describe('bitecs-cloth/three render proxies', () => {
   })
 
   it('a proxy of a cloth that did not change (a frame that ran no step, or asleep) is not uploaded again', () => {
-    const world = makeWorld()
-    const hero = addEntity(world)
-    setTransform(world, hero, [0, 1.6, 0])
-    const cape = createCloth(world, { width: 0.5, height: 0.8, resolution: [8, 12], position: [0, 1.5, -0.1] })
-    pinRow(world, cape, 0, hero)
-    const proxy = createRenderProxy(world, cape, buildGridMesh({ width: 0.5, height: 0.8, resolution: [29, 45] }))
-    const geometry = createProxyGeometry(world, proxy)
+    const { world, hero, proxy, geometry } = capeWithProxy()
     const uploads = () => geometry.getAttribute('position').version
     let ran = 0
     const before = uploads()
