@@ -250,7 +250,8 @@ export function predictCharacter(c: ClothState, k: number): boolean {
   if (k === 0) blendReference(c, ch)
   if (ch.constrained) {
     referenceSubstep(c, ch, k, c.substeps)
-    ch.start.set(c.pos) // (same capacity: one memmove, cheaper than a loop over the live particles)
+    // where each particle starts the substep, for the limits' velocity bound: only where they run
+    if (limitsRun(c, ch, k)) ch.start.set(c.pos) // (same capacity: one memmove, cheaper than a loop over the live particles)
   }
   const inFrame = ch.inertia
   if (inFrame) {
@@ -295,6 +296,12 @@ export function placeHeld(c: ClothState): void {
   placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount)
 }
 
+/** Whether the motion constraints run at local substep k: every `every`-th substep and the step's last (every substep with a drive). */
+function limitsRun(c: ClothState, ch: ClothCharacter, k: number): boolean {
+  const every = ch.settings[S_EVERY]
+  return every === 1 || ch.drive !== null || (k + 1) % every === 0 || k === c.substeps - 1
+}
+
 /**
  * Writeback phase: max distance, backstop and drive at the end of the substep, then the
  * velocities (the reference for the substep was set up by the predict phase). With `every` n > 1
@@ -305,7 +312,7 @@ export function writebackCharacter(c: ClothState): void {
   const ch = c.character!
   releaseLimitHolds(c.invMass, c.invMass3, ch.limitHeld)
   const k = c.subIndex, every = ch.settings[S_EVERY]
-  if (every > 1 && ch.drive === null && (k + 1) % every !== 0 && k !== c.substeps - 1) {
+  if (!limitsRun(c, ch, k)) {
     updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
     return
   }
