@@ -300,6 +300,7 @@ function spawnCloth(
     accel: null,
     piece: topology.pieces, // (a tearable cloth gets its own labels, relabelled as it tears)
     pieceCount: topology.pieceCount,
+    detached: newArray(Int32Array, topology.pieces === null ? 1 : n + 1),
     substeps: o.substeps,
     iterations: o.iterations,
     solver: o.solver,

@@ -1,6 +1,6 @@
 import { quatToMatrix, relativeRotationAt } from '../core/math'
 import { GRAB_STRIDE, G_AT, G_FRAME, G_STEP_FROM, G_STEP_TO } from '../kernels/grab'
-import type { ClothState } from './state'
+import type { ClothState, ClothWorldState } from './state'
 
 /** Scratch of moveClothRigidly: the rotation matrix in [0, 9), the quaternion in [9, 13). */
 const ROTATION = new Float64Array(13)
@@ -24,10 +24,11 @@ function rotation(rx: number, ry: number, rz: number, rw: number): Float64Array 
  * so the motion carries no velocity and the shape is kept exactly. Its grabs' targets so far (where
  * each glides from, not the target asked for last) move with it: a hand that follows the character
  * across a teleport does not drag the cloth back over the gap. Used by teleports (explicit and
- * detected), by a frozen cloth that thaws, and by the guard's rigid placement. Pieces a tear freed
- * from a character (`ClothCharacter.detached`) stay where they are: the motion is the character's
- * (carried 10 m by its teleport, a piece lying on the ground had jumped with it), unless
- * `carryDetached` (`teleportCloth`: the game moves the whole cloth).
+ * detected), by a frozen cloth that thaws, and by the guard's rigid placement. Pieces nothing
+ * carries along (`ClothState.detached`: torn off, or never held by a pin on an entity) stay where
+ * they are: the motion is the character's or the pin target's (carried 10 m by its teleport, a
+ * piece lying on the ground had jumped with it), unless `carryDetached` (`teleportCloth`: the game
+ * moves the whole cloth).
  */
 export function moveClothRigidly(
   c: ClothState,
@@ -65,10 +66,41 @@ export function moveClothRigidly(
     vel[i + 2] = m20 * x + m21 * y + m22 * z
   }
   carryGrabTargets(c, M, fromX, fromY, fromZ, toX, toY, toZ)
-  if (!carryDetached && c.character !== null && c.character.detached[0] > 0)
-    putBack(c, c.character.detached, M, fromX, fromY, fromZ, toX, toY, toZ)
+  if (!carryDetached && c.detached[0] > 0) putBack(c, c.detached, M, fromX, fromY, fromZ, toX, toY, toZ)
   c.version++
 }
+
+/**
+ * A cloth without character settings whose mesh has pieces (torn, or built so): lists in
+ * `c.detached` the particles of the pieces that no pin on an entity holds, which the automatic
+ * rigid carries leave in place. A pin target's teleport had carried a flag's torn-off half lying
+ * on the ground 10 m along with the pole. A cloth no pin on an entity holds at all has nothing to
+ * carry it: the list stays empty. Runs after a tear and when pins come or go.
+ */
+export function listLoosePieces(state: ClothWorldState, c: ClothState): void {
+  if (c.character !== null) return // (see `releaseDetachedPieces`)
+  const list = c.detached
+  list[0] = 0
+  const label = c.piece
+  if (label === null) return
+  if (looseScratch.length < c.pieceCount) looseScratch = new Uint8Array(Math.max(2 * looseScratch.length, c.pieceCount))
+  const held = looseScratch
+  held.fill(0, 0, c.pieceCount)
+  const P = state.components.Pin
+  let any = false
+  for (const pin of c.pins.list) {
+    if (P.target[pin] === 0) continue
+    held[label[P.particle[pin]]] = 1
+    any = true
+  }
+  if (!any) return
+  let n = 0
+  for (let i = 0; i < c.count; i++) if (held[label[i]] === 0) list[++n] = i
+  list[0] = n
+}
+
+/** Scratch of `listLoosePieces`: whether a pin on an entity holds each piece (grown on a tear, rarely). */
+let looseScratch = new Uint8Array(64)
 
 /**
  * The listed particles (list[1..list[0]]) moved back by the inverse of x' = to + M·(x − from):

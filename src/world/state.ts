@@ -252,6 +252,14 @@ export interface ClothState {
   /** Connected piece of each particle (numbered by their lowest particle), or null: one piece. */
   piece: Int32Array | null
   pieceCount: number
+  /**
+   * Particles of pieces nothing carries along ([0] = count, then particles; room for every
+   * particle when the mesh has pieces): the automatic rigid carries (a pin target's or character
+   * frame's jump, a hitch, a thaw) leave them where they are (`moveClothRigidly`). Of a character
+   * cloth, the pieces neither its frame, bones nor held particles hold (`releaseDetachedPieces`);
+   * of any other, the pieces no pin on an entity holds (`listLoosePieces`). Empty for one piece.
+   */
+  detached: Int32Array
 
   /** Substeps per fixed step. */
   substeps: number

@@ -4,6 +4,7 @@ import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { readPoseInto, readScaleInto, trackEntity, untrackEntity } from '../../world/kinematics'
+import { listLoosePieces } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
@@ -298,6 +299,7 @@ function ensureCharacter(state: ClothWorldState, c: ClothState): ClothCharacter 
   for (let i = 0; i < c.count; i++) for (let a = 0; a < 3; a++) ch.motion[M_POSE + a] += ch.rest[3 * i + a] / c.count
   ch.motion.copyWithin(M_BIND, M_POSE, M_POSE + 10)
   c.character = ch
+  c.detached[0] = 0 // (whole until a tear frees a piece from the character: `releaseDetachedPieces`)
   const frame = defaultFrame(state, c)
   if (frame !== 0) setFrame(state, c, ch, frame, false)
   else bindRigid(c, ch)
@@ -361,6 +363,7 @@ export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
   }
   ch.frameSlot = -1
   c.character = null
+  listLoosePieces(state, c) // (the pieces no pin holds, now that the character holds none)
   touchLayout()
 }
 
@@ -406,7 +409,6 @@ export function reserveCharacter(c: ClothState, P: number): void {
   ch.ref = grownArray(ch.ref, BLEND * P)
   ch.bind = grownArray(ch.bind, RIGID * P)
   ch.limitHeld = grownArray(ch.limitHeld, P + 1)
-  ch.detached = grownArray(ch.detached, P + 1)
   ch.start = grownArray(ch.start, 3 * P)
   if (ch.lim.length < LIMITS * P) {
     const lim = unconstrained(newArray(Float32Array, LIMITS * P))
@@ -448,7 +450,7 @@ export function copyCharacterParticle(c: ClothState, from: number, to: number): 
  * nor a pin on the character (its frame entity, or a skin bone) holds is no longer part of the
  * garment, so its particles lose their motion constraints (max distance, backstop, drive). Kept,
  * they held a scrap torn off by a nail in the world to the running character: one triangle from
- * the nail to the hero at 34,657 % stretch. Such particles are listed in `detached`: they are
+ * the nail to the hero at 34,657 % stretch. Such particles are listed in `ClothState.detached`: they are
  * predicted in world space and left out of the frame's carries (a piece lying on the ground swung
  * 4.4 m round its character turning on the spot, and jumped 10 m with its teleport). A cloth
  * nothing holds to the character at all (limits alone) keeps them everywhere.
@@ -456,7 +458,7 @@ export function copyCharacterParticle(c: ClothState, from: number, to: number): 
 export function releaseDetachedPieces(state: ClothWorldState, c: ClothState): void {
   const ch = c.character
   if (ch === null || c.piece === null) return
-  ch.detached[0] = 0
+  c.detached[0] = 0
   const label = c.piece, n = c.pieceCount
   if (attachedScratch.length < n) attachedScratch = new Uint8Array(Math.max(2 * attachedScratch.length, n))
   const attached = attachedScratch
@@ -478,12 +480,12 @@ export function releaseDetachedPieces(state: ClothWorldState, c: ClothState): vo
   let n2 = 0
   for (let i = 0; i < c.count; i++) {
     if (attached[label[i]] === 1) continue
-    ch.detached[++n2] = i
+    c.detached[++n2] = i
     ch.lim[LIMITS * i + L_MAX] = Infinity
     ch.lim[LIMITS * i + L_RADIUS] = 0
     if (ch.drive !== null) ch.drive[i] = 0
   }
-  ch.detached[0] = n2
+  c.detached[0] = n2
 }
 
 /** Scratch of `releaseDetachedPieces`: whether each piece is held (grown on a tear, rarely). */

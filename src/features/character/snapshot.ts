@@ -17,6 +17,7 @@ import {
   untrackEntity,
 } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
+import { listLoosePieces } from '../../world/rigid'
 import { reserveBoneScratch } from './reference'
 import { blankCharacter, blankSkin } from './state'
 import { M_BIND, M_POSE, MOTION, SETTINGS, type ClothCharacter, type ClothSkin } from './types'
@@ -211,6 +212,7 @@ export function restoreCharacter(state: ClothWorldState, c: ClothState, s: Chara
     if (c.character !== null) {
       untrackAll(state, c.character)
       c.character = null
+      listLoosePieces(state, c)
       touchLayout()
     }
     return

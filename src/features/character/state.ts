@@ -21,7 +21,6 @@ export function blankCharacter(P: number): ClothCharacter {
     ref: newArray(Float32Array, BLEND * P),
     bind: newArray(Float32Array, RIGID * P),
     limitHeld: newArray(Int32Array, P + 1),
-    detached: newArray(Int32Array, P + 1),
     start: newArray(Float64Array, 3 * P),
     lim: unconstrained(newArray(Float32Array, LIMITS * P)),
     refParams: newArray(Float64Array, REF_PARAMS),

@@ -256,7 +256,7 @@ export function predictCharacter(c: ClothState, k: number): boolean {
   const inFrame = ch.inertia
   if (inFrame) {
     frameSubstep(c, ch, k, c.substeps)
-    const detached = ch.detached
+    const detached = c.detached
     if (detached[0] > 0) swapDetached(c, detached, true)
     predictInFrame(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, ch.frameParams, c.count)
     if (detached[0] > 0) {

@@ -147,11 +147,6 @@ export interface ClothCharacter {
   bind: Float32Array
   /** Particles a limit moved in the last substep, held for the next distance solve ([0] = count; see `constrainAndUpdateVelocities`). */
   limitHeld: Int32Array
-  /**
-   * Particles of pieces a tear freed from the character ([0] = count, then particles; see
-   * `releaseDetachedPieces`): predicted in world space and left out of the frame's carries.
-   */
-  detached: Int32Array
   /** Positions at the current substep's start, for a cloth with motion constraints (written by its predict, read by its writeback). */
   start: Float64Array
   /** Per particle, float32 (LIMITS values): max distance (m, Infinity = free), backstop distance and radius (0 = none). */

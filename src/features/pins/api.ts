@@ -5,7 +5,7 @@ import { rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { trackEntity, untrackEntity } from '../../world/kinematics'
-import { carryFrozen } from '../../world/rigid'
+import { carryFrozen, listLoosePieces } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
@@ -92,6 +92,7 @@ export function pinParticle(
 
   addComponent(world as never, pin, P)
   c.pins.list.push(pin)
+  listLoosePieces(state, c)
   touchLayout()
   wakeClothState(state, c)
   if (c.pinCount[index]++ === 0) {
@@ -141,6 +142,7 @@ export function releasePin(state: ClothWorldState, pin: number): void {
   const k = list.indexOf(pin)
   if (k < 0) return
   list.splice(k, 1)
+  listLoosePieces(state, c)
   touchLayout()
   wakeClothState(state, c)
   if (P.slot[pin] >= 0) untrackEntity(state, P.target[pin])

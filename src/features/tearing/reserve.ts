@@ -41,6 +41,7 @@ export function reserve(state: ClothWorldState, c: ClothState, extra: number, ma
   c.render.indices = t.triangles
   c.topology = t
   c.piece = newArray(Int32Array, P)
+  c.detached = grownArray(c.detached, P + 1)
   c.pieceCount = 1
 
   c.tear = {

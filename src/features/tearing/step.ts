@@ -1,5 +1,6 @@
 import { findOverstrained } from '../../kernels/strain'
 import type { ClothState, ClothWorldState } from '../../world/state'
+import { listLoosePieces } from '../../world/rigid'
 import { applySplit, chooseCut, cutsSmallPiece, gatherFan, tensionAt } from './crack'
 import { repairConstraints } from './repair'
 import { releaseDetachedPieces } from '../character/api'
@@ -92,6 +93,7 @@ export function tearStep(state: ClothWorldState, c: ClothState): void {
   repairConstraints(T)
   labelPieces(c, T)
   releaseDetachedPieces(state, c)
+  listLoosePieces(state, c)
   if (c.tethers.enabled) c.tethers.dirty = true
   store.tears[eid] += tears
   state.stats.tears += tears
