@@ -177,16 +177,16 @@ describe('every edge torn at once', () => {
     })
   }
 
-  // With every edge over its threshold, one torn piece lands with a particle squeezed between the
-  // convex hull's base and the ground (inside the hull's margin, whose nearest face is the base, so
-  // the hull pushes it into the ground and the ground pushes it back): pinned there, its piece
-  // rests with an edge held at about 3× its length. Without the colliders the same pieces rest
-  // unstretched. When collisions learn to free it, this case turns red: move it up.
+  // The pins' targets jump 4.5 m each (a teleport): the piece the first one holds is carried
+  // along, and the pieces torn off before stay where they are. When the carry took every piece
+  // along, one of them landed with a particle squeezed between the convex hull's base and the
+  // ground (inside the hull's margin, whose nearest face is the base) and rested with an edge held
+  // at about 3× its length; this scene no longer puts a piece there.
   for (
-    const [label, tear, stuck] of [['a tiny threshold (every edge over it)', everything(), true], ['a 20 % threshold, 64 tears a step', {
+    const [label, tear] of [['a tiny threshold (every edge over it)', everything()], ['a 20 % threshold, 64 tears a step', {
       strain: 0.2,
       maxTearsPerStep: 64,
-    }, false]] as const
+    }]] as const
   ) {
     it(`a tearable sheet with ${label} whose two top corners are pulled 10× the sheet apart in one frame, pieces landing on colliders`, () => {
       const r = runTorture({
@@ -214,8 +214,7 @@ describe('every edge torn at once', () => {
         floor: 0,
         recover: 'rest',
       })
-      if (stuck) expectStuck(r)
-      else expectStable(r)
+      expectStable(r)
       expect(r.stats.tears).toBeGreaterThan(0) // it did tear
     })
   }
