@@ -9,6 +9,7 @@ import {
   type ClothQualityTarget,
 } from './features/budget/api'
 import { pinRow } from './features/pins/api'
+import { createWindZone } from './features/wind/api'
 import { installClothPlugin } from './plugin'
 import { setTransform } from './world/transform'
 import { stepCloth } from '../systems/step'
@@ -26,7 +27,7 @@ let processCalibration: Float64Array | null = null
  */
 export function calibrateClothCost(force = false): ClothCostCalibration {
   const c = measured(force)
-  return { nsPerParticle: c[0], nsPerProjection: c[1], nsPerColliderTest: c[2], nsPerClothSubstep: c[3] }
+  return { nsPerParticle: c[0], nsPerProjection: c[1], nsPerColliderTest: c[2], nsPerClothSubstep: c[3], nsPerWindTriangle: c[4] }
 }
 
 function measured(force = false): Float64Array {
@@ -59,12 +60,23 @@ export function setClothBudget(world: object, options: ClothBudgetOptions | null
 }
 
 function measureCalibration(): Float64Array {
-  const api = { installClothPlugin, createWorld, createCloth, pinRow, addEntity, setTransform, addSphereCollider, stepCloth }
+  const api = {
+    installClothPlugin,
+    createWorld,
+    createCloth,
+    pinRow,
+    addEntity,
+    setTransform,
+    addSphereCollider,
+    createWindZone,
+    stepCloth,
+  }
   const time = (
     res: number,
     iterations: number,
     colliders: boolean,
-  ): { ms: number; particles: number; projections: number; tethers: number } => {
+    wind = false,
+  ): { ms: number; particles: number; projections: number; tethers: number; triangles: number } => {
     const world = api.installClothPlugin(api.createWorld(), { sleep: false, guard: false })
     const cloth = api.createCloth(world, { width: 1, height: 1, resolution: res, position: [0, 2, 0], substeps: 4, iterations })
     api.pinRow(world, cloth, 0)
@@ -76,6 +88,8 @@ function measureCalibration(): Float64Array {
         api.addSphereCollider(world, e, { radius: 0.2 })
       }
     }
+    // a gusty breeze across the sheet (its aerodynamics every substep, the air sampled every step)
+    if (wind) api.createWindZone(world, { direction: [0, 0, 1], strength: 6, turbulence: 0.3 })
     const c = getClothState(world, cloth)
     const t = c.topology
     for (let f = 0; f < 20; f++) api.stepCloth(world, 1 / 60)
@@ -87,12 +101,19 @@ function measureCalibration(): Float64Array {
     }
     // (tethers: once per substep, 0.6 of a projection, as in the model)
     const projections = iterations * (t.distCount + t.compCount + 0.8 * t.lineCount + 3 * t.hingeCount) + 0.6 * c.tethers.set.count
-    return { ms: best, particles: c.count, projections: projections / iterations, tethers: 0.6 * c.tethers.set.count }
+    return {
+      ms: best,
+      particles: c.count,
+      projections: projections / iterations,
+      tethers: 0.6 * c.tethers.set.count,
+      triangles: t.triangleCount,
+    }
   }
   const a = time(20, 1, false)
   const b = time(20, 5, false)
   const withColliders = time(20, 1, true)
   const tiny = time(3, 1, false)
+  const windy = time(20, 1, false, true)
   const sub = 4
   // a and b differ by 4 iterations of the constraints (not the tethers, which run once)
   const nsProj = Math.max(0.5, ((b.ms - a.ms) * 1e6) / (sub * 4 * (a.projections - a.tethers)))
@@ -102,5 +123,6 @@ function measureCalibration(): Float64Array {
   const perTiny = (tiny.ms * 1e6) / sub - nsProj * tiny.projections
   const nsPart = Math.max(0.5, (perA - perTiny) / (a.particles - tiny.particles))
   const nsCloth = Math.max(0, perTiny - nsPart * tiny.particles)
-  return Float64Array.from([nsPart, nsProj, nsCol, nsCloth])
+  const nsWind = Math.max(0.5, ((windy.ms - a.ms) * 1e6) / (sub * a.triangles))
+  return Float64Array.from([nsPart, nsProj, nsCol, nsCloth, nsWind])
 }

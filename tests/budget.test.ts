@@ -4,6 +4,7 @@ import {
   ClothError,
   SUBSTEP_LADDER,
   createCloth,
+  createWindZone,
   enableSelfCollision,
   getClothBudgetStats,
   getClothLod,
@@ -115,6 +116,27 @@ describe('quality targets', () => {
     setClothQuality(world, cloth, { substeps: 5 })
     steps(world, 16)
     expect(getClothLod(world, cloth).substeps).toBe(5)
+  })
+
+  it('the cost model counts the aerodynamics of a cloth a wind zone reaches (a flag in wind had run 1.6–2.1× its prediction, 76 % over its time target)', () => {
+    const lodIn = (wind: boolean, calibration = CALIBRATION) => {
+      const world = makeWorld({ sleep: false })
+      const cloth = sheet(world, 0, 16)
+      if (wind) createWindZone(world, { direction: [0, 0, 1], strength: 8, turbulence: 0.3 })
+      setClothQualityTarget(world, cloth, { msPerStep: 0.2, calibration })
+      steps(world, 16)
+      return { lod: getClothLod(world, cloth), triangles: getClothState(world, cloth).topology.triangleCount }
+    }
+    const still = lodIn(false), windy = lodIn(true)
+    expect(windy.lod.substeps).toBeLessThan(still.lod.substeps)
+    expect(windy.lod.predictedMs).toBeLessThanOrEqual(0.2)
+    // the wind term itself: triangles × nsPerWindTriangle per substep (6 × nsPerProjection when not given)
+    const explicit = lodIn(true, { ...CALIBRATION, nsPerWindTriangle: 0 })
+    expect(explicit.lod.substeps).toBe(still.lod.substeps)
+    const s = windy.lod.substeps
+    const withoutWind = (still.lod.predictedMs / still.lod.substeps) * s
+    expect(windy.lod.predictedMs - withoutWind).toBeCloseTo((s * windy.triangles * 6 * CALIBRATION.nsPerProjection) / 1e6, 9)
+    expect(() => lodIn(true, { ...CALIBRATION, nsPerWindTriangle: -1 })).toThrow(/nsPerWindTriangle/)
   })
 
   it('bad targets are rejected at the API edge', () => {

@@ -16,8 +16,8 @@ import type { LevelConfig } from '../features/budget/types'
  * (and its group's), the same code on the same data.
  */
 
-/** Cost model numbers (ns: per particle, per projection, per collider test, per cloth and substep) when the world has no calibration; only their ratios matter here. */
-const DEFAULT_CALIBRATION = Float64Array.of(25, 12, 10, 400)
+/** Cost model numbers (ns: per particle, per projection, per collider test, per cloth and substep, per triangle in the wind) when the world has no calibration; only their ratios matter here. */
+const DEFAULT_CALIBRATION = Float64Array.of(25, 12, 10, 400, 60)
 const cfg: LevelConfig = { substeps: 0, iterations: 0, stepEvery: 0, cost: 0, logQuality: 0 }
 /** Largest load over the mean load a kept partition may reach. */
 const IMBALANCE = 1.25

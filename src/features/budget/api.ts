@@ -34,10 +34,11 @@ import { Q_FACTOR, Q_MEASURED, Q_PREDICTED, type BudgetWorld, type ClothBudget }
  * that walked on meanwhile is not yanked (see `freeze.ts`).
  *
  * The cost model: time per fixed step of a cloth = substeps/stepEvery × (particles × a +
- * iterations × projections × b + tethers × 0.6 b + particles × colliders in range × c + d), where
- * projections counts distance constraints once, line-bending triples 0.8 and hinges 3 times (their
- * relative kernel costs), and a, b, c, d (ns per particle, per projection, per particle-collider
- * test, per cloth and substep) come from a calibration: one run of a few small scenes (once per
+ * iterations × projections × b + tethers × 0.6 b + particles × colliders in range × c + d +
+ * triangles × w while a wind zone reaches it), where projections counts distance constraints once,
+ * line-bending triples 0.8 and hinges 3 times (their relative kernel costs), and a, b, c, d, w (ns
+ * per particle, per projection, per particle-collider test, per cloth and substep, per triangle in
+ * the wind) come from a calibration: one run of a few small scenes (once per
  * process, `calibrateClothCost` in src/calibrate.ts, which builds them through the public API),
  * or numbers you pass (so that machines in lockstep pick the same levels).
  */
@@ -48,7 +49,15 @@ export interface ClothCostCalibration {
   nsPerProjection: number
   nsPerColliderTest: number
   nsPerClothSubstep: number
+  /**
+   * Per triangle and substep of a cloth a wind zone reaches (its aerodynamics). Left out of a
+   * calibration you pass, it counts as 6 × `nsPerProjection`, about what calibrations here measure (60–70 ns against 10–11).
+   */
+  nsPerWindTriangle?: number
 }
+
+/** A calibration's wind cost when it gives none: its projection cost times this. */
+export const WIND_PER_PROJECTION = 6
 
 /** Options of `setClothQualityTarget`. */
 export interface ClothQualityTarget {
@@ -176,6 +185,11 @@ export function checkCalibration(c: ClothCostCalibration, arg: string): Float64A
     checkPositive(`${arg}.nsPerProjection`, c.nsPerProjection),
     checkPositive(`${arg}.nsPerColliderTest`, c.nsPerColliderTest),
     c.nsPerClothSubstep === 0 ? 0 : checkPositive(`${arg}.nsPerClothSubstep`, c.nsPerClothSubstep),
+    c.nsPerWindTriangle === undefined
+      ? WIND_PER_PROJECTION * c.nsPerProjection
+      : c.nsPerWindTriangle === 0
+      ? 0
+      : checkPositive(`${arg}.nsPerWindTriangle`, c.nsPerWindTriangle),
   ])
 }
 

@@ -84,7 +84,8 @@ export function configCost(c: ClothState, s: number, i: number, e: number, cal: 
   const projections = t.distCount + t.compCount + 0.8 * t.lineCount + 3 * t.hingeCount
   const cc = c.collision
   const colliderTests = c.count * (cc.activeCount + (cc.self !== null ? 2 : 0))
-  const perSub = cal[0] * c.count + cal[1] * (i * projections + 0.6 * c.tethers.set.count) + cal[2] * colliderTests + cal[3]
+  const aero = c.wind !== null && c.wind.active !== 0 ? t.triangleCount : 0 // (a zone reached it this step)
+  const perSub = cal[0] * c.count + cal[1] * (i * projections + 0.6 * c.tethers.set.count) + cal[2] * colliderTests + cal[3] + cal[4] * aero
   cfg.cost = (perSub * s) / e
   cfg.logQuality = 2 * Math.log(s) + Math.log(i) - 2 * Math.log(e)
 }
