@@ -2,10 +2,13 @@
 // settings becomes the default frame (the reference stayed in the world, 1.67 m off), a call without
 // a frame returns to the default one (it kept the last explicit frame: 1571 % stretch), a skinned
 // cloth's reference is readable right after configuration (it was null until the next step),
-// and settings given late bind the cloth as pinned (or, unpinned, where it was created).
+// and settings given late bind the cloth as pinned (or, unpinned, where it was created); a cloth
+// whose pins on its default frame are all removed falls back to the next default (it kept its
+// character as frame: dropped, it walked 3 m along with the character).
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
+  createCloth,
   getClothReference,
   getClothState,
   getClothStretch,
@@ -201,5 +204,48 @@ describe('character cloth reference pose: frames and setup orders', () => {
     setTransform(world, other, [1, 1, 1])
     setClothInertia(world, cloth, { frame: other }) // a frame change of a skinned cloth: null again
     expect(getClothReference(world, cloth)).not.toBeNull()
+  })
+
+  it('unpinned from its default frame, a dropped cape falls back to the next default: it lies still as the character walks off or teleports, as when configured after the unpin', () => {
+    const drop = (order: 'settings first' | 'unpin first', walk: 'walk' | 'teleport', skinned: boolean) => {
+      const world = makeWorld()
+      const hero = addEntity(world), bone = addEntity(world)
+      setTransform(world, hero, [0, 1, 0])
+      setTransform(world, bone, [0, 1, 5]) // a bone standing still elsewhere
+      const cloth = createCloth(world, { width: 0.5, height: 0.5, resolution: 4, position: [0, 1, 0], substeps: 2 })
+      const pins = pinRow(world, cloth, 0, hero)
+      const configure = () => {
+        setClothInertia(world, cloth, { linear: 0, angular: 0, centrifugal: 0 }) // the frame's motion carried rigidly
+        if (skinned)
+          setClothSkinning(world, cloth, {
+            bones: [bone],
+            joints: new Array(64).fill(0),
+            weights: Array.from({ length: 64 }, (_, k) => (k % 4 === 0 ? 1 : 0)),
+          })
+      }
+      if (order === 'settings first') configure()
+      for (let f = 0; f < 5; f++) stepCloth(world, DT)
+      for (const p of pins) unpin(world, p)
+      if (order === 'unpin first') configure()
+      const c = getClothState(world, cloth)
+      const x0 = c.pos[0]
+      if (walk === 'walk') {
+        for (let f = 1; f <= 60; f++) {
+          setTransform(world, hero, [(3 * f) / 60, 1, 0])
+          stepCloth(world, DT)
+        }
+      } else {
+        setTransform(world, hero, [10, 1, 0])
+        stepCloth(world, DT)
+      }
+      return { dx: c.pos[0] - x0, hash: hashBytes(c.pos.subarray(0, 3 * c.count)) }
+    }
+    for (const skinned of [false, true]) {
+      for (const walk of ['walk', 'teleport'] as const) {
+        const a = drop('settings first', walk, skinned), b = drop('unpin first', walk, skinned)
+        expect(Math.abs(a.dx)).toBeLessThan(0.01) // (3 m and 10 m along with the character before)
+        expect(a.hash).toBe(b.hash)
+      }
+    }
   })
 })

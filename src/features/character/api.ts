@@ -11,7 +11,7 @@ import { wakeClothState } from '../../world/wake'
 import { releaseAnchor } from '../budget/freeze'
 import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
 import { blankCharacter, blankSkin, unconstrained } from './state'
-import { adoptPinFrame, backdate, defaultFrame, rebindRest, setFrame, useDefaultFrame } from './frames'
+import { adoptPinFrame, backdate, dropPinFrame, defaultFrame, rebindRest, setFrame, useDefaultFrame } from './frames'
 import { bindRigid, identityPose, lastReference, reserveBoneScratch, restNormals, trackedPose } from './reference'
 import {
   M_BIND,
@@ -374,6 +374,7 @@ export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
  */
 export function installCharacter(world: object, state: ClothWorldState): void {
   observe(world as never, onAdd(state.components.Pin), (pin: number) => adoptPinFrame(state, pin))
+  observe(world as never, onRemove(state.components.Pin), (pin: number) => dropPinFrame(state, pin))
   observe(world as never, onRemove(state.transforms.component), (eid: number) => {
     for (const c of state.cloths) {
       const ch = c.character

@@ -10,10 +10,10 @@ import { M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_FRAME_EXPLICIT, type ClothChar
  * first skin bone, the world), and moving the cloth's reference onto a new frame without moving it.
  */
 
-/** The target of the cloth's first pin that has one, else its first skin bone, else 0 (the world). */
-export function defaultFrame(state: ClothWorldState, c: ClothState): number {
+/** The target of the cloth's first pin that has one (but `except`), else its first skin bone, else 0 (the world). */
+export function defaultFrame(state: ClothWorldState, c: ClothState, except = -1): number {
   const P = state.components.Pin
-  for (const pin of c.pins.list) if (P.target[pin] !== 0) return P.target[pin]
+  for (const pin of c.pins.list) if (pin !== except && P.target[pin] !== 0) return P.target[pin]
   const skin = c.character?.skin
   if (skin) { for (const bone of skin.bones) if (bone !== 0) return bone }
   return 0
@@ -37,6 +37,22 @@ export function adoptPinFrame(state: ClothWorldState, pin: number): void {
   if (!ch || ch.settings[S_FRAME_EXPLICIT] !== 0 || P.target[pin] === 0) return
   for (const other of c.pins.list) if (P.target[other] !== 0) return
   setFrame(state, c, ch, P.target[pin])
+}
+
+/**
+ * Called when a pin goes away (before or after it leaves the cloth's list): a character cloth whose frame is
+ * its default and was this pin's target takes the default without it (another pin's target, the
+ * first skin bone, the world), its reference staying where it is. A cape whose pins were all
+ * removed had kept its character as its frame: dropped, it walked 3 m along with the character
+ * (and was carried 10 m by its teleport), where making the settings after the unpin gave a cape
+ * lying still: setup order decided.
+ */
+export function dropPinFrame(state: ClothWorldState, pin: number): void {
+  const P = state.components.Pin
+  const c = state.components.Cloth.state[P.cloth[pin]]
+  const ch = c?.character
+  if (!ch || ch.settings[S_FRAME_EXPLICIT] !== 0 || P.target[pin] === 0 || P.target[pin] !== ch.frame) return
+  setFrame(state, c, ch, defaultFrame(state, c, pin))
 }
 
 /**
