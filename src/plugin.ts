@@ -85,7 +85,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     budget: createBudgetWorld(),
     guard: createGuardWorld(guard),
     tearing: createTearWorld(),
-    frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false },
+    frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false, stepping: false },
     threads: threads !== null ? startThreads(threads.count, threads.url, threads.inlineNs) : null,
   }
   if (state.threads !== null) releaseWithWorld(world, state.threads)

@@ -11,6 +11,14 @@ import { noteShownAnchors } from '../src/draw'
 export function clothEvents<W extends object>(world: W): W {
   const state = getClothWorld(world)
   noteShownAnchors(state)
-  dispatchTearEvents(state)
+  // listeners may change the world but not step it (a nested step overwrote the tear events being read)
+  const f = state.frame
+  const was = f.delivering
+  f.delivering = true
+  try {
+    dispatchTearEvents(state)
+  } finally {
+    f.delivering = was
+  }
   return world
 }

@@ -73,6 +73,7 @@ export function clothSync<W extends object>(world: W): W {
   }
   state.substepCount = total
   state.substep = 0
+  state.frame.stepping = true // (until the guard: cloths may not change in between)
   state.stats.steps++
   return world
 }

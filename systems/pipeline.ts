@@ -1,5 +1,6 @@
 import { ClothError, checkInteger } from '../src/core/errors'
 import { getClothWorld } from '../src/world/access'
+import type { ClothWorldState } from '../src/world/state'
 import { clothCollide } from './clothCollide'
 import { clothForces } from './clothForces'
 import { clothGuard } from './clothGuard'
@@ -45,9 +46,17 @@ import { deliverResets } from '../src/features/guard/step'
 export function clothFixedStep<W extends object>(world: W): W {
   const state = getClothWorld(world)
   if (state.frame.open) throw new ClothError('world', world, 'is between beginClothStep and endClothStep (call endClothStep first)')
+  refuseNestedStep(state, world)
   startFixedStep(world, true)
   finishFixedStep(world)
   return world
+}
+
+/** Throws a ClothError when called from a listener of a step (they may change the world, not step it). */
+export function refuseNestedStep(state: ClothWorldState, world: object): void {
+  if (state.frame.delivering) {
+    throw new ClothError('world', world, "is calling a step's listeners: they may change the world but not step it")
+  }
 }
 
 /**
@@ -109,6 +118,7 @@ export function finishFixedStep(world: object): void {
       f.deferred = false
       runSubsteps(world)
     }
+    f.stepping = false // (the workers ran the guard)
     deliverResets(state) // (the workers' resets; the guard here has delivered its own)
     state.stats.substeps += state.substepCount
     clothEvents(world)

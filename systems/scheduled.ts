@@ -1,5 +1,6 @@
 import { ClothError } from '../src/core/errors'
 import { getClothWorld } from '../src/world/access'
+import { refuseNestedStep } from './pipeline'
 import { clothCollide as collide } from './clothCollide'
 import { clothEvents as events } from './clothEvents'
 import { clothForces as forces } from './clothForces'
@@ -14,11 +15,14 @@ import { clothWriteback as writeback } from './clothWriteback'
  * The phase systems as an engine with its own scheduler calls them (the package exports these;
  * the pipeline in `pipeline.ts` calls the unchecked ones): each first checks that the world is not
  * between `beginClothStep` and `endClothStep`, when the workers of a threaded world own the
- * particles and a phase run here would race them.
+ * particles and a phase run here would race them, nor calling a step's listeners (which may change
+ * the world but not step it: a nested step overwrote the tear events being delivered).
  */
 function outsideFrame(world: object): void {
-  const f = getClothWorld(world).frame
-  if (f.open && !f.delivering) {
+  const state = getClothWorld(world)
+  refuseNestedStep(state, world)
+  const f = state.frame
+  if (f.open) {
     throw new ClothError(
       'world',
       world,

@@ -1,4 +1,4 @@
-import { finishFixedStep, startFixedStep } from './pipeline'
+import { finishFixedStep, refuseNestedStep, startFixedStep } from './pipeline'
 import { ClothError } from '../src/core/errors'
 import { K_DROPPED, K_SINCE_SAMPLE, K_STEP_FRACTION } from '../src/world/kinematics'
 import { getClothWorld } from '../src/world/access'
@@ -52,6 +52,7 @@ function openFrame(world: object, dt: number, blocking: boolean): number {
   const state = getClothWorld(world)
   const f = state.frame
   if (f.open) throw new ClothError('world', world, 'is already stepping a frame (call endClothStep first)')
+  refuseNestedStep(state, world)
   if (typeof dt !== 'number' || !Number.isFinite(dt) || dt < 0) {
     throw new ClothError('dt', dt, 'must be a finite number of seconds ≥ 0')
   }

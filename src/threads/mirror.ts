@@ -68,7 +68,7 @@ export function createWorkerWorld(): WorkerWorld {
     grab: createGrabWorld(),
     guard: createGuardWorld(defaultGuardSettings(250)),
     tearing: createTearWorld(),
-    frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false },
+    frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false, stepping: false },
     threads: null,
   }
   // the main thread compiles the zones every step before the workers read them

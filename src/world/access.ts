@@ -23,15 +23,26 @@ export function getCloth(state: ClothWorldState, cloth: number): ClothState {
 /**
  * The plugin state of a world about to be changed; throws ClothError between `beginClothStep` and
  * `endClothStep`, while the workers may be reading and writing the cloths (in every mode, so that a
- * game behaves the same with and without workers).
+ * game behaves the same with and without workers), and between a fixed step's `clothSync` and its
+ * `clothGuard` (phases run by hand). Listeners the step calls may change the world.
  */
 export function getClothWorldForChange(world: object): ClothWorldState {
   const state = getClothWorld(world)
-  if (state.frame.open && !state.frame.delivering) {
+  const f = state.frame
+  if (f.open && !f.delivering) {
     throw new ClothError(
       'world',
       world,
       'is between beginClothStep and endClothStep: change cloths, pins, colliders and settings after endClothStep',
+    )
+  }
+  if (f.stepping && !f.delivering) {
+    // (motion constraints switched on there ran against a reference the sync had not set up: 491 %
+    // stretch; a pin made there took the target's pose at the step's end for its start)
+    throw new ClothError(
+      'world',
+      world,
+      'is inside a fixed step (between clothSync and clothGuard): change cloths, pins, colliders and settings before clothSync or after clothGuard',
     )
   }
   return state

@@ -417,8 +417,13 @@ export interface ClothFrame {
   deferred: boolean
   /** `endClothStepAsync` is finishing the frame. */
   ending: boolean
-  /** A finished step's listeners are being called (they may change the world). */
+  /** A finished step's listeners are being called (they may change the world, not step it). */
   delivering: boolean
+  /**
+   * Between a fixed step's sync phase and its guard: the step's reference poses, pin poses and
+   * substep plan are set up, so cloths may not change (a scheduler running the phases by hand).
+   */
+  stepping: boolean
 }
 
 /** Per-world plugin state, kept on the world object under a symbol. */
