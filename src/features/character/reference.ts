@@ -148,6 +148,20 @@ export function updateReference(state: ClothWorldState, ch: ClothCharacter): voi
 }
 
 /**
+ * Sync phase, for a skinned cloth whose reference is not in use (no motion constraints, no reset):
+ * its bones' last poses follow them, and the next reference starts afresh. Left behind, the first
+ * step after constraints came on blended from the bones' poses when the skin was set (or the
+ * constraints last ran), and pulled the cape along its character's whole path since in one step:
+ * 51 % stretch, 30 frames after the skin was set on a running character.
+ */
+export function followBones(state: ClothWorldState, ch: ClothCharacter): void {
+  const skin = ch.skin
+  if (skin === null) return
+  bonePosesAtEnd(state, skin, skin.pose)
+  ch.motion[M_REF_VALID] = 0
+}
+
+/**
  * Predict phase, at the cloth's first substep (or the sync phase, before a reset puts the cloth on
  * its reference): the per-particle reference of the step that `updateReference` set up, skinned
  * or rigid.

@@ -14,7 +14,7 @@ import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
-import { blendReference, referenceSubstep, trackedStartPose, updateReference } from './reference'
+import { blendReference, followBones, referenceSubstep, trackedStartPose, updateReference } from './reference'
 import {
   M_GAP,
   M_POSE,
@@ -185,6 +185,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   }
   beginFrameStep(state, c, ch)
   if (ch.constrained || reset) updateReference(state, ch)
+  else followBones(state, ch)
   if (reset) {
     resetToReference(c, ch)
     if (pinJump === JUMP_NONE) state.stats.teleports++ // (else the pins counted it, carrying the cloth first)
