@@ -1,4 +1,4 @@
-import { createWorld } from 'bitecs'
+import { createWorld, observe, onRemove } from 'bitecs'
 import type { vec3 } from 'gl-matrix'
 import { createCloth, getClothState, getClothStretch, type CreateClothOptions } from './cloth'
 import { ClothError } from './core/errors'
@@ -7,7 +7,8 @@ import type { ClothMaterialSpec } from './model/materials'
 import { installClothPlugin } from './plugin'
 import type { ClothMesh, ClothPluginOptions } from './world/state'
 import { pinParticle, pinRow, unpin } from './features/pins/api'
-import { createWindZone, gustWind, removeWindZone, setWindZone } from './features/wind/api'
+import { checkGlobalWindOptions, createWindZone, gustWind, removeWindZone, setWindZone } from './features/wind/api'
+import { getClothWorld } from './world/access'
 import { makeTearable, type TearableOptions } from './features/tearing/api'
 import { onClothTear } from './features/tearing/events'
 import type { ClothTearListener } from './features/tearing/types'
@@ -39,8 +40,13 @@ export class ClothSimulation {
 
   constructor(options: ClothSimulationOptions) {
     if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-    this.world = installClothPlugin(createWorld(), options.world)
+    this.world = renamed('options', 'options.world', () => installClothPlugin(createWorld(), options.world))
     this.cloth = createCloth(this.world, options)
+    // the zone `setWind` made, forgotten when it goes away (through `world`): its id may come back
+    // as a zone of the game's, which `setWind` must not change or remove
+    observe(this.world as never, onRemove(getClothWorld(this.world).components.WindZone), (eid: number) => {
+      if (eid === this.windZone) this.windZone = 0
+    })
   }
 
   /** Pins a grid row (0 = top) in place. Returns the pin entities. */
@@ -50,7 +56,7 @@ export class ClothSimulation {
 
   /** Pins one particle where it is, or at a world position. Returns the pin entity. */
   pinParticle(index: number, position?: Readonly<vec3> | ArrayLike<number>): number {
-    return pinParticle(this.world, this.cloth, index, null, position)
+    return renamed('offset', 'position', () => pinParticle(this.world, this.cloth, index, null, position))
   }
 
   /** Releases a pin returned by `pinRow` or `pinParticle`. */
@@ -92,6 +98,8 @@ export class ClothSimulation {
    */
   setWind(wind: { direction: ArrayLike<number>; strength: number; turbulence?: number }): void {
     if (typeof wind !== 'object' || wind === null) throw new ClothError('wind', wind, 'must be an object')
+    const options = { direction: wind.direction, strength: wind.strength, turbulence: wind.turbulence ?? 0 }
+    renamed('options', 'wind', () => checkGlobalWindOptions(options)) // (strength 0 too: nothing is left half done)
     if (wind.strength === 0 && this.windZone !== 0) {
       removeWindZone(this.world, this.windZone)
       this.windZone = 0
@@ -99,16 +107,16 @@ export class ClothSimulation {
     }
     if (this.windZone === 0) {
       if (wind.strength === 0) return
-      this.windZone = createWindZone(this.world, { direction: wind.direction, strength: wind.strength, turbulence: wind.turbulence ?? 0 })
+      this.windZone = createWindZone(this.world, options)
     } else {
-      setWindZone(this.world, this.windZone, { direction: wind.direction, strength: wind.strength, turbulence: wind.turbulence ?? 0 })
+      setWindZone(this.world, this.windZone, options)
     }
   }
 
   /** A gust on the wind set by `setWind`: extra m/s at its peak over `duration` seconds. */
   gust(strength: number, duration = 1): void {
     if (this.windZone === 0) throw new ClothError('wind', undefined, 'must be set with setWind before a gust')
-    gustWind(this.world, this.windZone, { strength, duration })
+    renamed('options.', '', () => gustWind(this.world, this.windZone, { strength, duration }))
   }
 
   /** Makes the cloth tearable (see `makeTearable`). */
@@ -119,5 +127,21 @@ export class ClothSimulation {
   /** Subscribes to tears (see `onClothTear`); returns the unsubscribe function. */
   onTear(listener: ClothTearListener): () => void {
     return onClothTear(this.world, listener)
+  }
+}
+
+/**
+ * Runs `call`, renaming the argument of a ClothError it throws from `from` (or a path under it) to
+ * `to`: the facade's errors name the facade's parameters, not those of the call it forwards to.
+ */
+function renamed<T>(from: string, to: string, call: () => T): T {
+  try {
+    return call()
+  } catch (e) {
+    if (!(e instanceof ClothError)) throw e
+    const a = e.argument
+    const under = from.endsWith('.') ? a.startsWith(from) : a === from || a.startsWith(`${from}.`) || a.startsWith(`${from}[`)
+    if (!under) throw e
+    throw new ClothError(to + a.slice(from.length), e.value, e.expectation)
   }
 }

@@ -15,12 +15,15 @@ export class ClothError extends Error {
   readonly argument: string
   /** The rejected value, as given. */
   readonly value: unknown
+  /** What the argument must be, e.g. `must be a positive integer`. */
+  readonly expectation: string
 
   constructor(argument: string, value: unknown, expectation: string) {
     super(`bitecs-cloth: ${argument} ${expectation} (got ${describe(value)})`)
     this.name = 'ClothError'
     this.argument = argument
     this.value = value
+    this.expectation = expectation
   }
 }
 

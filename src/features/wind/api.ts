@@ -6,6 +6,7 @@ import {
   checkAtMost,
   checkInteger,
   checkNonNegative,
+  checkObject,
   checkOneOf,
   checkOut,
   checkPoint,
@@ -267,6 +268,12 @@ interface CheckedZone {
   falloff?: number
   seed?: number
   airDensity?: number
+}
+
+/** Checks a global zone's options as `createWindZone` would (errors name `options.*`), creating nothing. */
+export function checkGlobalWindOptions(o: Partial<WindZoneOptions>): void {
+  checkObject('options', o)
+  checkZoneOptions(o, 'global')
 }
 
 function checkZoneOptions(o: Partial<WindZoneOptions>, shape: WindShape): CheckedZone {
