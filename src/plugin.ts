@@ -20,7 +20,7 @@ import { createGuardWorld, defaultGuardSettings, forgetResetEvents, resolveGuard
 import { installCharacter, releaseCharacter } from './features/character/api'
 import { createTearWorld, installTearing } from './features/tearing/api'
 import { forgetTearEvents } from './features/tearing/events'
-import { arrayOf, retainSharedMemory, touchLayout } from './core/shared'
+import { arrayOf, releaseSharedMemory, retainSharedMemory, touchLayout } from './core/shared'
 import { releaseWithWorld, resolveThreadOptions, startThreads } from './threads/bind'
 
 /**
@@ -86,7 +86,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     guard: createGuardWorld(guard),
     tearing: createTearWorld(),
     frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false, stepping: false },
-    threads: threads !== null ? startThreads(threads.count, threads.url, threads.inlineNs) : null,
+    threads: threads !== null ? startThreadsOrRelease(threads) : null,
   }
   if (state.threads !== null) releaseWithWorld(world, state.threads)
   Object.defineProperty(world, $cloth, { value: state, enumerable: false, configurable: true })
@@ -178,5 +178,19 @@ function validateTransformSource(t: TransformSource): void {
   for (const key of ['px', 'py', 'pz', 'qx', 'qy', 'qz', 'qw'] as const) {
     const arr = t[key]
     if (!arr || typeof arr.length !== 'number') throw new ClothError(`options.transforms.${key}`, arr, 'must be an entity-indexed array')
+  }
+}
+
+/**
+ * Starts a threaded world's workers; when that fails (a missing worker script), gives back the
+ * shared memory the world had retained: every later plain world had allocated its arrays in shared
+ * memory.
+ */
+function startThreadsOrRelease(t: { count: number; url: URL | string; inlineNs: number }): ReturnType<typeof startThreads> {
+  try {
+    return startThreads(t.count, t.url, t.inlineNs)
+  } catch (e) {
+    releaseSharedMemory()
+    throw e
   }
 }

@@ -191,6 +191,8 @@ function closeFrame(state: ClothWorldState): void {
 export function disposeClothWorld(world: object): void {
   const state = getClothWorld(world)
   if (state.frame.ending) throw new ClothError('world', world, 'is finishing a frame in endClothStepAsync: await it first')
+  // (from a listener it finished the frame inside the step being finished: one step counted twice)
+  if (state.frame.delivering) throw new ClothError('world', world, "is calling a step's listeners: dispose of it after the frame")
   if (state.frame.open) endClothStep(world)
   const th = state.threads
   if (th === null) return

@@ -120,6 +120,12 @@ function mergeTearEvents(state: ClothWorldState, th: ClothThreads): void {
     let best = -1, bestSeq = Infinity
     for (let w = 0; w < outputs.length; w++) {
       const out = outputs[w]
+      // events of cloths removed since the step began are dropped, as a removal drops its pending
+      // ones (removed mid-frame while it tore, a cloth's events threw a TypeError here)
+      while (at[w] < out[OUT_TEARS] && Cloth[out[OUT_EVENTS + at[w] * EV]] === undefined) {
+        at[w]++
+        left--
+      }
       if (at[w] >= out[OUT_TEARS]) continue
       const seq = Cloth[out[OUT_EVENTS + at[w] * EV]]!.seq
       if (seq < bestSeq) {
@@ -127,6 +133,7 @@ function mergeTearEvents(state: ClothWorldState, th: ClothThreads): void {
         best = w
       }
     }
+    if (best < 0) break
     const out = outputs[best]
     const from = OUT_EVENTS + at[best]++ * EV
     left--

@@ -27,6 +27,9 @@ export function resolveThreadOptions(o: ClothPluginOptions): { count: number; ur
   if (o.workerUrl !== undefined && typeof o.workerUrl !== 'string' && !(o.workerUrl instanceof URL)) {
     throw new ClothError('options.workerUrl', o.workerUrl, 'must be a URL or a string (the cloth worker script)')
   }
+  if (o.requireThreads !== undefined && typeof o.requireThreads !== 'boolean') {
+    throw new ClothError('options.requireThreads', o.requireThreads, 'must be true or false')
+  }
   const min = o.threadMinStepMs === undefined ? DEFAULT_MIN_STEP_NS * 1e-6 : checkNonNegative('options.threadMinStepMs', o.threadMinStepMs)
   if (count === 0) return null
   if (!sharedMemoryAvailable()) {

@@ -103,6 +103,10 @@ function checkScript(url: URL | string): void {
     existsSync(p: URL | string): boolean
   } | undefined
   const file = typeof url === 'string' && url.startsWith('file:') ? new URL(url) : url
+  // (Node runs a worker from a file only: an https: URL threw a TypeError from new Worker)
+  if (typeof file !== 'string' && file.protocol !== 'file:') {
+    throw new ClothError('options.workerUrl', String(url), 'must be a file path or file: URL in Node (the cloth worker script)')
+  }
   if (fs && (typeof file === 'string' || file.protocol === 'file:') && !fs.existsSync(file)) {
     throw new ClothError(
       'options.workerUrl',
