@@ -1,4 +1,4 @@
-import { getClothWorld } from '../src/world/access'
+import { deliverToListeners, getClothWorld } from '../src/world/access'
 import { dispatchTearEvents } from '../src/features/tearing/events'
 import { noteShownAnchors } from '../src/draw'
 
@@ -12,13 +12,6 @@ export function clothEvents<W extends object>(world: W): W {
   const state = getClothWorld(world)
   noteShownAnchors(state)
   // listeners may change the world but not step it (a nested step overwrote the tear events being read)
-  const f = state.frame
-  const was = f.delivering
-  f.delivering = true
-  try {
-    dispatchTearEvents(state)
-  } finally {
-    f.delivering = was
-  }
+  deliverToListeners(state, dispatchTearEvents)
   return world
 }

@@ -1,7 +1,6 @@
 import { deliverResets, guardCheck, restoreSafePose } from '../src/features/guard/step'
 import { HEALTH_OK } from '../src/kernels/guard'
-import { getClothWorld } from '../src/world/access'
-import type { ClothWorldState } from '../src/world/state'
+import { deliverToListeners, getClothWorld } from '../src/world/access'
 import { placeHeldAfterReset, setGuardAnchor } from '../src/features/character/step'
 
 /**
@@ -26,18 +25,6 @@ export function clothGuard<W extends object>(world: W): W {
     }
   }
   state.frame.stepping = false
-  deliverListening(state)
+  deliverToListeners(state, deliverResets)
   return world
-}
-
-/** The guard's reset events to their listeners, which may change the world but not step it. */
-function deliverListening(state: ClothWorldState): void {
-  const f = state.frame
-  const was = f.delivering
-  f.delivering = true
-  try {
-    deliverResets(state)
-  } finally {
-    f.delivering = was
-  }
 }

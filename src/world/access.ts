@@ -21,6 +21,21 @@ export function getCloth(state: ClothWorldState, cloth: number): ClothState {
 }
 
 /**
+ * Calls a step's listeners through `deliver` (a module-level function: nothing is allocated) with
+ * the world marked as delivering: they may change the world but not step it.
+ */
+export function deliverToListeners(state: ClothWorldState, deliver: (state: ClothWorldState) => void): void {
+  const f = state.frame
+  const was = f.delivering
+  f.delivering = true
+  try {
+    deliver(state)
+  } finally {
+    f.delivering = was
+  }
+}
+
+/**
  * The plugin state of a world about to be changed; throws ClothError between `beginClothStep` and
  * `endClothStep`, while the workers may be reading and writing the cloths (in every mode, so that a
  * game behaves the same with and without workers), and between a fixed step's `clothSync` and its

@@ -139,3 +139,22 @@ export function ground(world: object): number {
   addPlaneCollider(world, e)
   return e
 }
+
+/**
+ * Smallest distance, over `d`, between two particles that are not mesh neighbours: at least 1.5 × d
+ * apart at rest (d is the particle spacing here, so direct and diagonal neighbours are excluded,
+ * as the solver excludes them).
+ */
+export function closestNonNeighbours(world: object, cloth: number, d: number): number {
+  const c = getClothState(world, cloth)
+  const rest = c.topology.restPositions
+  let min = Infinity
+  for (let i = 0; i < c.count; i++) {
+    for (let j = i + 1; j < c.count; j++) {
+      const r = Math.hypot(rest[3 * i] - rest[3 * j], rest[3 * i + 1] - rest[3 * j + 1], rest[3 * i + 2] - rest[3 * j + 2])
+      if (r < 1.5 * d) continue
+      min = Math.min(min, Math.hypot(c.pos[3 * i] - c.pos[3 * j], c.pos[3 * i + 1] - c.pos[3 * j + 1], c.pos[3 * i + 2] - c.pos[3 * j + 2]))
+    }
+  }
+  return min / d
+}

@@ -17,7 +17,7 @@ import {
 import { buildSelfCollisionPairs } from '../../src/features/collision/selfCollision'
 import { getClothWorld } from '../../src/world/access'
 import { hashBytes, makeWorld } from '../helpers'
-import { accordionSheet, flatSheet, ground, maxSpeed } from './scenes'
+import { accordionSheet, closestNonNeighbours, flatSheet, ground, maxSpeed } from './scenes'
 
 const COLS = 16, ROWS = 24, LAYERS = 4, WIDTH = 0.6
 const SPACING = WIDTH / (COLS - 1)
@@ -37,25 +37,6 @@ function foldedSheet(world: object, self: boolean) {
   const cloth = accordionSheet(world, { cols: COLS, rows: ROWS, layers: LAYERS, d: SPACING, y0: 0.15, x0: -WIDTH / 2 })
   if (self) enableSelfCollision(world, cloth) // thickness: the particle spacing
   return cloth
-}
-
-/**
- * Smallest distance, over `d`, between two particles that are not mesh neighbours: at least 1.5 × d
- * apart at rest (d is the particle spacing here, so direct and diagonal neighbours are excluded,
- * as the solver excludes them).
- */
-function closestNonNeighbours(world: object, cloth: number, d: number): number {
-  const c = getClothState(world, cloth)
-  const rest = c.topology.restPositions
-  let min = Infinity
-  for (let i = 0; i < c.count; i++) {
-    for (let j = i + 1; j < c.count; j++) {
-      const r = Math.hypot(rest[3 * i] - rest[3 * j], rest[3 * i + 1] - rest[3 * j + 1], rest[3 * i + 2] - rest[3 * j + 2])
-      if (r < 1.5 * d) continue
-      min = Math.min(min, Math.hypot(c.pos[3 * i] - c.pos[3 * j], c.pos[3 * i + 1] - c.pos[3 * j + 1], c.pos[3 * i + 2] - c.pos[3 * j + 2]))
-    }
-  }
-  return min / d
 }
 
 /** Smallest distance between a particle of one cloth and one of another, m. */

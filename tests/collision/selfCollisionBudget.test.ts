@@ -4,27 +4,12 @@
 // jittered at 0.3–0.5 m/s for good, never still enough to sleep.
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import { enableSelfCollision, getClothLod, getClothState, setClothBudget, setClothQuality, setTransform, stepCloth } from '../../src/index'
+import { enableSelfCollision, getClothLod, setClothBudget, setClothQuality, setTransform, stepCloth } from '../../src/index'
 import { CALIBRATION, makeWorld } from '../helpers'
-import { accordionSheet, ground, maxSpeed } from './scenes'
+import { accordionSheet, closestNonNeighbours, ground, maxSpeed } from './scenes'
 
 const COLS = 16, ROWS = 24, LAYERS = 4, WIDTH = 0.6
 const SPACING = WIDTH / (COLS - 1)
-
-/** The closest two particles that are not neighbours at rest (1.5 spacings or more apart), in spacings. */
-function closestNonNeighbours(world: object, cloth: number): number {
-  const c = getClothState(world, cloth)
-  const rest = c.topology.restPositions
-  let min = Infinity
-  for (let i = 0; i < c.count; i++) {
-    for (let j = i + 1; j < c.count; j++) {
-      const r = Math.hypot(rest[3 * i] - rest[3 * j], rest[3 * i + 1] - rest[3 * j + 1], rest[3 * i + 2] - rest[3 * j + 2])
-      if (r < 1.5 * SPACING) continue
-      min = Math.min(min, Math.hypot(c.pos[3 * i] - c.pos[3 * j], c.pos[3 * i + 1] - c.pos[3 * j + 1], c.pos[3 * i + 2] - c.pos[3 * j + 2]))
-    }
-  }
-  return min / SPACING
-}
 
 function drop(far: boolean, substeps?: number) {
   const world = makeWorld()
@@ -38,7 +23,7 @@ function drop(far: boolean, substeps?: number) {
     setClothBudget(world, { viewer, near: 1, far: 2, farStepEvery: 4, calibration: CALIBRATION, adapt: false })
   }
   for (let f = 0; f < 180; f++) stepCloth(world, 1 / 60)
-  return { gap: closestNonNeighbours(world, cloth), v: maxSpeed(world, cloth), lod: getClothLod(world, cloth) }
+  return { gap: closestNonNeighbours(world, cloth, SPACING), v: maxSpeed(world, cloth), lod: getClothLod(world, cloth) }
 }
 
 describe('a self-colliding cloth far from the viewer', () => {
