@@ -2,13 +2,17 @@ import { addEntity } from 'bitecs'
 import { expect } from 'vitest'
 import {
   ClothError,
+  addPlaneCollider,
   createCloth,
   getClothState,
+  makeTearable,
+  pinParticle,
   pinRow,
   setClothInertia,
   setClothMotionConstraints,
   setTransform,
   stepCloth,
+  unpin,
   type ClothInertiaOptions,
 } from '../../src/index'
 import { makeWorld } from '../helpers'
@@ -176,6 +180,42 @@ export function woolCape(world: object, cols: number, rows: number): number {
     material: 'wool',
   })
 }
+/**
+ * A 14 × 24 wool cape pinned to a hero at the origin over a ground plane, nailed to the world at
+ * its middle row while the hero walks 2 m away (tearing the nailed part off), then unnailed and
+ * left 2 s for the piece to fall and settle; `inertia` (shares) makes it a character cloth. `off`:
+ * the particles of pieces other than the collar's, `on`: the collar's piece; `z`: where the hero stands.
+ */
+export function tornCapeOnGround(inertia: number | null) {
+  const cols = 14, rows = 24
+  const world = makeWorld({ sleep: false })
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 0, 0])
+  const ground = addEntity(world)
+  setTransform(world, ground, [0, 0, 0])
+  addPlaneCollider(world, ground)
+  const cape = woolCape(world, cols, rows)
+  pinRow(world, cape, 0, hero)
+  if (inertia !== null) setClothInertia(world, cape, { frame: hero, linear: inertia, angular: inertia, centrifugal: inertia })
+  makeTearable(world, cape, { strain: 0.4, maxTearsPerStep: 8 })
+  const nail = pinParticle(world, cape, (rows / 2) * cols)
+  for (let f = 0; f < 60; f++) {
+    setTransform(world, hero, [0, 0, (2 * f) / 60])
+    stepCloth(world, DT)
+  }
+  unpin(world, nail)
+  for (let f = 0; f < 120; f++) stepCloth(world, DT)
+  const c = getClothState(world, cape)
+  const off: number[] = [], on: number[] = []
+  for (let i = 0; i < c.count; i++) (c.piece![i] !== c.piece![0] ? off : on).push(i)
+  /** Positions of the listed particles now. */
+  const at = (list: number[]) => list.map((i) => [c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2]])
+  /** How far each listed particle is from where `before` had it. */
+  const moved = (list: number[], before: number[][]) =>
+    at(list).map((p, q) => Math.hypot(p[0] - before[q][0], p[1] - before[q][1], p[2] - before[q][2]))
+  return { world, hero, cape, c, cols, off, on, at, moved, z: (2 * 59) / 60 }
+}
+
 export function paintRows(k: number): number[] {
   return Array.from({ length: RUN_COLS * RUN_ROWS }, (_, i) => {
     const r = Math.floor(i / RUN_COLS)
