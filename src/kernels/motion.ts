@@ -28,10 +28,13 @@ export const FRAME_PARAMS = 24
  * acts relative to the frame. With every share 0 this moves each particle exactly as if rigidly
  * attached to the frame (plus its own relative motion, turned with the frame); with every share 1
  * only the damping differs from the world-space predict. Inverse mass 0: only prev is recorded.
+ * With `start`, x is recorded there too (where the motion constraints' velocity bound finds it:
+ * one store here saves a pass copying the positions).
  */
 export function predictInFrame(
   pos: Float64Array,
   prev: Float64Array,
+  start: Float64Array | null,
   vel: Float64Array,
   invMass: Float64Array,
   accel: Float64Array | null,
@@ -66,6 +69,11 @@ export function predictInFrame(
     prev[j] = x
     prev[j + 1] = y
     prev[j + 2] = z
+    if (start !== null) {
+      start[j] = x
+      start[j + 1] = y
+      start[j + 2] = z
+    }
     if (invMass[i] === 0) continue
     const rx = x - ox, ry = y - oy, rz = z - oz
     const vx = vel[j], vy = vel[j + 1], vz = vel[j + 2]

@@ -200,7 +200,7 @@ function kernelCost(): void {
       for (const k of cloths) predictPositions(k.pos, k.prev, k.vel, k.c.invMass, null, k.params, k.c.count)
     }],
     ['predict in the frame (predictInFrame)', () => {
-      for (const k of cloths) predictInFrame(k.pos, k.prev, k.vel, k.c.invMass, null, k.params, k.ch.frameParams, k.c.count)
+      for (const k of cloths) predictInFrame(k.pos, k.prev, null, k.vel, k.c.invMass, null, k.params, k.ch.frameParams, k.c.count)
     }],
     ['writeback (updateVelocities)', () => {
       for (const k of cloths) updateVelocities(k.pos, k.prev, k.vel, k.params, k.c.count)

@@ -249,17 +249,18 @@ function resetToReference(c: ClothState, ch: ClothCharacter): void {
 export function predictCharacter(c: ClothState, k: number): boolean {
   const ch = c.character!
   if (k === 0) blendReference(c, ch)
-  if (ch.constrained) {
-    referenceSubstep(c, ch, k, c.substeps)
-    // where each particle starts the substep, for the limits' velocity bound: only where they run
-    if (limitsRun(c, ch, k)) ch.start.set(c.pos) // (same capacity: one memmove, cheaper than a loop over the live particles)
-  }
+  // where each particle starts the substep, for the limits' velocity bound: only where they run
+  const start = ch.constrained && limitsRun(c, ch, k) ? ch.start : null
+  if (ch.constrained) referenceSubstep(c, ch, k, c.substeps)
   const inFrame = ch.inertia
+  // (the predict in the frame records it as it goes; otherwise one memmove, cheaper than a loop
+  // over the live particles at the same capacity)
+  if (start !== null && !inFrame) start.set(c.pos)
   if (inFrame) {
     frameSubstep(c, ch, k, c.substeps)
     const detached = c.detached
     if (detached[0] > 0) swapDetached(c, detached, true)
-    predictInFrame(c.pos, c.prev, c.vel, c.invMass, c.accel, c.params, ch.frameParams, c.count)
+    predictInFrame(c.pos, c.prev, start, c.vel, c.invMass, c.accel, c.params, ch.frameParams, c.count)
     if (detached[0] > 0) {
       // pieces a tear freed from the character move in the world, not in its frame
       swapDetached(c, detached, false)
