@@ -22,11 +22,14 @@ import { createTearWorld, installTearing } from './features/tearing/api'
 import { forgetTearEvents } from './features/tearing/events'
 import { arrayOf, releaseSharedMemory, retainSharedMemory, touchLayout } from './core/shared'
 import { releaseWithWorld, resolveThreadOptions, startThreads } from './threads/bind'
+import { createClothFrame, deferrable } from './world/flight'
 
 /**
  * Installs the cloth plugin on a bitECS world: creates the component stores (Transform, Cloth,
  * Pin) and the per-world state, and registers the lifecycle observers. Everything lives on this
- * world, so two worlds never share a store. Installing twice is a no-op that returns the world.
+ * world, so two worlds never share a store. Installing twice is a no-op that returns the world;
+ * options apply at the first install only, so a second install given any throws a `ClothError`
+ * (it would silently keep the first's settings).
  *
  * @example
  * const world = installClothPlugin(createWorld(), { gravity: [0, -9.81, 0] })
@@ -35,7 +38,16 @@ import { releaseWithWorld, resolveThreadOptions, startThreads } from './threads/
  */
 export function installClothPlugin<W extends object>(world: W, options: ClothPluginOptions = {}): W {
   if (typeof world !== 'object' || world === null) throw new ClothError('world', world, 'must be a bitECS world')
-  if (findClothWorld(world)) return world
+  if (findClothWorld(world)) {
+    if (typeof options !== 'object' || options === null || Object.keys(options).length > 0) {
+      throw new ClothError(
+        'options',
+        options,
+        'apply at the first install only: this world already has the plugin (make a new world for other settings)',
+      )
+    }
+    return world
+  }
   checkObject('options', options)
   const gravity = options.gravity === undefined ? [0, -9.81, 0] : checkVec3('options.gravity', options.gravity)
   checkBoundedArray('options.gravity', gravity, 3, MAX_COORDINATE)
@@ -85,7 +97,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     budget: createBudgetWorld(),
     guard: createGuardWorld(guard),
     tearing: createTearWorld(),
-    frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false, stepping: false },
+    frame: createClothFrame(),
     threads: threads !== null ? startThreadsOrRelease(threads) : null,
   }
   if (state.threads !== null) releaseWithWorld(world, state.threads)
@@ -112,42 +124,50 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
     growStores(state, eid)
     resetTransform(state.components.Transform, eid)
   })
-  observe(w, onRemove(state.transforms.component), (eid: number) => {
-    transformLost(state, eid)
-    for (const cloth of state.cloths) {
+  observe(
+    w,
+    onRemove(state.transforms.component),
+    deferrable(state, (eid: number) => {
+      transformLost(state, eid)
+      for (const cloth of state.cloths) {
+        const pins = cloth.pins.list
+        for (let k = pins.length - 1; k >= 0; k--) {
+          const pin = pins[k]
+          if (Pin.target[pin] === eid && entityExists(w, pin)) removeEntity(w, pin)
+        }
+      }
+    }),
+  )
+  observe(w, onRemove(Pin), deferrable(state, (pin: number) => releasePin(state, pin)))
+  observe(
+    w,
+    onRemove(Cloth),
+    deferrable(state, (eid: number) => {
+      const cloth = Cloth.state[eid]
+      if (!cloth) return
       const pins = cloth.pins.list
       for (let k = pins.length - 1; k >= 0; k--) {
         const pin = pins[k]
-        if (Pin.target[pin] === eid && entityExists(w, pin)) removeEntity(w, pin)
+        if (entityExists(w, pin)) removeEntity(w, pin)
       }
-    }
-  })
-  observe(w, onRemove(Pin), (pin: number) => releasePin(state, pin))
-  observe(w, onRemove(Cloth), (eid: number) => {
-    const cloth = Cloth.state[eid]
-    if (!cloth) return
-    const pins = cloth.pins.list
-    for (let k = pins.length - 1; k >= 0; k--) {
-      const pin = pins[k]
-      if (entityExists(w, pin)) removeEntity(w, pin)
-    }
-    Cloth.state[eid] = undefined
-    // events not yet delivered would name an id another cloth may get next
-    forgetTearEvents(state, eid)
-    forgetResetEvents(state.guard, eid)
-    releaseCharacter(state, cloth)
-    if (cloth.sleep.asleep) {
-      cloth.sleep.asleep = false
-      state.sleep.count--
-    }
-    if (cloth.budget.hasTarget) {
-      cloth.budget.hasTarget = false
-      state.budget.targets--
-    }
-    const i = state.cloths.indexOf(cloth)
-    if (i >= 0) state.cloths.splice(i, 1)
-    touchLayout()
-  })
+      Cloth.state[eid] = undefined
+      // events not yet delivered would name an id another cloth may get next
+      forgetTearEvents(state, eid)
+      forgetResetEvents(state.guard, eid)
+      releaseCharacter(state, cloth)
+      if (cloth.sleep.asleep) {
+        cloth.sleep.asleep = false
+        state.sleep.count--
+      }
+      if (cloth.budget.hasTarget) {
+        cloth.budget.hasTarget = false
+        state.budget.targets--
+      }
+      const i = state.cloths.indexOf(cloth)
+      if (i >= 0) state.cloths.splice(i, 1)
+      touchLayout()
+    }),
+  )
 }
 
 /**

@@ -16,6 +16,7 @@ import { collectClothStep, dispatchClothStep } from './threaded'
 import { refreshFrameMeshes } from '../src/mesh'
 import { refreshFrameProxies } from '../src/proxy'
 import { deliverResets } from '../src/features/guard/step'
+import { landStep } from '../src/world/flight'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -75,6 +76,8 @@ export function startFixedStep(world: object, blocking: boolean): void {
     refreshFrameMeshes(state)
     refreshFrameProxies(state)
   }
+  // removals from here to the step's results wait for them (world/removals.ts)
+  state.frame.inFlight = true
   if (state.threads !== null && dispatchClothStep(state, state.threads, blocking)) return
   state.frame.deferred = true
 }
@@ -113,10 +116,17 @@ export function finishFixedStep(world: object): void {
   // the step is done: listeners (guard resets, tears) may change the world
   f.delivering = true
   try {
-    if (th !== null && th.phase === 1) collectClothStep(state, th)
-    else if (f.deferred) {
-      f.deferred = false
-      runSubsteps(world)
+    const threaded = th !== null && th.phase === 1
+    try {
+      if (threaded) collectClothStep(state, th)
+      else if (f.deferred) {
+        f.deferred = false
+        runSubsteps(world)
+      }
+    } finally {
+      // entities removed while the step was in flight go now, at the same point in every mode
+      // (their cloths' events of this step are dropped with them)
+      landStep(state, threaded)
     }
     f.stepping = false // (the workers ran the guard)
     deliverResets(state) // (the workers' resets; the guard here has delivered its own)

@@ -79,7 +79,11 @@ describe('plugin', () => {
     const world = makeWorld()
     const comps = getClothComponents(world)
     installClothPlugin(world)
+    installClothPlugin(world, {})
     expect(getClothComponents(world)).toBe(comps)
+    // options apply at the first install only: a second install with any names them (it kept the first's, silently)
+    expect(() => installClothPlugin(world, { sleep: false })).toThrow(/options.*first install/)
+    expect(() => installClothPlugin(world, { fixedTimeStep: -1 })).toThrow(ClothError)
     expect(() => stepCloth(createWorld(), 1 / 60)).toThrow(ClothError)
   })
 

@@ -21,7 +21,7 @@ const SCENE = `
 type Entity = number
 declare const world: import('bitecs').World
 declare const hero: Entity, cape: Entity, heroCape: Entity, curtain: Entity, flag: Entity, banner: Entity
-declare const camera: Entity, leftLegBone: Entity, rightLegBone: Entity, chest: Entity
+declare const camera: Entity, cameraEntity: Entity, leftLegBone: Entity, rightLegBone: Entity, chest: Entity
 declare const positions: number[], indices: number[], uvs: number[]
 declare const heroPosition: [number, number, number], heroRotation: [number, number, number, number]
 declare const options: import('bitecs-cloth').CreateClothOptions

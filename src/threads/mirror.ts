@@ -18,6 +18,7 @@ import { DEFAULT_SLEEP, createSleepWorld } from '../features/sleep/api'
 import { createGuardWorld, defaultGuardSettings } from '../features/guard/api'
 import { createTearWorld } from '../features/tearing/api'
 import { readClothHandoff, readWorldHandoff } from './handoff'
+import { createClothFrame } from '../world/flight'
 
 /**
  * A worker's copy of a world: a `ClothWorldState` whose arrays are the main thread's shared ones and
@@ -68,7 +69,7 @@ export function createWorkerWorld(): WorkerWorld {
     grab: createGrabWorld(),
     guard: createGuardWorld(defaultGuardSettings(250)),
     tearing: createTearWorld(),
-    frame: { open: false, steps: 0, next: 0, overflow: false, deferred: false, ending: false, delivering: false, stepping: false },
+    frame: createClothFrame(),
     threads: null,
   }
   // the main thread compiles the zones every step before the workers read them

@@ -424,6 +424,19 @@ export interface ClothFrame {
    * substep plan are set up, so cloths may not change (a scheduler running the phases by hand).
    */
   stepping: boolean
+  /**
+   * A started fixed step runs on workers or waits for its finish on this thread: removal observers
+   * queue their callbacks (`removals`, with the entity ids in `removed`) until its results are in
+   * (see world/removals.ts).
+   */
+  inFlight: boolean
+  removals: ((eid: number) => void)[]
+  removed: number[]
+  /**
+   * Stores the workers write, grown in flight: each grown store, then a copy of its fields as the
+   * workers have them (see world/flight.ts).
+   */
+  stale: Record<string, unknown>[]
 }
 
 /** Per-world plugin state, kept on the world object under a symbol. */

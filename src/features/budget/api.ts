@@ -7,6 +7,7 @@ import { wakeClothState } from '../../world/wake'
 import { adoptReference, releaseReference, thaw } from './freeze'
 import { applyConfig, configCost } from './levels'
 import { Q_FACTOR, Q_MEASURED, Q_PREDICTED, type BudgetWorld, type ClothBudget } from './types'
+import { deferrable } from '../../world/flight'
 
 /**
  * Quality budgets and level of detail.
@@ -327,10 +328,14 @@ export function getClothBudgetStats(world: object): ClothBudgetStats {
  * Transform is dropped; pins that come and go change what carries a frozen cloth (see `freeze.ts`).
  */
 export function installBudget(world: object, state: ClothWorldState): void {
-  observe(world as never, onRemove(state.transforms.component), (eid: number) => {
-    const b = state.budget.settings
-    if (b !== null && b.viewer === eid) b.viewer = -1
-  })
+  observe(
+    world as never,
+    onRemove(state.transforms.component),
+    deferrable(state, (eid: number) => {
+      const b = state.budget.settings
+      if (b !== null && b.viewer === eid) b.viewer = -1
+    }),
+  )
   observe(world as never, onAdd(state.components.Pin), (pin: number) => adoptReference(state, pin))
-  observe(world as never, onRemove(state.components.Pin), (pin: number) => releaseReference(state, pin))
+  observe(world as never, onRemove(state.components.Pin), deferrable(state, (pin: number) => releaseReference(state, pin)))
 }

@@ -13,6 +13,7 @@ import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/mot
 import { blankCharacter, blankSkin, unconstrained } from './state'
 import { adoptPinFrame, backdate, dropPinFrame, defaultFrame, rebindRest, setFrame, useDefaultFrame } from './frames'
 import { bindRigid, identityPose, lastReference, reserveBoneScratch, restNormals, trackedPose } from './reference'
+import { deferrable } from '../../world/flight'
 import {
   M_BIND,
   M_POSE,
@@ -374,28 +375,32 @@ export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
  */
 export function installCharacter(world: object, state: ClothWorldState): void {
   observe(world as never, onAdd(state.components.Pin), (pin: number) => adoptPinFrame(state, pin))
-  observe(world as never, onRemove(state.components.Pin), (pin: number) => dropPinFrame(state, pin))
-  observe(world as never, onRemove(state.transforms.component), (eid: number) => {
-    for (const c of state.cloths) {
-      const ch = c.character
-      if (ch === null) continue
-      if (ch.frame === eid && ch.frameSlot >= 0) {
-        releaseAnchor(state, c, ch.frameSlot)
-        untrackEntity(state, eid)
-        ch.frameSlot = -1
-        ch.frame = 0
+  observe(world as never, onRemove(state.components.Pin), deferrable(state, (pin: number) => dropPinFrame(state, pin)))
+  observe(
+    world as never,
+    onRemove(state.transforms.component),
+    deferrable(state, (eid: number) => {
+      for (const c of state.cloths) {
+        const ch = c.character
+        if (ch === null) continue
+        if (ch.frame === eid && ch.frameSlot >= 0) {
+          releaseAnchor(state, c, ch.frameSlot)
+          untrackEntity(state, eid)
+          ch.frameSlot = -1
+          ch.frame = 0
+        }
+        const skin = ch.skin
+        if (skin === null) continue
+        for (let b = 0; b < skin.bones.length; b++) {
+          if (skin.bones[b] !== eid || skin.slots[b] < 0) continue
+          releaseAnchor(state, c, skin.slots[b])
+          untrackEntity(state, eid)
+          skin.slots[b] = -1
+          skin.bones[b] = 0
+        }
       }
-      const skin = ch.skin
-      if (skin === null) continue
-      for (let b = 0; b < skin.bones.length; b++) {
-        if (skin.bones[b] !== eid || skin.slots[b] < 0) continue
-        releaseAnchor(state, c, skin.slots[b])
-        untrackEntity(state, eid)
-        skin.slots[b] = -1
-        skin.bones[b] = 0
-      }
-    }
-  })
+    }),
+  )
 }
 
 // ---------------------------------------------------------------------------------------------

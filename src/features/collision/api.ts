@@ -11,6 +11,7 @@ import { releaseCollider } from './colliders'
 import { allocateSelfCollision, releaseSelfCollision } from './selfCollision'
 import type { ClothCollision, CollisionWorld } from './types'
 import { newArray } from '../../core/shared'
+import { deferrable } from '../../world/flight'
 
 export function createCollisionWorld(capacity: number): CollisionWorld<ClothState> {
   return {
@@ -35,29 +36,41 @@ export function createCollisionWorld(capacity: number): CollisionWorld<ClothStat
 export function installCollision(world: object, state: ClothWorldState): void {
   const cw = state.collision
   const w = world as never
-  observe(w, onRemove(state.components.Cloth), (eid: number) => {
-    for (let k = 0; k < cw.selfCloths.length; k++) {
-      if (cw.selfCloths[k].eid === eid) releaseSelfCollision(state, cw.selfCloths[k])
-    }
-  })
+  observe(
+    w,
+    onRemove(state.components.Cloth),
+    deferrable(state, (eid: number) => {
+      for (let k = 0; k < cw.selfCloths.length; k++) {
+        if (cw.selfCloths[k].eid === eid) releaseSelfCollision(state, cw.selfCloths[k])
+      }
+    }),
+  )
   observe(w, onAdd(cw.SelfCollision), (eid: number) => {
     const c = state.components.Cloth.state[eid]
     if (c) allocateSelfCollision(state, c)
   })
-  observe(w, onRemove(cw.SelfCollision), (eid: number) => {
-    const c = state.components.Cloth.state[eid]
-    if (c) releaseSelfCollision(state, c)
-  })
-  observe(w, onRemove(cw.Collider), (eid: number) => releaseCollider(state, eid))
+  observe(
+    w,
+    onRemove(cw.SelfCollision),
+    deferrable(state, (eid: number) => {
+      const c = state.components.Cloth.state[eid]
+      if (c) releaseSelfCollision(state, c)
+    }),
+  )
+  observe(w, onRemove(cw.Collider), deferrable(state, (eid: number) => releaseCollider(state, eid)))
   // (the Transform's observers run before any Collider query's, as the Transform store is older:
   // when the whole entity is removed, removing its Collider here notifies each of those once)
-  observe(w, onRemove(state.transforms.component), (eid: number) => {
-    const C = cw.Collider
-    for (let k = cw.colliders.length - 1; k >= 0; k--) {
-      const e = cw.colliders[k]
-      if (C.body[e] === eid && entityExists(w, e) && hasComponent(w, e, C)) removeComponent(w, e, C)
-    }
-  })
+  observe(
+    w,
+    onRemove(state.transforms.component),
+    deferrable(state, (eid: number) => {
+      const C = cw.Collider
+      for (let k = cw.colliders.length - 1; k >= 0; k--) {
+        const e = cw.colliders[k]
+        if (C.body[e] === eid && entityExists(w, e) && hasComponent(w, e, C)) removeComponent(w, e, C)
+      }
+    }),
+  )
 }
 
 /** A cloth's collision state: layer 1, every mask bit, the material's thickness and friction (−1: the material's). */

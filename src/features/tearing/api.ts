@@ -7,6 +7,7 @@ import { wakeClothState } from '../../world/wake'
 import { MAX_MIN_PIECE, reserve } from './reserve'
 import { EV, type TearWorld } from './types'
 import { newArray } from '../../core/shared'
+import { deferrable } from '../../world/flight'
 
 /**
  * Tearing by vertex splitting, grown as cracks.
@@ -87,10 +88,14 @@ export function createTearWorld(): TearWorld {
 /** Registers the tearing observers. Called by `installClothPlugin`. */
 export function installTearing(world: object, state: ClothWorldState): void {
   // removing Tearable stops tearing; the split mesh stays as it is
-  observe(world as never, onRemove(state.components.Tearable), (eid: number) => {
-    const c = state.components.Cloth.state[eid]
-    if (c && c.tear) c.tear.enabled = false
-  })
+  observe(
+    world as never,
+    onRemove(state.components.Tearable),
+    deferrable(state, (eid: number) => {
+      const c = state.components.Cloth.state[eid]
+      if (c && c.tear) c.tear.enabled = false
+    }),
+  )
 }
 
 /**

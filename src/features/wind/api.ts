@@ -24,6 +24,7 @@ import { setTransform } from '../../world/transform'
 import { compileZones, ensureClothWind } from './step'
 import type { WindShape, WindWorld } from './types'
 import { arrayOf, newArray, touchLayout } from '../../core/shared'
+import { deferrable } from '../../world/flight'
 
 /** Options of `createWindZone` (and, all optional, of `setWindZone`). */
 export interface WindZoneOptions {
@@ -91,24 +92,32 @@ export function installWind(world: object, state: ClothWorldState): void {
     const c = state.components.Cloth.state[eid]
     if (c && state.wind.zones.length > 0) ensureClothWind(c)
   })
-  observe(w, onRemove(state.components.WindZone), (eid: number) => {
-    const zones = state.wind.zones
-    const i = zones.indexOf(eid)
-    if (i < 0) return
-    zones.splice(i, 1)
-    touchLayout()
-    untrackEntity(state, eid)
-    state.wind.compiled = false
-    if (zones.length === 0) { for (const c of state.cloths) c.accel = null }
-  })
+  observe(
+    w,
+    onRemove(state.components.WindZone),
+    deferrable(state, (eid: number) => {
+      const zones = state.wind.zones
+      const i = zones.indexOf(eid)
+      if (i < 0) return
+      zones.splice(i, 1)
+      touchLayout()
+      untrackEntity(state, eid)
+      state.wind.compiled = false
+      if (zones.length === 0) { for (const c of state.cloths) c.accel = null }
+    }),
+  )
   // a zone whose entity loses its Transform is removed, as if its entity were (it would blow from
   // a stale pose); the Transform's observers run before the WindZone's, so removing the whole
   // entity still notifies each WindZone observer once
-  observe(w, onRemove(state.transforms.component), (eid: number) => {
-    if (state.wind.zones.indexOf(eid) >= 0 && hasComponent(w, eid, state.components.WindZone)) {
-      removeComponent(w, eid, state.components.WindZone)
-    }
-  })
+  observe(
+    w,
+    onRemove(state.transforms.component),
+    deferrable(state, (eid: number) => {
+      if (state.wind.zones.indexOf(eid) >= 0 && hasComponent(w, eid, state.components.WindZone)) {
+        removeComponent(w, eid, state.components.WindZone)
+      }
+    }),
+  )
 }
 
 /**

@@ -1,0 +1,74 @@
+import type { ClothFrame, ClothWorldState } from './state'
+
+/**
+ * What the game does while a fixed step is in flight: between `beginClothStep` and `endClothStep`,
+ * while the step's substeps run on workers, or wait for `endClothStep` on this thread
+ * (`ClothFrame.inFlight`, from the sync phase to the step's results).
+ *
+ * Removals. bitECS's `removeEntity` and `removeComponent` cannot be refused, and a game may call
+ * them between `beginClothStep` and `endClothStep` (a character killed mid-frame). The plugin's removal observers are wrapped by
+ * `deferrable`: in flight, their callbacks are queued, and `landStep` runs them in arrival order
+ * when the step's results are in, before its listeners. The step in flight thus runs on the world
+ * its sync phase saw, in every mode: workers never see a pin, collider or cloth go at a moment that
+ * depends on timing.
+ *
+ * Growth. An entity spawned past the stores' capacity grows them at once (its Transform is written
+ * there); the workers keep writing the stores they were given (pin blends, tear counts), so
+ * `growStores` keeps those as they were (`ClothFrame.stale`) and `landStep` copies them over the
+ * grown ones once workers ran the step.
+ */
+export function deferrable(state: ClothWorldState, fn: (eid: number) => void): (eid: number) => void {
+  return (eid: number) => {
+    const f = state.frame
+    if (!f.inFlight) {
+      fn(eid)
+      return
+    }
+    f.removals.push(fn)
+    f.removed.push(eid)
+  }
+}
+
+/**
+ * Ends the step's flight once its results are in: the stores the workers wrote (`threaded`) carried
+ * over into any grown ones, then the queued removal callbacks (those they cause run at once).
+ */
+export function landStep(state: ClothWorldState, threaded: boolean): void {
+  const f = state.frame
+  f.inFlight = false
+  const stale = f.stale
+  for (let s = 0; s < stale.length; s += 2) {
+    const grown = stale[s], old = stale[s + 1]
+    if (!threaded) continue
+    for (const key of Object.keys(old)) {
+      const from = old[key], to = grown[key]
+      if (ArrayBuffer.isView(from) && ArrayBuffer.isView(to) && from !== to) (to as Float64Array).set(from as Float64Array)
+    }
+  }
+  stale.length = 0
+  const fns = f.removals, eids = f.removed
+  try {
+    for (let q = 0; q < fns.length; q++) fns[q](eids[q])
+  } finally {
+    fns.length = 0
+    eids.length = 0
+  }
+}
+
+/** A world's frame state between frames. */
+export function createClothFrame(): ClothFrame {
+  return {
+    open: false,
+    steps: 0,
+    next: 0,
+    overflow: false,
+    deferred: false,
+    ending: false,
+    delivering: false,
+    stepping: false,
+    inFlight: false,
+    removals: [],
+    removed: [],
+    stale: [],
+  }
+}
