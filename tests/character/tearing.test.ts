@@ -6,6 +6,7 @@ import { LIMITS, L_MAX } from '../../src/kernels/motion'
 import {
   createCloth,
   getClothReference,
+  getClothStats,
   getClothState,
   getClothStretch,
   getClothTearCount,
@@ -147,4 +148,18 @@ describe('a piece torn off a character cloth, lying on the ground', () => {
       expect(Math.max(...s.moved(s.off, before))).toBeLessThan(0.02)
     })
   }
+  it("stays where it lies when its character teleports 10 m with teleport mode 'reset', while the cape goes onto its reference", () => {
+    const s = tornCapeOnGround(0.5)
+    setClothInertia(s.world, s.cape, { frame: s.hero, linear: 0.5, angular: 0.5, centrifugal: 0.5, teleport: { mode: 'reset' } })
+    expect(s.c.detached[0]).toBeGreaterThan(0)
+    const off = s.at(s.off), on = s.at(s.on)
+    setTransform(s.world, s.hero, [0, 0, s.z + 10])
+    stepCloth(s.world, DT)
+    // (all 38 were put on the cape's reference pose 10 m away: moved up to 11.8 m)
+    expect(Math.max(...s.moved(s.off, off))).toBeLessThan(0.02)
+    // the piece still on the collar went with the character: 10 m along z
+    const carried = s.at(s.on).map((p, q) => p[2] - on[q][2])
+    expect(Math.min(...carried)).toBeGreaterThan(9)
+    expect(getClothStats(s.world).guardResets).toBe(0)
+  })
 })

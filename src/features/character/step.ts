@@ -217,10 +217,16 @@ function resyncBones(state: ClothWorldState, ch: ClothCharacter, all: boolean): 
   }
 }
 
-/** Teleport 'reset': every particle on its reference at the step's start, at rest in the frame. */
+/**
+ * Teleport 'reset': every particle on its reference at the step's start, at rest in the frame;
+ * pieces a tear freed from the character (`ClothState.detached`) stay where they lie, as they do
+ * in a carry.
+ */
 function resetToReference(c: ClothState, ch: ClothCharacter): void {
   blendReference(c, ch)
   referenceSubstep(c, ch, -1, c.substeps) // (the reference at the step's start)
+  const detached = c.detached
+  if (detached[0] > 0) swapDetached(c, detached, true)
   placeOnReference(c.pos, null, c.count, ch.ref, ch.refParams, c.params, null)
   const w = ch.work
   const { pos, prev, vel } = c
@@ -235,6 +241,16 @@ function resetToReference(c: ClothState, ch: ClothCharacter): void {
     vel[j] = vx + ay * rz - az * ry
     vel[j + 1] = vy + az * rx - ax * rz
     vel[j + 2] = vz + ax * ry - ay * rx
+  }
+  if (detached[0] > 0) {
+    // (their positions and velocities back; prev where they are, as a carry leaves it)
+    swapDetached(c, detached, false)
+    for (let q = 1; q <= detached[0]; q++) {
+      const j = 3 * detached[q]
+      prev[j] = pos[j]
+      prev[j + 1] = pos[j + 1]
+      prev[j + 2] = pos[j + 2]
+    }
   }
   c.version++
 }
