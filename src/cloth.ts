@@ -257,14 +257,15 @@ function inverseMasses(topology: ClothTopology, o: CommonOptions, masses: ArrayL
       continue
     }
     // a particle lighter than a nanogram (or a density or mass so small that 1/m overflows) is
-    // rejected: its inverse mass would turn the constraint sums into Infinity and NaN
-    if (!(invMass[i] <= MAX_INV_MASS)) {
+    // rejected: its inverse mass would turn the constraint sums into Infinity and NaN; one heavier
+    // than 1e12 kg too (no cloth's, and past 1e300 kg its own snapshot could not be restored)
+    if (!(invMass[i] <= MAX_INV_MASS && invMass[i] >= 1 / MAX_INV_MASS)) {
       const m = masses ? masses[i] : topology.masses[i] * scale
       const arg = masses ? `options.masses[${i}]` : o.mass !== undefined ? 'options.mass' : 'options.material.density'
       throw new ClothError(
         arg,
         masses ? m : o.mass ?? o.material.density,
-        `gives particle ${i} a mass of ${m} kg; particles need at least ${1 / MAX_INV_MASS} kg`,
+        `gives particle ${i} a mass of ${m} kg; particles need ${1 / MAX_INV_MASS} to ${MAX_INV_MASS} kg`,
       )
     }
   }
