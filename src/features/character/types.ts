@@ -79,9 +79,10 @@ export interface ClothMotionConstraints {
    * integer ≥ 1; default 1: every substep). Each step still ends within the limits; between two
    * runs a particle may drift past them by what it travels meanwhile, and what a run takes back
    * enters its velocity spread over the substeps since the last. Cheaper: the 64-cape benchmark
-   * costs about 1.2× the crowd without character cloth at every substep, 1.11× at 4 and 1.09×
-   * at 8 (its step's last substep only; README, Character cloth). A cloth with a drive runs its
-   * constraints at every substep whatever this says.
+   * (inertia 0.5 as well) costs 1.22–1.28× the crowd without character cloth at every substep,
+   * 1.13–1.16× at 4 and 1.10–1.12× at 8 (its step's last substep only; README, Capes and
+   * character cloth, Cost). A cloth with a drive runs its constraints at every substep whatever
+   * this says.
    */
   every?: number
 }
