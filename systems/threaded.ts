@@ -60,10 +60,34 @@ export function dispatchClothStep(state: ClothWorldState, th: ClothThreads, bloc
       if (th.verify) th.verifyBefore.set(b.slot, clothFingerprint(b.cloth))
     }
   }
+  keepFinishedReadings(state, th)
   th.step++
   startWorkers(th.pool, th.step, th.layoutSeq)
   th.phase = 1
   return true
+}
+
+/**
+ * The tear counts and grab data the game reads while the workers step (`ClothThreads.finishedTears`,
+ * `finishedGrabs`): the last finished step's, as without workers, where the step waits for its end.
+ * Grown on demand (a new grabbing cloth, the stores' growth), reused every step.
+ */
+function keepFinishedReadings(state: ClothWorldState, th: ClothThreads): void {
+  const tears = state.components.Tearable.tears
+  if (th.finishedTears.length < tears.length) th.finishedTears = new Uint32Array(tears.length)
+  th.finishedTears.set(tears)
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    const data = c.grab.data
+    if (c.grab.count === 0) continue
+    let kept = th.finishedGrabs.get(c)
+    if (kept === undefined || kept.length < data.length) {
+      kept = new Float64Array(data.length)
+      th.finishedGrabs.set(c, kept)
+    }
+    kept.set(data)
+  }
 }
 
 /**

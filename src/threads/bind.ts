@@ -92,6 +92,8 @@ export function startThreads(count: number, url: URL | string, inlineNs: number)
     verifyText: [],
     verifyBefore: new Map(),
     adopt: new WeakMap(),
+    finishedTears: new Uint32Array(0),
+    finishedGrabs: new WeakMap(),
   }
 }
 

@@ -538,6 +538,13 @@ export interface ClothThreads {
   verifyText: Int32Array[]
   /** Shared copies of arrays found outside shared memory (see `src/threads/layout.ts`). */
   adopt: WeakMap<object, object>
+  /**
+   * What `getClothTearCount` and `getGrabForce` read while a step is with the workers (which write
+   * the live ones): the tear counts and each grabbing cloth's grab data as the last finished step
+   * left them, copied when the step is handed over (main thread only).
+   */
+  finishedTears: Uint32Array
+  finishedGrabs: WeakMap<ClothState, Float64Array>
 }
 
 /** Symbol under which the plugin keeps its state on a world. */

@@ -13,12 +13,16 @@ import {
   endClothStep,
   endClothStepAsync,
   getClothMesh,
+  getClothTearCount,
+  getGrabForce,
+  grabParticle,
   pinRow,
   setTransform,
   stepCloth,
   updateRenderProxy,
 } from '../../src/index'
 import { createClothMesh, createProxyMesh, updateClothGeometry, updateProxyGeometry } from '../../src/three/index'
+import { getClothWorld } from '../../src/world/access'
 import { hashBytes } from '../helpers'
 import { sheetOnHands, threadedWorld } from './scene'
 
@@ -125,4 +129,39 @@ describe('reads between beginClothStep and endClothStep', () => {
       }
     })
   }
+})
+
+describe('counters read between begin and end', () => {
+  /** A sheet torn by two hands while a grab pulls it: what getClothTearCount and getGrabForce give mid-frame, per frame. */
+  function run(threads: number): string[] {
+    const world = threadedWorld(threads)
+    const th = getClothWorld(world).threads
+    if (th !== null) th.verify = false
+    const reads: string[] = []
+    try {
+      const { hands, sheet } = sheetOnHands(world, 0.05)
+      const hand = grabParticle(world, sheet, 60, [3, 1.5, 0.3])
+      for (let f = 0; f < 60; f++) {
+        const spread = Math.min(0.9, 0.02 * f)
+        setTransform(world, hands[0], [2.5 - spread, 2, 0])
+        setTransform(world, hands[1], [3.5 + spread, 2, 0])
+        const before = `${getClothTearCount(world, sheet)} ${Array.from(getGrabForce(world, hand)).join(' ')}`
+        beginClothStep(world, 1 / 60)
+        // the game reads them while the workers step: the last finished step's, as without workers
+        const mid = `${getClothTearCount(world, sheet)} ${Array.from(getGrabForce(world, hand)).join(' ')}`
+        expect(mid).toBe(before)
+        endClothStep(world)
+        reads.push(mid)
+      }
+      expect(getClothTearCount(world, sheet)).toBeGreaterThan(0)
+    } finally {
+      disposeClothWorld(world)
+    }
+    return reads
+  }
+
+  it('getClothTearCount and getGrabForce give the last finished step, the same with 0 and 2 workers', () => {
+    const plain = run(0)
+    expect(run(2)).toEqual(plain)
+  })
 })

@@ -160,7 +160,10 @@ export function getGrabForce(world: object, grab: number, out: vec3 | number[] =
   const g = indexOf(c.grab, grab)
   checkOut('out', out, 3)
   const o = GRAB_STRIDE * g + G_FORCE
-  for (let j = 0; j < 3; j++) out[j] = c.grab.data[o + j]
+  // (while the workers step, the last finished step's force: what a world without them gives)
+  const th = getClothWorld(world).threads
+  const data = th !== null && th.phase === 1 ? th.finishedGrabs.get(c)! : c.grab.data
+  for (let j = 0; j < 3; j++) out[j] = data[o + j]
   return out
 }
 

@@ -154,5 +154,8 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
 export function getClothTearCount(world: object, cloth: number): number {
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
-  return c.tear ? state.components.Tearable.tears[cloth] : 0
+  if (!c.tear) return 0
+  // (while the workers step, the last finished step's count: what a world without them gives)
+  const th = state.threads
+  return (th !== null && th.phase === 1 ? th.finishedTears : state.components.Tearable.tears)[cloth]
 }
