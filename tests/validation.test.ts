@@ -76,7 +76,10 @@ describe('input validation gaps, closed', () => {
     // too heavy: past 1e300 kg a cloth's own snapshot could not be restored (its inverse masses under 1e-300)
     rejects(() => createCloth(world, { ...sheet, mass: 1e305 }), 'options.mass')
     rejects(() => createCloth(world, { ...sheet, material: defineMaterial({ density: 1e305 }) }), 'options.material.density')
-    rejects(() => createClothFromMesh(world, { positions: [0, 0, 0, 1, 0, 0, 0, 1, 0], indices: [0, 1, 2], masses: [1, 1e301, 1] }), 'options.masses[1]')
+    rejects(
+      () => createClothFromMesh(world, { positions: [0, 0, 0, 1, 0, 0, 0, 1, 0], indices: [0, 1, 2], masses: [1, 1e301, 1] }),
+      'options.masses[1]',
+    )
   })
 
   it('options bags that are not objects', () => {
