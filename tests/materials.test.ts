@@ -96,7 +96,7 @@ describe('triangulations (documented in the README: Materials and accuracy)', ()
     for (let f = 0; f < 400; f++) stepCloth(world, 1 / 60)
     return 1 - lowestY(world, cloth)
   }
-  it('a grid as a mesh sags as the grid sheet; an irregular mesh 10–25 % less', () => {
+  it('a grid as a mesh sags as the grid sheet; an irregular mesh 12–19 % less (measured 14–16 %)', () => {
     const grid = buildGridMesh({ width: 1, height: 1, resolution: 16 })
     const asMesh = { positions: Array.from(grid.positions), indices: Array.from(grid.indices) }
     const reference = sag(asMesh)
@@ -119,9 +119,10 @@ describe('triangulations (documented in the README: Materials and accuracy)', ()
         irregular.map((r) => r.toFixed(3)).join(', ')
       }`,
     )
+    // measured 0.854, 0.836 and 0.857: 14–16 % less (README)
     for (const r of irregular) {
-      expect(r).toBeGreaterThan(0.75)
-      expect(r).toBeLessThan(0.9)
+      expect(r).toBeGreaterThan(0.81)
+      expect(r).toBeLessThan(0.88)
     }
   })
 })

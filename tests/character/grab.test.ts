@@ -47,7 +47,7 @@ describe('a hand on the demo cape of a running character', () => {
   // A running cape is chaotic: which edge a hand overstretches depends on the moment it grabs, and
   // a rounding anywhere moves each moment's result by tens of percent (one moment went from 38 to
   // 62 % when a bind stopped rounding the rest shape by 1e-8 m). So the claim is over 12 moments.
-  it("grabbed at 12 moments of the run: with the demo's grip (the cape's weight) the worst edge stretches a median under 45 %, at most 70 %; with the default grip (twice that) under 70 %, at most 85 %", () => {
+  it("grabbed at 12 moments of the run: with the demo's grip (the cape's weight) the worst edge stretches a median under 43 %, at most 70 %; with the default grip (twice that) under 70 %, at most 85 %", () => {
     const starts = Array.from({ length: 12 }, (_, i) => 1.5 + 0.25 * i)
     const demo = starts.map((t) => stretchUnderHand(t, 1))
     const strong = starts.map((t) => stretchUnderHand(t, 2))
@@ -57,8 +57,10 @@ describe('a hand on the demo cape of a running character', () => {
       } %`,
     )
     const median = (a: number[]) => [...a].sort((x, y) => x - y)[a.length >> 1]
-    // before particles at their limit weighed more in the solve: 58–73 % and 84–121 % (4 moments)
-    expect(median(demo)).toBeLessThan(0.45)
+    // before particles at their limit weighed more in the solve: 58–73 % and 84–121 % (4 moments).
+    // Measured: medians 37 and 61 %, at most 41 and 75 % (README). The medians are bound near their
+    // figures; a single moment moves by tens of percent with any rounding, so the maxima keep room
+    expect(median(demo)).toBeLessThan(0.43)
     expect(Math.max(...demo)).toBeLessThan(0.7)
     expect(median(strong)).toBeLessThan(0.7)
     expect(Math.max(...strong)).toBeLessThan(0.85)

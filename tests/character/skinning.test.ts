@@ -61,7 +61,7 @@ function lbs(rest: Float64Array, joints: number[], weights: number[], bind: mat4
 const pose = (p: vec3 | number[], q: quat) => mat4.fromRotationTranslation(mat4.create(), q, p as vec3)
 
 describe('skinned reference', () => {
-  it('a strip bound to two bones with max distance 0 follows the linear-blend-skinned pose within 1 mm while one bone turns 90°', () => {
+  it('a strip bound to two bones with max distance 0 follows the linear-blend-skinned pose within 1 µm while one bone turns 90°', () => {
     const { world, bones, cloth, rest, joints, weights } = strip()
     setClothSkinning(world, cloth, { bones, joints, weights })
     setClothMotionConstraints(world, cloth, { maxDistance: 0 })
@@ -81,7 +81,7 @@ describe('skinned reference', () => {
         moved.toFixed(3)
       } m`,
     )
-    expect(worst).toBeLessThan(0.001)
+    expect(worst).toBeLessThan(1e-6) // measured 4.7e-5 mm: float32 rounding of the reference
     expect(moved).toBeGreaterThan(0.6) // the tip swung up (0.5 m arm turned 90°: 0.71 m)
     expect(allFinite(world, cloth)).toBe(true)
   })

@@ -243,7 +243,15 @@ describe('a hand holding the cape across a 10 m jump of its character', () => {
       )
       expect(framed.stretch).toBeLessThan(pinned.stretch + 0.02)
       expect(framed.speed).toBeLessThan(pinned.speed + 0.5)
-      if (mode === 'keep') expect(framed.stretch).toBeLessThan(0.15) // (as without the jump: 8.3 %)
+      // measured (README), pinned or not: 'keep' 8.3 % and 0.20 m/s at the hem, as without the jump;
+      // 'reset' 44 % and 7.8 m/s, the hand pulling the hem back from the reference
+      const [stretch, speed] = mode === 'keep' ? [0.083, 0.2] : [0.444, 7.81]
+      for (const r of [pinned, framed]) {
+        expect(r.stretch).toBeGreaterThan(0.85 * stretch)
+        expect(r.stretch).toBeLessThan(1.15 * stretch)
+        expect(r.speed).toBeGreaterThan(0.85 * speed)
+        expect(r.speed).toBeLessThan(1.15 * speed)
+      }
     })
   }
 })

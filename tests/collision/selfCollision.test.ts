@@ -143,7 +143,7 @@ describe('self-collision', () => {
     expect(run()).toBe(run())
   })
 
-  it('a cape heaped under its crouching character (0.8 m of it below its pin row) moves under 2.5 m/s rms with edges under 3.5× long (it boiled at 4.4 m/s, 8× long); at 0.35 × spacing it settles (under 0.5 m/s)', () => {
+  it('a cape heaped under its crouching character (0.8 m of it below its pin row) moves under 1.35 m/s rms with edges under 1.08× long (it boiled at 4.4 m/s, 8× long); at 0.35 × spacing it settles (under 0.14 m/s)', () => {
     // a 0.5 × 1 m cotton cape (12 × 24) pinned at its top row to a hero on the ground, who
     // crouches 1.2 m in 2 s: largest rms speed and edge stretch over the 1–4 s after
     const heap = (thickness?: number) => {
@@ -179,11 +179,13 @@ describe('self-collision', () => {
         thin.rms.toFixed(2)
       } m/s, ${(100 * thin.stretch).toFixed(0)} %`,
     )
-    // before the clamp left the solve's corrections alone: 4.4 m/s and 707 % (edges 8× their rest length)
-    expect(spaced.rms).toBeLessThan(2.5)
-    expect(spaced.stretch).toBeLessThan(2.5)
-    expect(thin.rms).toBeLessThan(0.5)
-    expect(thin.stretch).toBeLessThan(0.6)
+    // before the clamp left the solve's corrections alone: 4.4 m/s and 707 % (edges 8× their rest length).
+    // Measured (README): 1.12 m/s and 5.8 %; at 0.35 × spacing 0.12 m/s and 31 %. A heap is chaotic:
+    // bound about 20 % above
+    expect(spaced.rms).toBeLessThan(1.35)
+    expect(spaced.stretch).toBeLessThan(0.08)
+    expect(thin.rms).toBeLessThan(0.14)
+    expect(thin.stretch).toBeLessThan(0.38)
   })
 
   it('rejects bad input with ClothError', () => {

@@ -27,19 +27,25 @@ describe('a tearing curtain under thrown balls', () => {
     )
   }, 120_000)
 
-  it('every throw tears while a quarter of the curtain still hangs', () => {
+  it('every throw tears while a quarter of the curtain still hangs: 4–45 tears a throw', () => {
     let before = total
     for (const [k, r] of throws.entries()) {
-      if (before < total / 4) break
-      expect(r.tears, `throw ${k + 1}`).toBeGreaterThan(0)
+      // measured 4 to 45 (README)
+      expect(r.tears, `throw ${k + 1}`).toBeLessThanOrEqual(55)
+      if (before < total / 4) continue
+      expect(r.tears, `throw ${k + 1}`).toBeGreaterThanOrEqual(3)
       before = r.hanging
     }
   })
 
-  it('no throw cuts free a piece of fewer than 12 triangles: no confetti, anywhere', () => {
+  it('no throw cuts free a piece of fewer than 12 triangles: no confetti, anywhere; falling pieces hold 50 to 660', () => {
     for (const [k, r] of throws.entries()) {
       expect(r.smallest, `throw ${k + 1}`).toBeGreaterThanOrEqual(12)
-      for (const n of r.fallen) expect(n, `throw ${k + 1}`).toBeGreaterThanOrEqual(12)
+      // measured 50 to 660 triangles (README)
+      for (const n of r.fallen) {
+        expect(n, `throw ${k + 1}`).toBeGreaterThanOrEqual(40)
+        expect(n, `throw ${k + 1}`).toBeLessThanOrEqual(800)
+      }
     }
   })
 
@@ -54,8 +60,13 @@ describe('a tearing curtain under thrown balls', () => {
   })
 
   it('the curtain comes down over several throws, not in one or two', () => {
-    // after two throws nearly all of it still hangs
-    expect(throws[1].hanging).toBeGreaterThan(0.9 * total)
+    // measured (README): after two throws all of it hangs, after three 65 %, after seven 40 %,
+    // after twelve 10 %. Tearing is chaotic; each share is bound within about 10 points
+    expect(throws[1].hanging).toBeGreaterThan(0.95 * total)
+    expect(throws[2].hanging).toBeGreaterThan(0.55 * total)
+    expect(throws[2].hanging).toBeLessThan(0.75 * total)
+    expect(throws[6].hanging).toBeGreaterThan(0.3 * total)
+    expect(throws[6].hanging).toBeLessThan(0.5 * total)
     // it comes down piece by piece: no throw brings down more than half of it
     let before = total
     for (const r of throws) {
@@ -63,7 +74,7 @@ describe('a tearing curtain under thrown balls', () => {
       before = r.hanging
     }
     // and within a dozen throws most of it is down
-    expect(throws[throws.length - 1].hanging).toBeLessThan(total / 4)
+    expect(throws[throws.length - 1].hanging).toBeLessThan(0.15 * total)
   })
 
   it('is deterministic: the same throws tear the same mesh, byte for byte', () => {

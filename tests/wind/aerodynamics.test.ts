@@ -113,8 +113,9 @@ describe('aerodynamics', () => {
     expect(settled[0]).toBeGreaterThan(0)
     const ratio = settled[1] / settled[0]
     console.log(`flag drag, settled and flapping, 6 → 12 m/s: ×${ratio.toFixed(2)} (speed^${Math.log2(ratio).toFixed(2)})`)
-    expect(ratio).toBeGreaterThan(3)
-    expect(ratio).toBeLessThan(6.5)
+    // measured ×3.73, speed^1.90 (README); within 15 %: speed^1.68 to speed^2.1
+    expect(ratio).toBeGreaterThan(3.2)
+    expect(ratio).toBeLessThan(4.3)
   })
 
   describe('a free uniform sheet broadside to a uniform wind, no gravity', () => {
@@ -303,8 +304,10 @@ describe('aerodynamics', () => {
     expect(still.triangles).toBe(0)
     expect(air.triangles).toBeGreaterThan(0)
     // without air only the material's linear damping pulls it back (0.13 m, 7° off vertical);
-    // with still air the hem streams out behind the shoulders (0.98 m of a 1.05 m cape)
-    expect(still.behind).toBeLessThan(0.3)
-    expect(air.behind).toBeGreaterThan(0.7)
+    // with still air the hem streams out behind the shoulders (0.98 m of a 1.05 m cape; README)
+    expect(still.behind).toBeGreaterThan(0.1)
+    expect(still.behind).toBeLessThan(0.15)
+    expect(air.behind).toBeGreaterThan(0.86)
+    expect(air.behind).toBeLessThan(1.1)
   })
 })

@@ -33,11 +33,13 @@ export interface GrabOptions {
   /**
    * Largest force the grip applies, N. Default: twice the cloth's weight (its mass × 9.81 m/s²):
    * enough to lift the cloth, little enough that a 1-iteration solver holds the load (the running
-   * cape of the tests stays under 50 % stretch). More iterations carry a harder pull. A cloth held
-   * by motion constraints (`setClothMotionConstraints`) cannot follow the grip, so it saturates:
+   * cape of `tests/grab.test.ts` stretches at most 23–31 %). More iterations carry a harder pull.
+   * A cloth held by motion constraints (`setClothMotionConstraints`) cannot follow the grip, so it
+   * saturates:
    * on the demo cape of a running character, at 1 iteration, twice the weight stretches its worst
    * edge 61 % (median of 12 moments of the run, at most 75 %), the cloth's weight 37 % (at most
-   * 41 %; `tests/character/grab.test.ts` bounds them under 70/85 % and 45/70 %).
+   * 41 %; `tests/character/grab.test.ts` bounds the medians under 70 and 43 %, every moment under
+   * 85 and 70 %).
    */
   maxForce?: number
 }
