@@ -23,7 +23,7 @@
  * the mesh it was saved with (no tear since); otherwise restoring throws.
  */
 import { allFinite, copyInto, fit32, fit64 } from './core/arrays'
-import { ClothError, MAX_COORDINATE, MAX_SCALE } from './core/errors'
+import { ClothError, MAX_COORDINATE, MAX_SCALE, MAX_SNAPSHOT_COORDINATE } from './core/errors'
 import { HAND } from './features/pins/types'
 import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorldForChange } from './world/access'
@@ -253,10 +253,10 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   }
 }
 
-/** Throws unless every value of `a` lies within ±MAX_COORDINATE. */
-function checkBounded(a: Float64Array, arg: string, name: string): void {
+/** Throws unless every value of `a` lies within ±bound. */
+function checkBounded(a: Float64Array, arg: string, name: string, bound = MAX_COORDINATE): void {
   for (let j = 0; j < a.length; j++) {
-    if (!(Math.abs(a[j]) <= MAX_COORDINATE)) throw new ClothError(`${arg}.${name}[${j}]`, a[j], `must lie within ±${MAX_COORDINATE}`)
+    if (!(Math.abs(a[j]) <= bound)) throw new ClothError(`${arg}.${name}[${j}]`, a[j], `must lie within ±${bound}`)
   }
 }
 
@@ -286,10 +286,10 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
   if (x.world.length > 5 && !(x.world[5] >= 0 && x.world[5] <= 1e9)) {
     throw new ClothError(arg, s, 'holds a dropped frame time outside [0, 1e9] s')
   }
-  // what the API accepts: points within ±MAX_COORDINATE (speeds too: a step moves at most that),
-  // inverse masses 0 (pinned) or normal numbers whose inverse is finite
-  checkBounded(x.pos, arg, 'pos')
-  checkBounded(x.prev, arg, 'prev')
+  // what the API gives: points within ±MAX_SNAPSHOT_COORDINATE, speeds within ±MAX_COORDINATE (a
+  // step moves at most that), inverse masses 0 (pinned) or normal numbers whose inverse is finite
+  checkBounded(x.pos, arg, 'pos', MAX_SNAPSHOT_COORDINATE)
+  checkBounded(x.prev, arg, 'prev', MAX_SNAPSHOT_COORDINATE)
   checkBounded(x.vel, arg, 'vel')
   for (let i = 0; i < n; i++) {
     const w = x.invMass[i]
@@ -309,8 +309,8 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
   if (v.length > 10 && v[20] === 1) {
     const q = Math.hypot(v[13], v[14], v[15], v[16])
     let bounded = Math.abs(q - 1) < 1e-6
-    for (const d of [10, 11, 12, 17, 18, 19]) bounded &&= Math.abs(v[d]) <= MAX_COORDINATE
-    if (!bounded) throw new ClothError(`${arg}.settings`, v, 'holds a bad teleport (a unit quaternion and points within ±1e9 m)')
+    for (const d of [10, 11, 12, 17, 18, 19]) bounded &&= Math.abs(v[d]) <= MAX_SNAPSHOT_COORDINATE
+    if (!bounded) throw new ClothError(`${arg}.settings`, v, 'holds a bad teleport (a unit quaternion and points within ±1e12 m)')
   }
   const t = x.tethers
   if (

@@ -20,7 +20,10 @@ import {
   installClothPlugin,
   measureStretch,
   pinParticle,
+  pinRow,
   predictPositions,
+  restoreClothState,
+  saveClothState,
   setClothQuality,
   setClothSubstep,
   setClothTethers,
@@ -183,5 +186,34 @@ describe('exported kernels and builders check their arguments', () => {
       expect(t.lineCount > 0).toBe(bending === 'line')
       expect(t.hingeCount > 0).toBe(bending === 'dihedral' || bending === 'both')
     }
+  })
+})
+
+describe('snapshots of cloths past the API coordinate bound', () => {
+  // the API takes points within ±1e9 m, but a cloth's extent, its pins and teleports carry it past
+  // that: its own snapshot must restore (each threw a ClothError naming state.pos)
+  const roundTrip = (world: object, cloth: number) => {
+    const snap = saveClothState(world, cloth)
+    stepCloth(world, 1 / 60)
+    restoreClothState(world, cloth, snap)
+    expect(Array.from(getClothState(world, cloth).pos)).toEqual(Array.from(snap.pos))
+  }
+
+  it('a sheet made at x = 1e9, a cape hanging below a hero at y = -1e9 + 0.5, a cloth teleported to 1.8e9', () => {
+    const world = makeWorld()
+    roundTrip(world, createCloth(world, { width: 2, height: 1, resolution: 8, position: [1e9, 0, 0] }))
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, -1e9 + 0.5, 0])
+    const cape = createCloth(world, { width: 0.55, height: 1.05, resolution: [14, 24], position: [0, -1e9 + 0.5, -0.2] })
+    pinRow(world, cape, 0, hero)
+    for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+    expect(getClothState(world, cape).pos[3 * 14 * 23 + 1]).toBeLessThan(-1e9)
+    roundTrip(world, cape)
+    const far = createCloth(world, { width: 1, height: 1, resolution: 8, position: [9e8, 0, 0] })
+    pinRow(world, far, 0)
+    teleportCloth(world, far, [9e8, 0, 0])
+    stepCloth(world, 1 / 60)
+    expect(getClothState(world, far).pos[0]).toBeGreaterThan(1e9)
+    roundTrip(world, far)
   })
 })

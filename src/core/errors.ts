@@ -156,6 +156,15 @@ export function isArrayLike(value: unknown): value is ArrayLike<unknown> {
 export const MAX_COORDINATE = 1e9
 
 /**
+ * How far from the origin a snapshot's points may lie, m. The API takes points within
+ * ±MAX_COORDINATE, but a cloth's own extent, its pins' targets, teleports and falls carry its
+ * particles (and grab targets carried along) past that: a sheet made at x = 1e9, a cape hanging
+ * below a hero at y = −1e9 + 0.5. A cloth's snapshot must restore wherever it got; a double still
+ * resolves 0.1 mm at 1e12 m.
+ */
+export const MAX_SNAPSHOT_COORDINATE = 1e12
+
+/**
  * Largest accepted transform scale (per axis). A scale multiplies offsets of up to MAX_COORDINATE;
  * beyond 1e6 the products leave the range where squared lengths stay finite.
  */

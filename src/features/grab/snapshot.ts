@@ -1,5 +1,5 @@
 import { allFinite, fit32, fit64 } from '../../core/arrays'
-import { ClothError, MAX_COORDINATE } from '../../core/errors'
+import { ClothError, MAX_SNAPSHOT_COORDINATE } from '../../core/errors'
 import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_MAX_FORCE } from '../../kernels/grab'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { growGrabs } from './api'
@@ -53,8 +53,8 @@ export function checkGrabs(state: ClothWorldState, c: ClothState, s: GrabSnapsho
     }
     // the targets (requested, frame, step ends, where the hand is): points, as grabParticle takes them
     for (let j = 0; j < G_AT + 3; j++) {
-      if (!(Math.abs(s.grabData[o + j]) <= MAX_COORDINATE))
-        throw new ClothError(arg, s, `holds a grab target beyond ±${MAX_COORDINATE} m at ${g}`)
+      if (!(Math.abs(s.grabData[o + j]) <= MAX_SNAPSHOT_COORDINATE))
+        throw new ClothError(arg, s, `holds a grab target beyond ±${MAX_SNAPSHOT_COORDINATE} m at ${g}`)
     }
     for (const other of state.cloths) {
       if (other === c) continue
