@@ -6,6 +6,7 @@ import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   createCloth,
+  getClothMesh,
   getClothReference,
   getClothState,
   getClothStats,
@@ -88,5 +89,20 @@ describe('a cloth whose frame is the world', () => {
     let worst = 0
     for (let i = 0; i < 3 * c.count; i++) worst = Math.max(worst, Math.abs(ref[i] - c.pos[i]))
     expect(worst).toBeLessThan(1e-6) // (bound in world coordinates: millimetres)
+  })
+})
+
+describe('the drawn mesh far from the origin', () => {
+  it('getClothMesh gives float32 world coordinates: rounded by up to half a float32 step (0.03 mm at 1 km, 0.5 mm at 10 km, 3.9 mm at 100 km)', () => {
+    for (const [X, halfStep] of [[1e3, 2 ** -15], [1e4, 2 ** -11], [1e5, 2 ** -8]]) {
+      const { world, cape } = farCape(X)
+      for (let f = 0; f < 30; f++) stepCloth(world, 1 / 60)
+      const c = getClothState(world, cape), m = getClothMesh(world, cape)
+      let err = 0
+      for (let j = 0; j < 3 * c.count; j++) err = Math.max(err, Math.abs(m.positions[j] - c.pos[j]))
+      // the particles themselves are float64; only the float32 copy for the GPU rounds
+      expect(err).toBeLessThanOrEqual(halfStep)
+      expect(err).toBeGreaterThan(0.5 * halfStep)
+    }
   })
 })
