@@ -10,7 +10,7 @@ import { placeHeldAfterReset, setGuardAnchor } from '../src/features/character/s
  * cloth back into a safe pose with its velocities cleared, raising a reset event. Good steps copy
  * the pose as the next safe one (a character cloth's held particles go back onto their reference
  * pose after a reset). Listeners (`onClothReset`) are called at the end, after every
- * cloth was checked. A cloth whose guard is off, or that sleeps, costs nothing here.
+ * cloth was checked (for a step in flight, by `finishFixedStep`). A cloth whose guard is off, or that sleeps, costs nothing here.
  */
 export function clothGuard<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -25,6 +25,8 @@ export function clothGuard<W extends object>(world: W): W {
     }
   }
   state.frame.stepping = false
-  deliverToListeners(state, deliverResets)
+  // (a step started by `startFixedStep` has its listeners called by `finishFixedStep`, after what
+  // was removed while it ran: the same moment as for the workers' resets)
+  if (!state.frame.inFlight) deliverToListeners(state, deliverResets)
   return world
 }

@@ -16,7 +16,7 @@ import { collectClothStep, dispatchClothStep } from './threaded'
 import { refreshFrameMeshes } from '../src/mesh'
 import { refreshFrameProxies } from '../src/proxy'
 import { deliverResets } from '../src/features/guard/step'
-import { landStep } from '../src/world/flight'
+import { landRemovals, landStores } from '../src/world/flight'
 
 /**
  * The phase order, written once. Per fixed step:
@@ -118,18 +118,19 @@ export function finishFixedStep(world: object): void {
   try {
     const threaded = th !== null && th.phase === 1
     try {
+      landStores(state, threaded)
       if (threaded) collectClothStep(state, th)
       else if (f.deferred) {
         f.deferred = false
-        runSubsteps(world)
+        runSubsteps(world) // (its guard leaves the reset listeners to deliverResets below)
       }
     } finally {
-      // entities removed while the step was in flight go now, at the same point in every mode
-      // (their cloths' events of this step are dropped with them)
-      landStep(state, threaded)
+      // entities removed while the step was in flight go now, at the same point in every mode,
+      // before any listener (their cloths' events of this step are dropped with them)
+      landRemovals(state)
     }
     f.stepping = false // (the workers ran the guard)
-    deliverResets(state) // (the workers' resets; the guard here has delivered its own)
+    deliverResets(state) // (the step's resets, from the workers or from its guard here)
     state.stats.substeps += state.substepCount
     clothEvents(world)
   } finally {

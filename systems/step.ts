@@ -5,7 +5,7 @@ import { getClothWorld } from '../src/world/access'
 import type { ClothWorldState } from '../src/world/state'
 import { stopThreads } from '../src/threads/bind'
 import { waitForWorkersAsync } from '../src/threads/pool'
-import { landStep } from '../src/world/flight'
+import { landRemovals, landStores } from '../src/world/flight'
 
 /**
  * Advances every cloth of the world by a frame of `dt` seconds using a fixed-step accumulator:
@@ -165,7 +165,8 @@ function startFrameStep(world: object, state: ClothWorldState, blocking: boolean
  */
 function abandonFrame(state: ClothWorldState): void {
   const f = state.frame
-  landStep(state, false)
+  landStores(state, false)
+  landRemovals(state)
   f.open = false
   f.ending = false
   f.deferred = false

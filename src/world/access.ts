@@ -22,19 +22,16 @@ export function getCloth(state: ClothWorldState, cloth: number): ClothState {
 
 /**
  * Calls a step's listeners through `deliver` (a module-level function: nothing is allocated) with
- * the world marked as delivering: they may change the world but not step it. What they remove
- * goes at once, also where the guard calls them before the step has landed (world/flight.ts).
+ * the world marked as delivering: they may change the world but not step it.
  */
 export function deliverToListeners(state: ClothWorldState, deliver: (state: ClothWorldState) => void): void {
   const f = state.frame
-  const was = f.delivering, flight = f.inFlight
+  const was = f.delivering
   f.delivering = true
-  f.inFlight = false
   try {
     deliver(state)
   } finally {
     f.delivering = was
-    f.inFlight = flight
   }
 }
 

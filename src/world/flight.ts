@@ -7,15 +7,19 @@ import type { ClothFrame, ClothWorldState } from './state'
  *
  * Removals. bitECS's `removeEntity` and `removeComponent` cannot be refused, and a game may call
  * them between `beginClothStep` and `endClothStep` (a character killed mid-frame). The plugin's removal observers are wrapped by
- * `deferrable`: in flight, their callbacks are queued, and `landStep` runs them in arrival order
+ * `deferrable`: in flight, their callbacks are queued, and `landRemovals` runs them in arrival order
  * when the step's results are in, before its listeners. The step in flight thus runs on the world
  * its sync phase saw, in every mode: workers never see a pin, collider or cloth go at a moment that
  * depends on timing.
  *
  * Growth. An entity spawned past the stores' capacity grows them at once (its Transform is written
  * there); the workers keep writing the stores they were given (pin blends, tear counts), so
- * `growStores` keeps those as they were (`ClothFrame.stale`) and `landStep` copies them over the
+ * `growStores` keeps those as they were (`ClothFrame.stale`) and `landStores` copies them over the
  * grown ones once workers ran the step.
+ *
+ * Additions. A SelfCollision component added with bitECS's `addComponent` waits the same way (its
+ * buffers are allocated when the step has landed); other components come through the API, which
+ * refuses changes in flight.
  */
 export function deferrable(state: ClothWorldState, fn: (eid: number) => void): (eid: number) => void {
   return (eid: number) => {
@@ -30,22 +34,29 @@ export function deferrable(state: ClothWorldState, fn: (eid: number) => void): (
 }
 
 /**
- * Ends the step's flight once its results are in: the stores the workers wrote (`threaded`) carried
- * over into any grown ones, then the queued removal callbacks (those they cause run at once).
+ * Once the workers finished a step, before its results are read (a guard reset places pins from
+ * the Pin store): the stores they wrote carried over into any grown ones (`threaded`); without
+ * workers the step runs on the grown ones, and the copies are dropped.
  */
-export function landStep(state: ClothWorldState, threaded: boolean): void {
-  const f = state.frame
-  f.inFlight = false
-  const stale = f.stale
-  for (let s = 0; s < stale.length; s += 2) {
+export function landStores(state: ClothWorldState, threaded: boolean): void {
+  const stale = state.frame.stale
+  for (let s = 0; threaded && s < stale.length; s += 2) {
     const grown = stale[s], old = stale[s + 1]
-    if (!threaded) continue
     for (const key of Object.keys(old)) {
       const from = old[key], to = grown[key]
       if (ArrayBuffer.isView(from) && ArrayBuffer.isView(to) && from !== to) (to as Float64Array).set(from as Float64Array)
     }
   }
   stale.length = 0
+}
+
+/**
+ * Ends the step's flight once its results are in, before its listeners: the queued removal
+ * callbacks, in arrival order (those they cause run at once).
+ */
+export function landRemovals(state: ClothWorldState): void {
+  const f = state.frame
+  f.inFlight = false
   const fns = f.removals, eids = f.removed
   try {
     for (let q = 0; q < fns.length; q++) fns[q](eids[q])
