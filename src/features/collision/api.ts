@@ -45,10 +45,14 @@ export function installCollision(world: object, state: ClothWorldState): void {
       }
     }),
   )
-  observe(w, onAdd(cw.SelfCollision), deferrable(state, (eid: number) => {
-    const c = state.components.Cloth.state[eid]
-    if (c) allocateSelfCollision(state, c)
-  }))
+  observe(
+    w,
+    onAdd(cw.SelfCollision),
+    deferrable(state, (eid: number) => {
+      const c = state.components.Cloth.state[eid]
+      if (c) allocateSelfCollision(state, c)
+    }),
+  )
   observe(
     w,
     onRemove(cw.SelfCollision),
