@@ -1,8 +1,9 @@
-import { addEntity } from 'bitecs'
+import { addEntity, removeEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   ClothError,
   addBoxCollider,
+  addPlaneCollider,
   addSphereCollider,
   createCloth,
   createWindZone,
@@ -168,6 +169,59 @@ describe('sleeping', () => {
     expect(isClothSleeping(world, cloth)).toBe(false)
     for (let f = 0; f < 30; f++) stepCloth(world, DT)
     expect(lowestY(world, cloth)).toBeLessThan(rest - 0.5)
+  })
+
+  for (
+    const act of ['removed', 'its entity removed', 'lowered 1 cm', 'lowered 20 cm', 'jumped 10 m down', 'tilted down under it'] as const
+  ) {
+    it(`a cloth asleep on a plane wakes and follows when the plane is ${act}; a still plane does not wake it`, () => {
+      // (a cloth resting on a plane lies exactly at its thickness, which the reach test took for out
+      // of reach: the cloth stayed asleep in the air)
+      const world = makeWorld()
+      const ground = addEntity(world)
+      setTransform(world, ground, [0, 0, 0])
+      addPlaneCollider(world, ground)
+      const cloth = createCloth(world, {
+        width: 1,
+        height: 1,
+        resolution: 12,
+        position: [0, 0.1, 0],
+        rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+      })
+      stepUntilAsleep(world, cloth)
+      for (let f = 0; f < 30; f++) stepCloth(world, DT)
+      expect(isClothSleeping(world, cloth)).toBe(true)
+      const rest = lowestY(world, cloth)
+      if (act === 'removed') removeCollider(world, ground)
+      else if (act === 'its entity removed') removeEntity(world, ground)
+      else if (act === 'lowered 1 cm') setTransform(world, ground, [0, -0.01, 0])
+      else if (act === 'lowered 20 cm') setTransform(world, ground, [0, -0.2, 0])
+      else if (act === 'jumped 10 m down') setTransform(world, ground, [0, -10, 0])
+      else setTransform(world, ground, [5, 0, 0], [0, 0, Math.sin(0.025), Math.cos(0.025)]) // 0.05 rad about a point 5 m away: 25 cm lower under it
+      for (let f = 0; f < 30; f++) stepCloth(world, DT)
+      const drop = act === 'lowered 1 cm' ? 0.009 : 0.15
+      expect(lowestY(world, cloth)).toBeLessThan(rest - drop)
+    })
+  }
+
+  it('a plane that only slides along itself or turns about its normal (a ground carried by a running character) does not wake it', () => {
+    const world = makeWorld()
+    const ground = addEntity(world)
+    setTransform(world, ground, [0, 0, 0])
+    addPlaneCollider(world, ground)
+    const cloth = createCloth(world, {
+      width: 1,
+      height: 1,
+      resolution: 12,
+      position: [0, 0.1, 0],
+      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+    })
+    stepUntilAsleep(world, cloth)
+    for (let f = 1; f <= 60; f++) {
+      setTransform(world, ground, [Math.cos(0.05 * f), 0, Math.sin(0.05 * f)], [0, Math.sin(-0.025 * f), 0, Math.cos(-0.025 * f)])
+      stepCloth(world, DT)
+      expect(isClothSleeping(world, cloth)).toBe(true)
+    }
   })
 
   it('a collider teleported out from under a sleeping cloth wakes it, and it falls; a jump far from it does not', () => {

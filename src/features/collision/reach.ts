@@ -11,10 +11,20 @@ import { newArray } from '../../core/shared'
 /**
  * Whether collider `e`'s swept bounds come within the cloth's thickness of the box `b` (min xyz,
  * max xyz); a plane, whether the box's lowest point along the normal, at the step's start or end
- * pose, is nearer than the thickness.
+ * pose, is no farther than the thickness.
  */
 export function colliderReaches(C: ColliderStore, e: number, b: Float64Array, c: ClothState): boolean {
   return boundsReach(C.swept, 8 * e, C.shape[e] === SHAPE_PLANE, b, c)
+}
+
+/**
+ * Whether collider `e` is a plane whose surface (normal and offset) is the same at the step's start
+ * and end: moved only along itself or turned about its normal.
+ */
+export function planeUnchanged(C: ColliderStore, e: number): boolean {
+  if (C.shape[e] !== SHAPE_PLANE) return false
+  const sw = C.swept, o = 8 * e
+  return sw[o] === sw[o + 4] && sw[o + 1] === sw[o + 5] && sw[o + 2] === sw[o + 6] && sw[o + 3] === sw[o + 7]
 }
 
 /**
@@ -79,6 +89,9 @@ const before = new Float64Array(14)
 /** Bounds scratch of `colliderReachedBeforeJump`, laid out as `Collider.swept`. */
 const box = new Float64Array(8)
 
+/** How much farther than the thickness a plane still reaches a cloth (m): rounding of a resting contact. */
+const PLANE_SLACK = 1e-6
+
 /** The reach test of `colliderReaches` on bounds sw[o..o + 8) laid out as `Collider.swept`. */
 function boundsReach(sw: Float64Array, o: number, plane: boolean, b: Float64Array, c: ClothState): boolean {
   const cc = c.collision
@@ -90,7 +103,10 @@ function boundsReach(sw: Float64Array, o: number, plane: boolean, b: Float64Arra
       sw[o + 3]
     const d1 = sw[o + 4] * cx + sw[o + 5] * cy + sw[o + 6] * cz - Math.abs(sw[o + 4]) * ex - Math.abs(sw[o + 5]) * ey -
       Math.abs(sw[o + 6]) * ez - sw[o + 7]
-    return d0 < r || d1 < r
+    // (touching counts, as for the other shapes: a cloth resting on a plane lies at the thickness,
+    // to rounding, and must see the plane leave; asleep there, it stayed in the air)
+    const reach = r + PLANE_SLACK
+    return d0 <= reach || d1 <= reach
   }
   return !(
     sw[o] > b[3] + r || sw[o + 3] < b[0] - r ||

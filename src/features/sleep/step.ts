@@ -2,7 +2,7 @@ import { P_MAX_V2 } from '../../kernels/params'
 import { particleBounds } from '../../kernels/mesh'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
-import { clothLayersMatch, colliderLayersMatch, colliderReachedBeforeJump, colliderReaches } from '../collision/reach'
+import { clothLayersMatch, colliderLayersMatch, colliderReachedBeforeJump, colliderReaches, planeUnchanged } from '../collision/reach'
 import { windReaches } from '../wind/step'
 
 /**
@@ -67,10 +67,12 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
     const cc = c.collision
     for (let q = 0; q < colliders.length; q++) {
       const e = colliders[q]
-      // a collider that jumped is tested where it was before the jump too (the jump does not sweep)
+      // a collider that jumped is tested where it was before the jump too (the jump does not sweep);
+      // a plane that only slid or turned within itself (a ground carried by a running character)
+      // is the same surface and disturbs nothing
       if (
         k.moved[C.slot[e]] === 1 && colliderLayersMatch(C, e, cc) &&
-        (colliderReaches(C, e, b, c) || colliderReachedBeforeJump(state, e, b, c))
+        ((colliderReaches(C, e, b, c) && !planeUnchanged(C, e)) || colliderReachedBeforeJump(state, e, b, c))
       ) return true
     }
   }
