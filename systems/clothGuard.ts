@@ -9,8 +9,9 @@ import { placeHeldAfterReset, setGuardAnchor } from '../src/features/character/s
  * its particles) and puts a failing
  * cloth back into a safe pose with its velocities cleared, raising a reset event. Good steps copy
  * the pose as the next safe one (a character cloth's held particles go back onto their reference
- * pose after a reset). Listeners (`onClothReset`) are called at the end, after every
- * cloth was checked (for a step in flight, by `finishFixedStep`). A cloth whose guard is off, or that sleeps, costs nothing here.
+ * pose after a reset). Listeners (`onClothReset`) are called at the end, after every cloth was
+ * checked (for a step in flight, by `finishFixedStep`). A cloth whose guard is off, or that
+ * sleeps, costs nothing here.
  */
 export function clothGuard<W extends object>(world: W): W {
   const state = getClothWorld(world)

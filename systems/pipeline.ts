@@ -76,7 +76,7 @@ export function startFixedStep(world: object, blocking: boolean): void {
     refreshFrameMeshes(state)
     refreshFrameProxies(state)
   }
-  // removals from here to the step's results wait for them (world/removals.ts)
+  // removals from here to the step's results wait for them (world/flight.ts)
   state.frame.inFlight = true
   if (state.threads !== null && dispatchClothStep(state, state.threads, blocking)) return
   state.frame.deferred = true

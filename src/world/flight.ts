@@ -6,9 +6,9 @@ import type { ClothFrame, ClothWorldState } from './state'
  * (`ClothFrame.inFlight`, from the sync phase to the step's results).
  *
  * Removals. bitECS's `removeEntity` and `removeComponent` cannot be refused, and a game may call
- * them between `beginClothStep` and `endClothStep` (a character killed mid-frame). The plugin's removal observers are wrapped by
- * `deferrable`: in flight, their callbacks are queued, and `landRemovals` runs them in arrival order
- * when the step's results are in, before its listeners. The step in flight thus runs on the world
+ * them between `beginClothStep` and `endClothStep` (a character killed mid-frame). The plugin's
+ * removal observers are wrapped by `deferrable`: in flight, their callbacks are queued, and
+ * `landRemovals` runs them in arrival order when the step's results are in, before its listeners. The step in flight thus runs on the world
  * its sync phase saw, in every mode: workers never see a pin, collider or cloth go at a moment that
  * depends on timing.
  *

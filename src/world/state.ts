@@ -427,7 +427,7 @@ export interface ClothFrame {
   /**
    * A started fixed step runs on workers or waits for its finish on this thread: removal observers
    * queue their callbacks (`removals`, with the entity ids in `removed`) until its results are in
-   * (see world/removals.ts).
+   * (see world/flight.ts).
    */
   inFlight: boolean
   removals: ((eid: number) => void)[]

@@ -35,11 +35,10 @@ export interface GrabOptions {
    * enough to lift the cloth, little enough that a 1-iteration solver holds the load (the running
    * cape of `tests/grab.test.ts` stretches at most 23–31 %). More iterations carry a harder pull.
    * A cloth held by motion constraints (`setClothMotionConstraints`) cannot follow the grip, so it
-   * saturates:
-   * on the demo cape of a running character, at 1 iteration, twice the weight stretches its worst
-   * edge 61 % (median of 12 moments of the run, at most 75 %), the cloth's weight 37 % (at most
-   * 41 %; `tests/character/grab.test.ts` bounds the medians under 70 and 43 %, every moment under
-   * 85 and 70 %).
+   * saturates: on the demo cape of a running character, at 1 iteration, twice the weight stretches
+   * its worst edge 61 % (median of 12 moments of the run, at most 75 %), the cloth's weight 37 %
+   * (at most 41 %; `tests/character/grab.test.ts` bounds the medians under 70 and 43 %, every
+   * moment under 85 and 70 %).
    */
   maxForce?: number
 }
