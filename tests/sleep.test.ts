@@ -171,24 +171,30 @@ describe('sleeping', () => {
     expect(lowestY(world, cloth)).toBeLessThan(rest - 0.5)
   })
 
+  /** A 1 m sheet asleep on the plane y = 0 (its own ground entity). */
+  function asleepOnPlane() {
+    const world = makeWorld()
+    const ground = addEntity(world)
+    setTransform(world, ground, [0, 0, 0])
+    addPlaneCollider(world, ground)
+    const cloth = createCloth(world, {
+      width: 1,
+      height: 1,
+      resolution: 12,
+      position: [0, 0.1, 0],
+      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+    })
+    stepUntilAsleep(world, cloth)
+    return { world, ground, cloth }
+  }
+
   for (
     const act of ['removed', 'its entity removed', 'lowered 1 cm', 'lowered 20 cm', 'jumped 10 m down', 'tilted down under it'] as const
   ) {
     it(`a cloth asleep on a plane wakes and follows when the plane is ${act}; a still plane does not wake it`, () => {
       // (a cloth resting on a plane lies exactly at its thickness, which the reach test took for out
       // of reach: the cloth stayed asleep in the air)
-      const world = makeWorld()
-      const ground = addEntity(world)
-      setTransform(world, ground, [0, 0, 0])
-      addPlaneCollider(world, ground)
-      const cloth = createCloth(world, {
-        width: 1,
-        height: 1,
-        resolution: 12,
-        position: [0, 0.1, 0],
-        rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-      })
-      stepUntilAsleep(world, cloth)
+      const { world, ground, cloth } = asleepOnPlane()
       for (let f = 0; f < 30; f++) stepCloth(world, DT)
       expect(isClothSleeping(world, cloth)).toBe(true)
       const rest = lowestY(world, cloth)
@@ -205,18 +211,7 @@ describe('sleeping', () => {
   }
 
   it('a plane that only slides along itself or turns about its normal (a ground carried by a running character) does not wake it', () => {
-    const world = makeWorld()
-    const ground = addEntity(world)
-    setTransform(world, ground, [0, 0, 0])
-    addPlaneCollider(world, ground)
-    const cloth = createCloth(world, {
-      width: 1,
-      height: 1,
-      resolution: 12,
-      position: [0, 0.1, 0],
-      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-    })
-    stepUntilAsleep(world, cloth)
+    const { world, ground, cloth } = asleepOnPlane()
     for (let f = 1; f <= 60; f++) {
       setTransform(world, ground, [Math.cos(0.05 * f), 0, Math.sin(0.05 * f)], [0, Math.sin(-0.025 * f), 0, Math.cos(-0.025 * f)])
       stepCloth(world, DT)

@@ -20,17 +20,8 @@ import {
   wakeCloth,
 } from '../../src/index'
 import { getCollisionComponents } from '../../src/features/collision/api'
-import { getClothWorld } from '../../src/world/access'
-import type { ClothPluginOptions } from '../../src/world/state'
 import { hashBytes } from '../helpers'
-import { threadedWorld as verifiedWorld } from './scene'
-
-function gameWorld(threads: number, options: ClothPluginOptions = {}): object {
-  const world = verifiedWorld(threads, options)
-  const th = getClothWorld(world).threads
-  if (th !== null) th.verify = false
-  return world
-}
+import { gameWorld } from './scene'
 
 function clothHash(world: object): string {
   return getCloths(world).map((e) => {

@@ -19,17 +19,7 @@ import {
   setTransform,
   stepCloth,
 } from '../../src/index'
-import { getClothWorld } from '../../src/world/access'
-import type { ClothPluginOptions } from '../../src/world/state'
-import { sheetOnHands, threadedWorld as verifiedWorld } from './scene'
-
-/** A threaded world as a game makes it (no verify mode). */
-function threadedWorld(threads: number, options: ClothPluginOptions = {}): object {
-  const world = verifiedWorld(threads, options)
-  const th = getClothWorld(world).threads
-  if (th !== null) th.verify = false
-  return world
-}
+import { gameWorld as threadedWorld, sheetOnHands } from './scene'
 
 describe('a tearing cloth removed mid-frame', () => {
   it('a cloth entity removed mid-frame in a step where it tears: no TypeError (0 and 2 workers)', () => {

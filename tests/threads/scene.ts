@@ -71,6 +71,14 @@ export function threadedWorld(threads: number, options: ClothPluginOptions = {})
   return world
 }
 
+/** A threaded world as a game makes it (no verify mode: for scenes that remove things mid-frame). */
+export function gameWorld(threads: number, options: ClothPluginOptions = {}): object {
+  const world = threadedWorld(threads, options)
+  const th = getClothWorld(world).threads
+  if (th !== null) th.verify = false
+  return world
+}
+
 export function buildRun(threads: number, seed = 7): Run {
   const world = threadedWorld(threads)
   const r = rng(seed)
