@@ -3,7 +3,6 @@ import { describe, expect, it } from 'vitest'
 import {
   ClothError,
   addBoxCollider,
-  addPlaneCollider,
   addSphereCollider,
   createCloth,
   createWindZone,
@@ -30,6 +29,7 @@ import {
 import { getClothWorld } from '../src/world/access'
 import { hashBytes, lowestY, makeWorld } from './helpers'
 import { SHEET_OVER_BALL } from './fixtures/drape'
+import { flatSheet, ground } from './collision/scenes'
 
 const DT = 1 / 60
 
@@ -174,18 +174,10 @@ describe('sleeping', () => {
   /** A 1 m sheet asleep on the plane y = 0 (its own ground entity). */
   function asleepOnPlane() {
     const world = makeWorld()
-    const ground = addEntity(world)
-    setTransform(world, ground, [0, 0, 0])
-    addPlaneCollider(world, ground)
-    const cloth = createCloth(world, {
-      width: 1,
-      height: 1,
-      resolution: 12,
-      position: [0, 0.1, 0],
-      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-    })
+    const plane = ground(world)
+    const cloth = flatSheet(world, 0, 0.1, 0, 1, 12)
     stepUntilAsleep(world, cloth)
-    return { world, ground, cloth }
+    return { world, ground: plane, cloth }
   }
 
   for (

@@ -107,7 +107,7 @@ function checkScript(url: URL | string): void {
   if (typeof file !== 'string' && file.protocol !== 'file:') {
     throw new ClothError('options.workerUrl', String(url), 'must be a file path or file: URL in Node (the cloth worker script)')
   }
-  if (fs && (typeof file === 'string' || file.protocol === 'file:') && !fs.existsSync(file)) {
+  if (fs && !fs.existsSync(file)) {
     throw new ClothError(
       'options.workerUrl',
       String(url),

@@ -13,7 +13,7 @@ export function growStores(state: ClothWorldState, eid: number): void {
   const { Transform, Pin, WindZone, Tearable } = state.components
   // the workers stepping now write pin blends and tear counts into the arrays they were given
   const f = state.frame
-  if (f.inFlight && f.stale.length === 0) f.stale.push(Pin as never, { ...Pin }, Tearable as never, { ...Tearable })
+  if (f.inFlight && f.stale === null) f.stale = { Pin: { ...Pin }, Tearable: { ...Tearable } }
   ensureStoreCapacity(Transform, c, eid)
   ensureStoreCapacity(WindZone, c, eid)
   ensureStoreCapacity(Tearable, c, eid)

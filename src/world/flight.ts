@@ -40,14 +40,20 @@ export function deferrable(state: ClothWorldState, fn: (eid: number) => void): (
  */
 export function landStores(state: ClothWorldState, threaded: boolean): void {
   const stale = state.frame.stale
-  for (let s = 0; threaded && s < stale.length; s += 2) {
-    const grown = stale[s], old = stale[s + 1]
-    for (const key of Object.keys(old)) {
-      const from = old[key], to = grown[key]
-      if (ArrayBuffer.isView(from) && ArrayBuffer.isView(to) && from !== to) (to as Float64Array).set(from as Float64Array)
-    }
+  if (stale === null) return
+  state.frame.stale = null
+  if (!threaded) return
+  copyFields(stale.Pin, state.components.Pin)
+  copyFields(stale.Tearable, state.components.Tearable)
+}
+
+/** Each typed array of `from` into the field of the same name of `to` (a grown copy: it fits). */
+function copyFields(from: Record<string, unknown>, to: object): void {
+  const fields = to as Record<string, unknown>
+  for (const key of Object.keys(from)) {
+    const a = from[key], b = fields[key]
+    if (ArrayBuffer.isView(a) && ArrayBuffer.isView(b) && a !== b) (b as Float64Array).set(a as Float64Array)
   }
-  stale.length = 0
 }
 
 /**
@@ -80,6 +86,6 @@ export function createClothFrame(): ClothFrame {
     inFlight: false,
     removals: [],
     removed: [],
-    stale: [],
+    stale: null,
   }
 }

@@ -433,10 +433,10 @@ export interface ClothFrame {
   removals: ((eid: number) => void)[]
   removed: number[]
   /**
-   * Stores the workers write, grown in flight: each grown store, then a copy of its fields as the
-   * workers have them (see world/flight.ts).
+   * The fields of the stores the workers write (Pin: blends; Tearable: tear counts) as the step in
+   * flight was handed over, when the stores grew meanwhile (else null; see world/flight.ts).
    */
-  stale: Record<string, unknown>[]
+  stale: { Pin: Record<string, unknown>; Tearable: Record<string, unknown> } | null
 }
 
 /** Per-world plugin state, kept on the world object under a symbol. */

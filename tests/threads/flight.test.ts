@@ -21,6 +21,7 @@ import {
 } from '../../src/index'
 import { getCollisionComponents } from '../../src/features/collision/api'
 import { hashBytes } from '../helpers'
+import { flatSheet } from '../collision/scenes'
 import { gameWorld } from './scene'
 
 function clothHash(world: object): string {
@@ -203,13 +204,7 @@ describe('a SelfCollision component added with bitECS mid-frame', () => {
     const world = gameWorld(threads)
     const out: string[] = []
     try {
-      const sheet = createCloth(world, {
-        width: 1,
-        height: 1,
-        resolution: 10,
-        position: [0, 2, 0],
-        rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-      })
+      const sheet = flatSheet(world, 0, 2, 0, 1, 10)
       pinParticle(world, sheet, 0)
       for (let f = 0; f < 30; f++) {
         beginClothStep(world, 1 / 60)

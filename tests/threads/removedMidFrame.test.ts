@@ -19,6 +19,7 @@ import {
   setTransform,
   stepCloth,
 } from '../../src/index'
+import { flatSheet } from '../collision/scenes'
 import { gameWorld as threadedWorld, sheetOnHands } from './scene'
 
 describe('a tearing cloth removed mid-frame', () => {
@@ -88,13 +89,7 @@ describe('entities removed mid-frame', () => {
       const ballBody = addEntity(world)
       setTransform(world, ballBody, [3, 1, 0])
       addSphereCollider(world, addEntity(world), { body: ballBody, radius: 0.4 })
-      const sheet = createCloth(world, {
-        width: 1.6,
-        height: 1.6,
-        resolution: 40,
-        position: [3, 1.6, 0],
-        rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
-      })
+      const sheet = flatSheet(world, 3, 1.6, 0, 1.6, 40)
       for (let f = 0; f < 70; f++) {
         const a = f * 0.05
         if (f < 30) setTransform(world, hero, [Math.cos(a), 0, Math.sin(a)], [0, Math.sin(-a / 2), 0, Math.cos(-a / 2)])

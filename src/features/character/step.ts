@@ -242,16 +242,7 @@ function resetToReference(c: ClothState, ch: ClothCharacter): void {
     vel[j + 1] = vy + az * rx - ax * rz
     vel[j + 2] = vz + ax * ry - ay * rx
   }
-  if (detached[0] > 0) {
-    // (their positions and velocities back; prev where they are, as a carry leaves it)
-    swapDetached(c, detached, false)
-    for (let q = 1; q <= detached[0]; q++) {
-      const j = 3 * detached[q]
-      prev[j] = pos[j]
-      prev[j + 1] = pos[j + 1]
-      prev[j + 2] = pos[j + 2]
-    }
-  }
+  if (detached[0] > 0) swapDetached(c, detached, false) // (their positions and velocities back)
   c.version++
 }
 
