@@ -116,26 +116,22 @@ export function bindProxy(
 /**
  * The seams of each render triangle: for every two of its corners in different simulated
  * triangles, the corners of those triangles that lie at the same rest point (one shared vertex, or
- * a vertex and the copy a tear made of it). A pair sharing no rest point gets no seam.
+ * a vertex and the copy a tear made of it). Two triangles that share a single rest point are
+ * joined across the triangles between them around it (the fewest such steps, both ways round on a
+ * tie): the seams are those of each step, so a crack ending at that point (its tip, one particle
+ * still) splits them too. A pair sharing no rest point gets no seam.
  */
 function seams(rest: Float64Array, tris: Uint32Array, tri: Int32Array, indices: Uint32Array, nt: number) {
+  const fans = new Fans(rest, tris)
   const seamStart = new Int32Array(nt + 1)
-  const pairs: number[] = []
   for (let k = 0; k < nt; k++) {
     for (let e = 0; e < 3; e++) {
       const ta = tri[indices[3 * k + e]], tb = tri[indices[3 * k + ((e + 1) % 3)]]
-      if (ta === tb) continue
-      for (let ca = 0; ca < 3; ca++) {
-        const pa = 3 * tris[3 * ta + ca]
-        for (let cb = 0; cb < 3; cb++) {
-          const pb = 3 * tris[3 * tb + cb]
-          if (rest[pa] === rest[pb] && rest[pa + 1] === rest[pb + 1] && rest[pa + 2] === rest[pb + 2]) pairs.push(ta, tb, ca, cb)
-        }
-      }
+      if (ta !== tb) fans.between(ta, tb)
     }
-    seamStart[k + 1] = pairs.length / 4
+    seamStart[k + 1] = fans.count
   }
-  const n = pairs.length / 4
+  const n = fans.count, pairs = fans.pairs
   const seamTri = new Int32Array(2 * n), seamCorner = new Uint8Array(2 * n)
   for (let s = 0; s < n; s++) {
     seamTri[2 * s] = pairs[4 * s]
@@ -144,6 +140,130 @@ function seams(rest: Float64Array, tris: Uint32Array, tri: Int32Array, indices: 
     seamCorner[2 * s + 1] = pairs[4 * s + 3]
   }
   return { seamStart, seamTri, seamCorner }
+}
+
+/**
+ * The simulated rest mesh by rest point (creation time only): each particle's point (particles at
+ * the same rest position are one point: a vertex and its torn copies), and the triangles around
+ * each point.
+ */
+class Fans {
+  /** Rest point of each triangle corner. */
+  private readonly point: Int32Array
+  /** Triangles around each point: `around[start[p]]` .. `around[start[p + 1]]`. */
+  private readonly start: Int32Array
+  private readonly around: Int32Array
+
+  constructor(rest: Float64Array, tris: Uint32Array) {
+    const ids = new Map<string, number>()
+    const nt = tris.length / 3
+    this.point = new Int32Array(tris.length)
+    for (let c = 0; c < tris.length; c++) {
+      const p = 3 * tris[c]
+      const key = `${rest[p]},${rest[p + 1]},${rest[p + 2]}`
+      let id = ids.get(key)
+      if (id === undefined) ids.set(key, id = ids.size)
+      this.point[c] = id
+    }
+    this.start = new Int32Array(ids.size + 1)
+    for (let c = 0; c < tris.length; c++) this.start[this.point[c] + 1]++
+    for (let p = 0; p < ids.size; p++) this.start[p + 1] += this.start[p]
+    const fill = this.start.slice(0, ids.size)
+    this.around = new Int32Array(tris.length)
+    for (let t = 0; t < nt; t++) for (let c = 0; c < 3; c++) this.around[fill[this.point[3 * t + c]]++] = t
+  }
+
+  /** How many rest points triangles a and b share; the last one found in `last`. */
+  shared(a: number, b: number): number {
+    let n = 0
+    for (let ca = 0; ca < 3; ca++) {
+      const p = this.point[3 * a + ca]
+      if ((ca > 0 && p === this.point[3 * a]) || (ca > 1 && p === this.point[3 * a + 1])) continue // (a degenerate triangle's repeated point)
+      if (p === this.point[3 * b] || p === this.point[3 * b + 1] || p === this.point[3 * b + 2]) {
+        n++
+        this.last = p
+      }
+    }
+    return n
+  }
+
+  /** The point `shared` found last. */
+  last = -1
+
+  /** Adds a seam for each pair of corners of triangles a and b at the same rest point. */
+  private seam(a: number, b: number): void {
+    for (let ca = 0; ca < 3; ca++) {
+      for (let cb = 0; cb < 3; cb++) if (this.point[3 * a + ca] === this.point[3 * b + cb]) this.add(a, b, ca, cb)
+    }
+  }
+
+  /**
+   * The seams of each step from triangle a to triangle b around rest point p, over triangles
+   * around p sharing an edge (two rest points), along every way with the fewest steps (when no
+   * such way joins them: the pair at p itself).
+   */
+  /** Appends the seams between triangles a and b (see `seams`). */
+  between(a: number, b: number): void {
+    if (this.shared(a, b) === 1) this.steps(this.last, a, b)
+    else this.seam(a, b)
+  }
+
+  /** The seams found so far: triangle, triangle, corner, corner each. */
+  pairs = new Int32Array(1024)
+  count = 0
+
+  private add(a: number, b: number, ca: number, cb: number): void {
+    if (4 * this.count + 4 > this.pairs.length) {
+      const grown = new Int32Array(2 * this.pairs.length)
+      grown.set(this.pairs)
+      this.pairs = grown
+    }
+    const o = 4 * this.count++
+    this.pairs[o] = a
+    this.pairs[o + 1] = b
+    this.pairs[o + 2] = ca
+    this.pairs[o + 3] = cb
+  }
+
+  private steps(p: number, a: number, b: number): void {
+    const { fan, d } = this.fanOf(p)
+    const f = fan.length, ia = fan.indexOf(a), ib = fan.indexOf(b)
+    const length = d[ia * f + ib]
+    if (!(length < Infinity)) {
+      this.seam(a, b)
+      return
+    }
+    // each step s → t on a way of the fewest steps
+    for (let s = 0; s < f; s++) {
+      if (d[ia * f + s] + d[s * f + ib] !== length) continue
+      for (let t = 0; t < f; t++) {
+        if (d[s * f + t] === 1 && d[ia * f + t] === d[ia * f + s] + 1 && d[ia * f + t] + d[t * f + ib] === length)
+          this.seam(fan[s], fan[t])
+      }
+    }
+  }
+
+  /** The triangles around point p and the fewest steps between each two across shared edges (f × f, Infinity: none), found once per point. */
+  private fanOf(p: number): { fan: Int32Array; d: Float64Array } {
+    let known = this.fans.get(p)
+    if (known !== undefined) return known
+    const fan = this.around.slice(this.start[p], this.start[p + 1])
+    const f = fan.length
+    const d = new Float64Array(f * f).fill(Infinity)
+    for (let s = 0; s < f; s++) {
+      d[s * f + s] = 0
+      for (let t = 0; t < f; t++) if (t !== s && this.shared(fan[s], fan[t]) >= 2) d[s * f + t] = 1
+    }
+    for (let m = 0; m < f; m++) {
+      for (let s = 0; s < f; s++) {
+        for (let t = 0; t < f; t++) if (d[s * f + m] + d[m * f + t] < d[s * f + t]) d[s * f + t] = d[s * f + m] + d[m * f + t]
+      }
+    }
+    this.fans.set(p, known = { fan, d })
+    return known
+  }
+
+  private readonly fans = new Map<number, { fan: Int32Array; d: Float64Array }>()
 }
 
 /**

@@ -310,6 +310,41 @@ describe('render proxies', () => {
     expect(worstDeparture(world, cloth, mesh.positions, () => 0)).toBeLessThan(1e-3)
   })
 
+  it("a render triangle over two cloth triangles that share only a crack's tip is hidden: the crack runs between them", () => {
+    // a 3 × 3 vertex sheet (0.1 m apart, diagonals from top-left to bottom-right) cut from its
+    // centre C to the middle of its right side, R: the triangles below the cut hold a copy of R
+    const at = (i: number, j: number) => 3 * j + i
+    const C = at(1, 1), R = at(2, 1), R2 = 9
+    const positions: number[] = []
+    for (let j = 0; j < 3; j++) for (let i = 0; i < 3; i++) positions.push(0.1 * i, -0.1 * j, 0)
+    positions.push(0.2, -0.1, 0) // R's copy
+    const above = [at(1, 0), R, C], below = [C, R2, at(2, 2)], beyond = [C, at(2, 2), at(1, 2)]
+    const indices = [
+      ...[at(0, 0), at(1, 0), C, at(0, 0), C, at(0, 1)],
+      ...[at(1, 0), at(2, 0), R, ...above],
+      ...[at(0, 1), C, at(1, 2), at(0, 1), at(1, 2), at(0, 2)],
+      ...[...below, ...beyond],
+    ]
+    const world = makeWorld()
+    const cloth = createClothFromMesh(world, { positions, indices })
+    const centroid = (t: number[]) =>
+      [0, 1, 2].map((k) => (positions[3 * t[0] + k] + positions[3 * t[1] + k] + positions[3 * t[2] + k]) / 3)
+    // one render triangle with corners in `above` and `beyond` (they share only C, the cut's tip),
+    // one within the sheet's left half, away from the cut
+    const render = {
+      positions: [...centroid(above), ...centroid(beyond), 0.12, -0.02, 0, 0.02, -0.05, 0, 0.05, -0.12, 0, 0.05, -0.02, 0],
+      indices: [0, 1, 2, 3, 4, 5],
+    }
+    const mesh = updateRenderProxy(world, createRenderProxy(world, cloth, render))
+    expect(Array.from(mesh.indices.subarray(0, 3))).toEqual([0, 0, 0]) // hidden (drawn across the opening before: 3.3× its size seen in a hunt)
+    expect(Array.from(mesh.indices.subarray(3, 6))).toEqual([3, 4, 5])
+
+    // the same sheet whole: both drawn
+    const whole = createClothFromMesh(world, { positions, indices: indices.map((v) => (v === R2 ? R : v)) })
+    const wholeMesh = updateRenderProxy(world, createRenderProxy(world, whole, render))
+    expect(Array.from(wholeMesh.indices)).toEqual([0, 1, 2, 3, 4, 5])
+  })
+
   it('entity lifetimes: a removed proxy, a removed cloth (its id recycled or not) and another world are ClothErrors', () => {
     const world = makeWorld()
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 4 })
