@@ -115,7 +115,7 @@ describe('skinned reference', () => {
     expect(allFinite(world, cloth)).toBe(true)
   })
 
-  it('a bone removed mid-turn freezes its part of the pose; its recycled id is never followed', () => {
+  it('a bone removed mid-turn keeps its part of the pose where it was in the (still) frame; its recycled id is never followed', () => {
     const { world, bones, cloth, joints, weights } = strip()
     setClothSkinning(world, cloth, { bones, joints, weights })
     setClothMotionConstraints(world, cloth, { maxDistance: 0 })

@@ -21,13 +21,13 @@ import { wakeClothState } from '../../world/wake'
 /** `refPin` of a frozen cloth carried by its character frame or first bone instead of a pin. */
 export const ANCHOR_REF = -2
 
-/** The kinematic slot of a character cloth's frame, else of its first tracked skin bone; −1 without. */
-export function anchorSlot(c: ClothState): number {
+/** The kinematic slot of a character cloth's frame, else of its first tracked skin bone (other than slot `skip`); −1 without. */
+export function anchorSlot(c: ClothState, skip = -1): number {
   const ch = c.character
   if (ch === null) return -1
-  if (ch.frameSlot >= 0) return ch.frameSlot
+  if (ch.frameSlot >= 0 && ch.frameSlot !== skip) return ch.frameSlot
   const skin = ch.skin
-  if (skin !== null) { for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) return skin.slots[b] }
+  if (skin !== null) { for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0 && skin.slots[b] !== skip) return skin.slots[b] }
   return -1
 }
 
@@ -113,8 +113,18 @@ function pickReference(state: ClothWorldState, c: ClothState, except: number, sk
     setReference(c, pins[q], slot, poses)
     return
   }
-  const slot = anchorSlot(c)
-  if (slot >= 0 && slot !== skip) setReference(c, ANCHOR_REF, slot, poses)
+  // (the next bone when the one going was the first: an unpinned skinned cape frozen while its
+  // first bone went was left behind by the others, 30 m/s at its thaw)
+  const slot = anchorSlot(c, skip)
+  if (slot >= 0) setReference(c, ANCHOR_REF, slot, poses)
+}
+
+/**
+ * Called when a character cloth's frame changed: a frozen cloth that nothing carries (its frame
+ * was the world) is carried by its new anchor from the anchor's pose now.
+ */
+export function adoptAnchor(state: ClothWorldState, c: ClothState): void {
+  if (c.budget.frozen && c.budget.refPin === -1) pickReference(state, c, -1, -1, state.kinematics.stepTo)
 }
 
 function setReference(c: ClothState, pin: number, slot: number, poses: Float64Array): void {

@@ -1,7 +1,7 @@
 import { multiplyQuatAt, normalizeQuatAt, rotateVecAt } from '../../core/math'
 import { applyJump, readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
-import { releaseAnchor } from '../budget/freeze'
+import { adoptAnchor, releaseAnchor } from '../budget/freeze'
 import { bindRigid, currentReference, restNormals, trackedPose } from './reference'
 import { M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_FRAME_EXPLICIT, type ClothCharacter } from './types'
 
@@ -63,24 +63,41 @@ export function dropPinFrame(state: ClothWorldState, pin: number): void {
  */
 export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number, rebind = true): void {
   if (eid === ch.frame && (eid === 0 || ch.frameSlot >= 0)) return
-  if (ch.skin === null && rebind) rebindRest(state, c, ch)
+  // a frame that the cloth's pins hold it to binds the cloth as created to them, as the first
+  // setting does: kept where it stood, a reference that drifted meanwhile (the world as the frame
+  // for a moment while the character walked) stayed 5 cm off the pins for good (16 % stretch)
+  const onPins = rebind && ch.skin === null && eid !== 0 && pinnedTo(state, c, eid)
+  if (onPins) {
+    ch.rest.set(c.guard.rest.subarray(0, 3 * c.count))
+    restNormals(c, ch.rest, ch.restNormal)
+  } else if (ch.skin === null && rebind) rebindRest(state, c, ch)
   const oldFrame = ch.frame, oldSlot = ch.frameSlot
   const slot = eid !== 0 ? trackEntity(state, eid) : -1
   if (slot >= 0) backdate(state, slot, eid, oldSlot, oldFrame)
+  ch.frame = eid
+  ch.frameSlot = slot
+  // a frozen cloth carried by the old frame is carried by it until now, then by the new one
+  // (released before the new frame was in, it was carried by nothing: 30 m/s at its thaw)
   if (oldSlot >= 0) {
     releaseAnchor(state, c, oldSlot)
     untrackEntity(state, oldFrame)
   }
-  ch.frame = eid
-  ch.frameSlot = slot
+  adoptAnchor(state, c)
   const m = ch.motion
   if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
   // (the world, or a frame gone: the last pose stays)
   m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
-  if (!rebind && ch.skin === null) attachPose(state, c, eid, m, M_BIND)
+  if ((!rebind || onPins) && ch.skin === null) attachPose(state, c, eid, m, M_BIND)
   m[M_PRIMED] = 0
   m[M_REF_VALID] = 0
   if (ch.skin === null) bindRigid(c, ch)
+}
+
+/** Whether a pin of the cloth holds it to `eid`. */
+function pinnedTo(state: ClothWorldState, c: ClothState, eid: number): boolean {
+  const P = state.components.Pin
+  for (const pin of c.pins.list) if (P.target[pin] === eid) return true
+  return false
 }
 
 /**

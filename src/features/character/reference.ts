@@ -1,4 +1,4 @@
-import { quatToMatrix } from '../../core/math'
+import { multiplyQuatAt, normalizeQuatAt, quatToMatrix, relativeRotationAt, rotateVecAt } from '../../core/math'
 import { skinReference } from '../../kernels/skin'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { BLEND, RIGID, W_T, W_T0 } from '../../kernels/motion'
@@ -142,7 +142,7 @@ export function updateReference(state: ClothWorldState, ch: ClothCharacter): voi
     w[W_BLEND] = BLEND_BOTH
     m[M_REF_VALID] = 1
   }
-  bonePosesAtEnd(state, skin, boneScratch)
+  bonePosesAtEnd(state, skin, boneScratch, w)
   boneMatrices(skin, boneScratch, skin.matrices)
   for (let j = 0; j < skin.pose.length; j++) skin.pose[j] = boneScratch[j]
 }
@@ -157,7 +157,7 @@ export function updateReference(state: ClothWorldState, ch: ClothCharacter): voi
 export function followBones(state: ClothWorldState, ch: ClothCharacter): void {
   const skin = ch.skin
   if (skin === null) return
-  bonePosesAtEnd(state, skin, skin.pose)
+  bonePosesAtEnd(state, skin, skin.pose, ch.work)
   ch.motion[M_REF_VALID] = 0
 }
 
@@ -231,14 +231,33 @@ export function referenceSubstep(c: ClothState, ch: ClothCharacter, k: number, n
   }
 }
 
-/** Each bone's pose at the end of the step (a removed bone: its last pose) into out (stride 10). */
-function bonePosesAtEnd(state: ClothWorldState, skin: ClothSkin, out: Float64Array): void {
+/**
+ * Each bone's pose at the end of the step into out (stride 10). A removed bone keeps its last pose
+ * in the cloth's frame: with `w` (a step's work, its frame's poses at the step's start and end) it
+ * is carried by the frame's motion over the step; without (configuration time) it stays. (Left in
+ * the world where it went, the part of a running character's cape weighted on it was held there:
+ * 2174 % stretch within a second.)
+ */
+function bonePosesAtEnd(state: ClothWorldState, skin: ClothSkin, out: Float64Array, w: Float64Array | null): void {
+  if (w !== null) relativeRotationAt(w, W_TO + 3, w, W_FROM + 3, carry, 0)
   for (let b = 0; b < skin.bones.length; b++) {
-    const slot = skin.slots[b]
-    if (slot >= 0) trackedPose(state, slot, out, 10 * b)
-    else for (let j = 0; j < 10; j++) out[10 * b + j] = skin.pose[10 * b + j]
+    const slot = skin.slots[b], o = 10 * b
+    if (slot >= 0) {
+      trackedPose(state, slot, out, o)
+      continue
+    }
+    for (let j = 0; j < 10; j++) out[o + j] = skin.pose[o + j]
+    if (w === null) continue
+    for (let j = 0; j < 3; j++) carry[4 + j] = out[o + j] - w[W_FROM + j]
+    rotateVecAt(carry, 0, carry, 4, carry, 4)
+    for (let j = 0; j < 3; j++) out[o + j] = w[W_TO + j] + carry[4 + j]
+    multiplyQuatAt(carry, 0, out, o + 3, out, o + 3)
+    normalizeQuatAt(out, o + 3)
   }
 }
+
+/** Scratch of `bonePosesAtEnd`: the frame's turn over the step (quaternion), a vector. */
+const carry = new Float64Array(7)
 
 /**
  * The reference positions (xyz per particle, world) at the frame pose `pose[0..9]` and, for a
@@ -273,7 +292,7 @@ export function currentReference(state: ClothWorldState, c: ClothState, ch: Clot
   else pose.set(ch.motion.subarray(M_POSE, M_POSE + 10))
   const skin = ch.skin
   const bones = new Float64Array(skin === null ? 0 : 10 * skin.bones.length)
-  if (skin !== null) bonePosesAtEnd(state, skin, bones)
+  if (skin !== null) bonePosesAtEnd(state, skin, bones, null)
   referencePositions(c, ch, pose, bones, out)
 }
 
