@@ -5,7 +5,7 @@
  * which is why the plugin's own systems call the unchecked kernels in `src/kernels/` directly:
  * their data was validated once, when it entered through the API.
  */
-import { ClothError, checkIndex, checkInteger, checkOneOf, checkPositive, isArrayLike, MAX_COORDINATE } from './core/errors'
+import { ClothError, checkIndex, checkInteger, checkOneOf, checkPositive, isArrayLike, MAX_COORDINATE, MAX_SNAPSHOT_COORDINATE, checkKeys, keysOf } from './core/errors'
 import { solveLineBending as solveLineBendingKernel } from './kernels/bending'
 import { dampPairs as dampPairsKernel } from './kernels/damping'
 import { solveDihedrals as solveDihedralsKernel } from './kernels/dihedral'
@@ -80,8 +80,20 @@ function masses(arg: string, invMass: unknown, n?: number): number {
   return m
 }
 
+/**
+ * Positions (velocities, accelerations) of n particles: finite and within ±MAX_SNAPSHOT_COORDINATE
+ * (farther, squared lengths overflow: a position of 1e300 made NaN of a distance constraint).
+ */
 function positionsFor(arg: string, pos: unknown, n: number): Float64Array {
-  return f64(arg, pos, 3 * n)
+  const v = f64(arg, pos, 3 * n)
+  bounded(arg, v, 3 * n)
+  return v
+}
+
+function bounded(arg: string, v: ArrayLike<number>, len: number): void {
+  for (let i = 0; i < len; i++) {
+    if (!(Math.abs(v[i]) <= MAX_SNAPSHOT_COORDINATE)) throw new ClothError(`${arg}[${i}]`, v[i], `must lie within ±${MAX_SNAPSHOT_COORDINATE}`)
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -341,6 +353,7 @@ export function measureStretch(
 ): { mean: number; max: number } {
   if (!isArrayLike(pos) || pos.length % 3 !== 0) throw new ClothError('pos', pos, 'must be an array of xyz positions')
   for (let i = 0; i < pos.length; i++) if (!Number.isFinite(pos[i])) throw new ClothError(`pos[${i}]`, pos[i], 'must be a finite number')
+  bounded('pos', pos, pos.length)
   count('edgeCount', edgeCount)
   ids('edges', edges, 2 * edgeCount, pos.length / 3)
   f64('edgeRest', edgeRest, edgeCount)
@@ -419,6 +432,7 @@ export function buildGridTopology(
  */
 export function buildGridMesh(options: GridOptions): { positions: Float64Array; indices: Uint32Array; uvs: Float32Array } {
   const { width, height, columns, rows } = checkGridOptions(options)
+  checkKeys('options', options, keysOf<GridOptions>({ width: true, height: true, resolution: true }))
   return { ...gridMesh(width, height, columns, rows), uvs: gridUvs(columns, rows) }
 }
 

@@ -1,16 +1,6 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import {
-  ClothError,
-  checkFiniteArray,
-  checkInteger,
-  checkObject,
-  checkPoint,
-  checkNonNegative,
-  checkOneOf,
-  checkPositive,
-  checkQuat,
-} from './core/errors'
+import { ClothError, checkBoolean, checkFiniteArray, checkOutObject, checkInteger, checkObject, checkPoint, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkKeys, keysOf } from './core/errors'
 import { normalizedQuat, rotateVec3 } from './core/math'
 import { measureStretch } from './kernels/mesh'
 import { createKernelParams } from './kernels/params'
@@ -128,6 +118,41 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
   uvs?: ArrayLike<number>
 }
 
+/** The keys each options object may have (`checkKeys`). */
+const COMMON_KEYS: { [K in keyof Required<ClothOptions>]: true } = {
+  material: true,
+  iterations: true,
+  substeps: true,
+  solver: true,
+  bending: true,
+  bendSide: true,
+  shear: true,
+  tethers: true,
+  damping: true,
+  stretchDamping: true,
+  mass: true,
+  orderFrom: true,
+  guard: true,
+}
+const GRID_CLOTH_KEYS = keysOf<CreateClothOptions>({
+  ...COMMON_KEYS,
+  width: true,
+  height: true,
+  resolution: true,
+  topology: true,
+  position: true,
+  rotation: true,
+})
+const MESH_CLOTH_KEYS = keysOf<CreateClothFromMeshOptions>({
+  ...COMMON_KEYS,
+  positions: true,
+  indices: true,
+  masses: true,
+  uvs: true,
+})
+const QUALITY_KEYS = keysOf<{ substeps?: number; iterations?: number }>({ substeps: true, iterations: true })
+const TETHER_KEYS = keysOf<TetherOptions>({ enabled: true, mode: true, slack: true, perParticle: true })
+
 /**
  * Creates a rectangular cloth. Particles are row-major from the top-left corner (index = row ·
  * columns + column, row 0 at the top); the sheet hangs in its local x-y plane with the middle of the
@@ -136,6 +161,7 @@ export interface CreateClothFromMeshOptions extends ClothOptions {
 export function createCloth(world: object, options: CreateClothOptions): number {
   const state = getClothWorldForChange(world)
   const { width, height, columns, rows } = checkGridOptions(options)
+  checkKeys('options', options, GRID_CLOTH_KEYS)
   const topo = options.topology === undefined ? 'quad' : checkOneOf('options.topology', options.topology, ['quad', 'triangle'] as const)
   const position = options.position === undefined ? ORIGIN : checkPoint('options.position', options.position)
   const rotation = options.rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('options.rotation', options.rotation))
@@ -164,6 +190,7 @@ export function createCloth(world: object, options: CreateClothOptions): number 
 export function createClothFromMesh(world: object, options: CreateClothFromMeshOptions): number {
   const state = getClothWorldForChange(world)
   checkObject('options', options)
+  checkKeys('options', options, MESH_CLOTH_KEYS)
   const n = checkMeshInput(options.positions, options.indices, 'options.')
   const positions = options.positions
   const indices = options.indices
@@ -228,7 +255,8 @@ function checkTetherOptions(t: boolean | TetherOptions | undefined, arg: string)
   if (t === undefined || t === true) return out
   if (t === false) return { ...out, enabled: false }
   if (typeof t !== 'object' || t === null) throw new ClothError(arg, t, 'must be a boolean or tether options')
-  if (t.enabled !== undefined) out.enabled = !!t.enabled
+  checkKeys(arg, t, TETHER_KEYS)
+  if (t.enabled !== undefined) out.enabled = checkBoolean(`${arg}.enabled`, t.enabled)
   if (t.mode !== undefined) out.mode = checkOneOf(`${arg}.mode`, t.mode, ['euclidean', 'geodesic'] as const)
   if (t.slack !== undefined) out.slack = checkNonNegative(`${arg}.slack`, t.slack)
   if (t.perParticle !== undefined) out.perParticle = checkInteger(`${arg}.perParticle`, t.perParticle, 1, 16)
@@ -395,6 +423,7 @@ export function setClothQuality(world: object, cloth: number, quality: { substep
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   checkObject('quality', quality)
+  checkKeys('quality', quality, QUALITY_KEYS)
   const substeps = quality.substeps === undefined ? c.budget.wantSubsteps : checkInteger('quality.substeps', quality.substeps, 1, 256)
   const iterations = quality.iterations === undefined ? c.budget.wantIterations
     : checkInteger('quality.iterations', quality.iterations, 1, 256)
@@ -425,7 +454,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
  */
 export function getClothStretch(world: object, cloth: number, out = { mean: 0, max: 0 }): { mean: number; max: number } {
   const c = getCloth(getClothWorldForChange(world), cloth)
-  checkObject('out', out)
+  checkOutObject('out', out)
   const t = c.topology
   return measureStretch(c.pos, t.stretchIds, t.stretchRest, t.stretchCount, out)
 }

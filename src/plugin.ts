@@ -4,7 +4,7 @@ import { createPinStore } from '../components/Pin'
 import { createTransformStore, resetTransform } from '../components/Transform'
 import { createWindZoneStore } from '../components/WindZone'
 import { createTearableStore } from '../components/Tearable'
-import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3 } from './core/errors'
+import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3, checkKeys, keysOf } from './core/errors'
 import { findClothWorld, getClothWorld } from './world/access'
 import { growStores, transformSourceOf } from './world/capacity'
 import { createKinematics, transformLost } from './world/kinematics'
@@ -49,6 +49,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     return world
   }
   checkObject('options', options)
+  checkKeys('options', options, PLUGIN_KEYS)
   const gravity = options.gravity === undefined ? [0, -9.81, 0] : checkVec3('options.gravity', options.gravity)
   checkBoundedArray('options.gravity', gravity, 3, MAX_COORDINATE)
   const fixedTimeStep = options.fixedTimeStep === undefined ? 1 / 60 : checkPositive('options.fixedTimeStep', options.fixedTimeStep)
@@ -190,14 +191,57 @@ export function resetClothStats(world: object): void {
   for (const key of Object.keys(stats) as (keyof typeof stats)[]) stats[key] = 0
 }
 
+const PLUGIN_KEYS = keysOf<ClothPluginOptions>({
+  gravity: true,
+  fixedTimeStep: true,
+  maxStepsPerFrame: true,
+  transforms: true,
+  teleportDistance: true,
+  maxSpeed: true,
+  capacity: true,
+  airDensity: true,
+  guard: true,
+  sleep: true,
+  threads: true,
+  workerUrl: true,
+  requireThreads: true,
+  threadMinStepMs: true,
+})
+const TRANSFORM_KEYS = keysOf<TransformSource>({
+  component: true,
+  px: true,
+  py: true,
+  pz: true,
+  qx: true,
+  qy: true,
+  qz: true,
+  qw: true,
+  sx: true,
+  sy: true,
+  sz: true,
+})
+
 function validateTransformSource(t: TransformSource): void {
   if (typeof t !== 'object' || t === null) throw new ClothError('options.transforms', t, 'must be an object of transform arrays')
+  checkKeys('options.transforms', t, TRANSFORM_KEYS)
   if (typeof t.component !== 'object' || t.component === null) {
     throw new ClothError('options.transforms.component', t.component, 'must be the component that marks entities with a transform')
   }
-  for (const key of ['px', 'py', 'pz', 'qx', 'qy', 'qz', 'qw'] as const) {
+  // float arrays only: integer stores rounded a position of (0.5, 1.7, −0.25) to (0, 1, 0) and a
+  // quarter turn to nothing, silently; strings and frozen arrays threw at the first setTransform
+  const store = (key: keyof TransformSource) => {
     const arr = t[key]
-    if (!arr || typeof arr.length !== 'number') throw new ClothError(`options.transforms.${key}`, arr, 'must be an entity-indexed array')
+    if (!(arr instanceof Float64Array || arr instanceof Float32Array || (Array.isArray(arr) && !Object.isFrozen(arr)))) {
+      throw new ClothError(`options.transforms.${key}`, arr, 'must be an entity-indexed Float64Array, Float32Array or (writable) array')
+    }
+  }
+  for (const key of ['px', 'py', 'pz', 'qx', 'qy', 'qz', 'qw'] as const) store(key)
+  const scales = (['sx', 'sy', 'sz'] as const).filter((key) => t[key] !== undefined)
+  if (scales.length > 0) {
+    for (const key of ['sx', 'sy', 'sz'] as const) {
+      if (t[key] === undefined) throw new ClothError(`options.transforms.${key}`, t[key], 'is missing: give sx, sy and sz together, or none')
+      store(key)
+    }
   }
 }
 

@@ -1,4 +1,4 @@
-import { ClothError, MAX_COORDINATE, checkAtMost, checkObject, checkPositive } from './core/errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkKeys, checkObject, checkPositive, keysOf } from './core/errors'
 import { FRAME_SIZE, updateProxySeams, updateProxyVertices } from './kernels/proxy'
 import { bindProxy, type ProxyBinding } from './model/proxy'
 import { checkMeshInput } from './model/options'
@@ -27,6 +27,8 @@ export interface RenderProxyOptions {
    */
   maxOffset?: number
 }
+
+const PROXY_KEYS = keysOf<RenderProxyOptions>({ positions: true, indices: true, uvs: true, maxOffset: true })
 
 /** A proxy's render mesh: views that stay the same objects for the proxy's life. */
 export interface RenderProxyMesh {
@@ -85,6 +87,7 @@ export function createRenderProxy(world: object, cloth: number, options: RenderP
   const state = getClothWorld(world)
   const c = getCloth(state, cloth)
   checkObject('options', options)
+  checkKeys('options', options, PROXY_KEYS)
   const n = checkMeshInput(options.positions, options.indices, 'options.')
   const uvs = options.uvs === undefined ? undefined : checkUvs('options.uvs', options.uvs, n)
   const t = c.topology

@@ -1,7 +1,7 @@
 import { createWorld, observe, onRemove } from 'bitecs'
 import type { vec3 } from 'gl-matrix'
 import { createCloth, getClothState, getClothStretch, type CreateClothOptions } from './cloth'
-import { ClothError } from './core/errors'
+import { ClothError, checkKeys } from './core/errors'
 import { getClothMesh } from './mesh'
 import type { ClothMaterialSpec } from './model/materials'
 import { installClothPlugin } from './plugin'
@@ -40,8 +40,9 @@ export class ClothSimulation {
 
   constructor(options: ClothSimulationOptions) {
     if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-    this.world = renamed('options', 'options.world', () => installClothPlugin(createWorld(), options.world))
-    this.cloth = createCloth(this.world, options)
+    const { world, ...sheet } = options
+    this.world = renamed('options', 'options.world', () => installClothPlugin(createWorld(), world))
+    this.cloth = createCloth(this.world, sheet)
     // the zone `setWind` made, forgotten when it goes away (through `world`): its id may come back
     // as a zone of the game's, which `setWind` must not change or remove
     observe(this.world as never, onRemove(getClothWorld(this.world).components.WindZone), (eid: number) => {
@@ -98,6 +99,7 @@ export class ClothSimulation {
    */
   setWind(wind: { direction: ArrayLike<number>; strength: number; turbulence?: number }): void {
     if (typeof wind !== 'object' || wind === null) throw new ClothError('wind', wind, 'must be an object')
+    checkKeys('wind', wind, ['direction', 'strength', 'turbulence'])
     const options = { direction: wind.direction, strength: wind.strength, turbulence: wind.turbulence ?? 0 }
     renamed('options', 'wind', () => checkGlobalWindOptions(options)) // (strength 0 too: nothing is left half done)
     if (wind.strength === 0 && this.windZone !== 0) {

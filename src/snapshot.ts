@@ -130,6 +130,7 @@ export function saveClothState(world: object, cloth: number, into?: ClothSnapsho
   if (into !== undefined && (typeof into !== 'object' || into === null || into.format !== 'bitecs-cloth-state/1')) {
     throw new ClothError('into', into, 'must be a snapshot returned by saveClothState')
   }
+  if (into !== undefined && Object.isFrozen(into)) throw new ClothError('into', into, 'must be writable (it is frozen)')
   const s = (into ?? { format: 'bitecs-cloth-state/1' }) as Writable
   saveCore(state, c, s)
   savedIn.set(s, state.kinematics)

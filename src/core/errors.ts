@@ -136,9 +136,41 @@ export function checkOneOf<T extends string>(argument: string, value: unknown, a
 
 /** An array the caller gives to be written into: writable and at least `length` long (typed, plain or gl-matrix). */
 export function checkOut(argument: string, value: unknown, length: number): void {
-  if (!isArrayLike(value) || typeof value === 'string' || value.length < length) {
-    throw new ClothError(argument, value, `must be an array of at least ${length} numbers to write into`)
+  if (!isArrayLike(value) || typeof value === 'string' || value.length < length || Object.isFrozen(value)) {
+    throw new ClothError(argument, value, `must be a writable array of at least ${length} numbers to write into`)
   }
+}
+
+/** An object the caller gives to be written into: not frozen (a shared constant threw a TypeError). */
+export function checkOutObject(argument: string, value: unknown): object {
+  checkObject(argument, value)
+  if (Object.isFrozen(value)) throw new ClothError(argument, value, 'must be writable (it is frozen)')
+  return value as object
+}
+
+/**
+ * Every key of an options type, listed once for `checkKeys`: the mapped type makes a listing that
+ * misses a key of T, or names one T lacks, a compile error.
+ */
+export function keysOf<T>(keys: { [K in keyof Required<T>]: true }): readonly string[] {
+  return Object.freeze(Object.keys(keys))
+}
+
+/**
+ * Throws a ClothError naming the first own key of `value` that is not one of `known`: a misspelt
+ * option (`{ offest }`, `{ enable: false }`) was silently ignored, leaving the default.
+ */
+export function checkKeys(argument: string, value: object, known: readonly string[]): void {
+  for (const key in value) {
+    if (!Object.hasOwn(value, key) || known.includes(key)) continue
+    throw new ClothError(`${argument}.${key}`, (value as Record<string, unknown>)[key], `is not an option here (known: ${known.join(', ')})`)
+  }
+}
+
+/** true or false (not a truthy string: 'false' turned tethers on). */
+export function checkBoolean(argument: string, value: unknown): boolean {
+  if (typeof value !== 'boolean') throw new ClothError(argument, value, 'must be true or false')
+  return value
 }
 
 export function isArrayLike(value: unknown): value is ArrayLike<unknown> {

@@ -1,4 +1,4 @@
-import { ClothError, MAX_COORDINATE, checkAtMost, checkNonNegative, checkPositive } from '../core/errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkKeys, checkNonNegative, checkPositive } from '../core/errors'
 
 /**
  * A cloth material in physical units. Compliance is inverse stiffness (XPBD, Macklin et al. 2016):
@@ -245,6 +245,7 @@ export function defineMaterial(
   base: ClothMaterialSpec | string = ClothMaterial.COTTON,
 ): ClothMaterialSpec {
   if (typeof fields !== 'object' || fields === null) throw new ClothError('fields', fields, 'must be an object of material fields')
+  checkKeys('fields', fields, ['name', ...NUMERIC_FIELDS]) // (a misspelt field kept the base's value)
   const from = resolveMaterial(base, 'base')
   const out = { ...from, ...fields, name: fields.name ?? `custom ${from.name}` }
   validateMaterial(out, 'material')

@@ -1,5 +1,5 @@
 import { hasComponent, observe, onAdd, onRemove } from 'bitecs'
-import { ClothError, checkInteger, checkObject, checkPositive } from '../../core/errors'
+import { ClothError, checkAtMost, checkInteger, checkObject, checkPositive, checkKeys, keysOf } from '../../core/errors'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
@@ -107,6 +107,27 @@ export interface ClothBudgetOptions {
   adapt?: boolean
 }
 
+const CALIBRATION_KEYS = keysOf<ClothCostCalibration>({
+  nsPerParticle: true,
+  nsPerProjection: true,
+  nsPerColliderTest: true,
+  nsPerClothSubstep: true,
+  nsPerWindTriangle: true,
+})
+const TARGET_KEYS = keysOf<ClothQualityTarget>({ maxStretch: true, msPerStep: true, minSubsteps: true, maxSubsteps: true, calibration: true })
+const BUDGET_KEYS = keysOf<ClothBudgetOptions>({
+  msPerFrame: true,
+  viewer: true,
+  near: true,
+  far: true,
+  farStepEvery: true,
+  cull: true,
+  freezeInvisible: true,
+  interval: true,
+  calibration: true,
+  adapt: true,
+})
+
 /** The budget's view of the last allocation (`getClothBudgetStats`). */
 export interface ClothBudgetStats {
   /** Predicted time of all cloths per fixed step at the chosen levels, ms (corrected). */
@@ -181,16 +202,15 @@ export function createClothBudget(substeps: number, iterations: number): ClothBu
 /** Validates cost model numbers given at the API. */
 export function checkCalibration(c: ClothCostCalibration, arg: string): Float64Array {
   checkObject(arg, c)
+  checkKeys(arg, c, CALIBRATION_KEYS)
+  // (a second per unit at most: beyond ~1e306 ns a cloth's predicted cost was Infinity)
+  const ns = (key: keyof ClothCostCalibration) => checkAtMost(`${arg}.${key}`, checkPositive(`${arg}.${key}`, c[key]), 1e9, ' ns')
   return Float64Array.from([
-    checkPositive(`${arg}.nsPerParticle`, c.nsPerParticle),
-    checkPositive(`${arg}.nsPerProjection`, c.nsPerProjection),
-    checkPositive(`${arg}.nsPerColliderTest`, c.nsPerColliderTest),
-    c.nsPerClothSubstep === 0 ? 0 : checkPositive(`${arg}.nsPerClothSubstep`, c.nsPerClothSubstep),
-    c.nsPerWindTriangle === undefined
-      ? WIND_PER_PROJECTION * c.nsPerProjection
-      : c.nsPerWindTriangle === 0
-      ? 0
-      : checkPositive(`${arg}.nsPerWindTriangle`, c.nsPerWindTriangle),
+    ns('nsPerParticle'),
+    ns('nsPerProjection'),
+    ns('nsPerColliderTest'),
+    c.nsPerClothSubstep === 0 ? 0 : ns('nsPerClothSubstep'),
+    c.nsPerWindTriangle === undefined ? WIND_PER_PROJECTION * c.nsPerProjection : c.nsPerWindTriangle === 0 ? 0 : ns('nsPerWindTriangle'),
   ])
 }
 
@@ -206,6 +226,7 @@ export function configureQualityTarget(world: object, cloth: number, target: Clo
     return
   }
   checkObject('target', target)
+  checkKeys('target', target, TARGET_KEYS)
   const stretch = target.maxStretch === undefined ? 0 : checkPositive('target.maxStretch', target.maxStretch)
   const ms = target.msPerStep === undefined ? 0 : checkPositive('target.msPerStep', target.msPerStep)
   if (stretch === 0 && ms === 0) throw new ClothError('target', target, 'must set maxStretch and/or msPerStep (or be null)')
@@ -239,6 +260,7 @@ export function configureBudget(world: object, options: ClothBudgetOptions | nul
     return
   }
   checkObject('options', options)
+  checkKeys('options', options, BUDGET_KEYS)
   const msPerFrame = options.msPerFrame === undefined ? 0 : checkPositive('options.msPerFrame', options.msPerFrame)
   let viewer = -1
   if (options.viewer !== undefined && options.viewer !== null) {

@@ -2,7 +2,7 @@ import type { ClothState, ClothWorldState } from '../../world/state'
 import type { BudgetSettings, LevelConfig } from './types'
 
 /** Substep counts the controllers choose from. */
-export const SUBSTEP_LADDER: readonly number[] = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64]
+export const SUBSTEP_LADDER: readonly number[] = Object.freeze([1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64])
 
 /** Smallest ladder count ≥ x (the last rung when none is). */
 export function ladderAtLeast(x: number): number {

@@ -1,5 +1,5 @@
 import { hasComponent, observe, onAdd, onRemove } from 'bitecs'
-import { ClothError, MAX_COORDINATE, checkObject, checkOneOf, isArrayLike } from '../../core/errors'
+import { ClothError, MAX_COORDINATE, checkKeys, checkObject, checkOneOf, isArrayLike, keysOf } from '../../core/errors'
 import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
@@ -32,9 +32,22 @@ import {
   type ClothInertiaOptions,
   type ClothMotionConstraints,
   type ClothSkinningOptions,
+  type ClothTeleportOptions,
   type PerParticle,
 } from './types'
 
+/** The keys each options object may have (`checkKeys`). */
+const INERTIA_KEYS = keysOf<ClothInertiaOptions>({
+  frame: true,
+  linear: true,
+  angular: true,
+  centrifugal: true,
+  maxLinearSpeed: true,
+  maxAngularSpeed: true,
+  teleport: true,
+})
+const TELEPORT_KEYS = keysOf<ClothTeleportOptions>({ mode: true, distance: true, angle: true })
+const CONSTRAINT_KEYS = keysOf<ClothMotionConstraints>({ maxDistance: true, backstop: true, drive: true, every: true })
 /**
  * Character cloth, the public API: inertia in the character's frame (`setClothInertia`), motion
  * constraints around a reference pose (`setClothMotionConstraints`), a skinned reference pose
@@ -68,6 +81,7 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
     return
   }
   checkObject('options', options)
+  checkKeys('options', options, INERTIA_KEYS)
   const frame = options.frame === undefined ? undefined
     : options.frame === null ? 0 : checkFrameEntity(world, state, c, 'options.frame', options.frame)
   const linear = share('options.linear', options.linear)
@@ -79,6 +93,7 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
   if (options.teleport !== undefined) {
     const t = options.teleport
     checkObject('options.teleport', t)
+    checkKeys('options.teleport', t, TELEPORT_KEYS)
     if (t.mode !== undefined) mode = checkOneOf('options.teleport.mode', t.mode, ['keep', 'reset'] as const) === 'reset' ? 1 : 0
     if (t.distance !== undefined) {
       if (typeof t.distance !== 'number' || !(t.distance > 0))
@@ -140,6 +155,7 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
     return
   }
   checkObject('constraints', constraints)
+  checkKeys('constraints', constraints, CONSTRAINT_KEYS)
   const n = c.count
   const maxDistance = perParticle('constraints.maxDistance', constraints.maxDistance, n, Infinity, 0, Infinity)
   const drive = perParticle('constraints.drive', constraints.drive, n, 0, 0, 1)
@@ -149,6 +165,7 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
   let bsDistance: Float64Array | null = null, bsRadius: Float64Array | null = null
   if (bs !== undefined && bs !== null) {
     checkObject('constraints.backstop', bs)
+    checkKeys('constraints.backstop', bs, ['distance', 'radius'])
     if (bs.radius === undefined) throw new ClothError('constraints.backstop.radius', bs.radius, 'must be given (m > 0)')
     bsDistance = perParticle('constraints.backstop.distance', bs.distance, n, 0, 0, 1e6)
     bsRadius = perParticle('constraints.backstop.radius', bs.radius, n, 0, 1e-9, 1e6)
@@ -204,6 +221,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     return
   }
   checkObject('skinning', skinning)
+  checkKeys('skinning', skinning, keysOf<ClothSkinningOptions>({ bones: true, joints: true, weights: true }))
   const n = c.count
   const { bones, joints, weights } = skinning
   if (!isArrayLike(bones) || bones.length === 0 || bones.length > 65535)

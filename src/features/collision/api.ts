@@ -1,7 +1,7 @@
 import { hasComponent, observe, onAdd, onRemove, removeComponent, entityExists } from 'bitecs'
 import { createColliderStore, type ColliderStore } from '../../../components/Collider'
 import { createSelfCollisionStore, type SelfCollisionStore } from '../../../components/SelfCollision'
-import { checkAtMost, checkInteger, checkNonNegative, ClothError, MAX_COORDINATE } from '../../core/errors'
+import { checkAtMost, checkInteger, checkKeys, checkNonNegative, ClothError, keysOf, MAX_COORDINATE } from '../../core/errors'
 import { COLLIDE_SCRATCH, FRAME_SIZE } from '../../kernels/colliderFrame'
 import { SELF_PARAM_COUNT } from '../../kernels/selfCollide'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
@@ -117,6 +117,7 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  checkKeys('options', options, keysOf<ClothCollisionOptions>({ layer: true, mask: true, thickness: true, friction: true, staticFriction: true }))
   const cc = c.collision
   const layer = options.layer === undefined ? cc.layer : checkInteger('options.layer', options.layer, 0, 0xffffffff)
   const mask = options.mask === undefined ? cc.mask : checkInteger('options.mask', options.mask, 0, 0xffffffff)

@@ -6,6 +6,8 @@ import {
   ClothError,
   MAX_COORDINATE,
   checkAtMost,
+  checkKeys,
+  keysOf,
   checkBoundedArray,
   checkFinite,
   checkInteger,
@@ -91,9 +93,26 @@ interface Common {
   mask: number
 }
 
-function checkCommon(world: object, state: ClothWorldState, eid: number, o: ColliderOptions): Common {
+/** Every collider's option keys, and each shape's (`checkKeys`). */
+const COMMON_KEYS: { [K in keyof Required<ColliderOptions>]: true } = {
+  body: true,
+  offset: true,
+  rotation: true,
+  friction: true,
+  staticFriction: true,
+  layer: true,
+  mask: true,
+}
+const SPHERE_KEYS = keysOf<SphereColliderOptions>({ ...COMMON_KEYS, radius: true })
+const CAPSULE_KEYS = keysOf<CapsuleColliderOptions>({ ...COMMON_KEYS, radius: true, halfHeight: true, axis: true })
+const BOX_KEYS = keysOf<BoxColliderOptions>({ ...COMMON_KEYS, halfExtents: true })
+const HULL_KEYS = keysOf<ConvexHullColliderOptions>({ ...COMMON_KEYS, points: true })
+const PLANE_KEYS = keysOf<PlaneColliderOptions>({ ...COMMON_KEYS, normal: true, distance: true })
+
+function checkCommon(world: object, state: ClothWorldState, eid: number, o: ColliderOptions, keys: readonly string[]): Common {
   checkEntity(world, 'eid', eid)
   if (typeof o !== 'object' || o === null) throw new ClothError('options', o, 'must be an object')
+  checkKeys('options', o, keys)
   const C = state.collision.Collider
   if (hasComponent(world as never, eid, C)) {
     throw new ClothError(
@@ -166,7 +185,7 @@ function spawnCollider(
  */
 export function addSphereCollider(world: object, eid: number, options: SphereColliderOptions): number {
   const state = getClothWorldForChange(world)
-  const o = checkCommon(world, state, eid, options)
+  const o = checkCommon(world, state, eid, options, SPHERE_KEYS)
   const r = checkLength('options.radius', options.radius, true)
   return spawnCollider(world, state, eid, SHAPE_SPHERE, o, [r], [0, 0, 0, r], r)
 }
@@ -181,7 +200,7 @@ export function addSphereCollider(world: object, eid: number, options: SphereCol
  */
 export function addCapsuleCollider(world: object, eid: number, options: CapsuleColliderOptions): number {
   const state = getClothWorldForChange(world)
-  const o = checkCommon(world, state, eid, options)
+  const o = checkCommon(world, state, eid, options, CAPSULE_KEYS)
   const r = checkLength('options.radius', options.radius, true)
   const hh = checkLength('options.halfHeight', options.halfHeight, false)
   if (options.axis !== undefined) {
@@ -198,7 +217,7 @@ export function addCapsuleCollider(world: object, eid: number, options: CapsuleC
 /** Makes `eid` a box collider with `halfExtents` along its local axes. Returns `eid`. */
 export function addBoxCollider(world: object, eid: number, options: BoxColliderOptions): number {
   const state = getClothWorldForChange(world)
-  const o = checkCommon(world, state, eid, options)
+  const o = checkCommon(world, state, eid, options, BOX_KEYS)
   const h = checkPoint('options.halfExtents', options.halfExtents)
   for (let k = 0; k < 3; k++) if (!(h[k] > 0)) throw new ClothError('options.halfExtents', options.halfExtents, 'must be > 0 on every axis')
   return spawnCollider(
@@ -221,7 +240,7 @@ export function addBoxCollider(world: object, eid: number, options: BoxColliderO
  */
 export function addConvexHullCollider(world: object, eid: number, options: ConvexHullColliderOptions): number {
   const state = getClothWorldForChange(world)
-  const o = checkCommon(world, state, eid, options)
+  const o = checkCommon(world, state, eid, options, HULL_KEYS)
   const hull = buildConvexHull(checkBoundedArray('options.points', options.points, 3, MAX_COORDINATE), 'options.points')
   const v = hull.vertices
   const nv = v.length / 3
@@ -250,7 +269,7 @@ export function addConvexHullCollider(world: object, eid: number, options: Conve
  */
 export function addPlaneCollider(world: object, eid: number, options: PlaneColliderOptions = {}): number {
   const state = getClothWorldForChange(world)
-  const o = checkCommon(world, state, eid, options)
+  const o = checkCommon(world, state, eid, options, PLANE_KEYS)
   let n: ArrayLike<number> = [0, 1, 0]
   if (options.normal !== undefined) {
     const a = checkVec3('options.normal', options.normal)

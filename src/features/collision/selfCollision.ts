@@ -1,7 +1,7 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import { clothLayersMatch } from './reach'
 import { B_MAX_DEV, B_MEAN_V, type SelfCollisionState } from './types'
-import { ClothError, MAX_COORDINATE, checkAtMost, checkNonNegative, checkPositive } from '../../core/errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkKeys, checkNonNegative, checkPositive, keysOf } from '../../core/errors'
 import {
   S_DIST,
   S_INV_CELL,
@@ -76,6 +76,7 @@ export function enableSelfCollision(world: object, cloth: number, options: SelfC
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  checkKeys('options', options, keysOf<SelfCollisionOptions>({ thickness: true, friction: true, staticFriction: true }))
   const thickness = options.thickness === undefined ? 0
     : checkAtMost('options.thickness', checkPositive('options.thickness', options.thickness), MAX_COORDINATE, ' m')
   const friction = options.friction === undefined ? -1 : checkNonNegative('options.friction', options.friction)

@@ -1,5 +1,5 @@
 import type { vec3 } from 'gl-matrix'
-import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkOut, checkPoint, checkPositive } from '../../core/errors'
+import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkOut, checkPoint, checkPositive, checkKeys, keysOf } from '../../core/errors'
 import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
@@ -43,6 +43,8 @@ export interface GrabOptions {
   maxForce?: number
 }
 
+const GRAB_KEYS = keysOf<GrabOptions>({ compliance: true, maxForce: true })
+
 const DEFAULT_COMPLIANCE = 1e-3
 const DEFAULT_FORCE_WEIGHTS = 2
 const G0 = 9.81
@@ -80,6 +82,7 @@ export function grabParticle(
   checkIndex('index', index, c.count)
   checkPoint('target', target)
   checkObject('options', options)
+  checkKeys('options', options, GRAB_KEYS)
   const compliance = options.compliance === undefined ? DEFAULT_COMPLIANCE
     : checkAtMost('options.compliance', checkNonNegative('options.compliance', options.compliance), 1e9, ' m/N')
   const maxForce = options.maxForce === undefined ? defaultMaxForce(c) : checkPositive('options.maxForce', options.maxForce)

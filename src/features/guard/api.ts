@@ -7,7 +7,7 @@
  * event is raised (`onClothReset`, `drainClothResets`, `getClothStats().guardResets`). So NaN never
  * reaches `getClothMesh`, and a broken cloth recovers in the same frame instead of flying apart.
  */
-import { ClothError, checkInteger, checkPositive } from '../../core/errors'
+import { ClothError, checkBoolean, checkInteger, checkPositive, checkKeys, keysOf } from '../../core/errors'
 import { G_FINITE, G_REACH, G_SPEED2, GUARD_PARAM_COUNT, PIECE_STRIDE, clearGuardAnchor } from '../../kernels/guard'
 import type { ClothTopology } from '../../model/topology'
 import { grownArray } from '../../core/store'
@@ -29,6 +29,8 @@ export function defaultGuardSettings(maxSpeed: number): GuardSettings {
   return { enabled: true, finite: true, bounds: 2, speed: 0.5 * maxSpeed, snapshotInterval: 1 }
 }
 
+const GUARD_KEYS = keysOf<ClothGuardOptions>({ enabled: true, finite: true, bounds: true, speed: true, snapshotInterval: true })
+
 /** Merges user options over `base`, validating them. */
 export function resolveGuardOptions(o: unknown, base: GuardSettings, arg: string): GuardSettings {
   const out = { ...base }
@@ -36,17 +38,13 @@ export function resolveGuardOptions(o: unknown, base: GuardSettings, arg: string
   if (o === false) return { ...out, enabled: false }
   if (typeof o !== 'object' || o === null) throw new ClothError(arg, o, 'must be a boolean or guard options')
   const g = o as ClothGuardOptions
+  checkKeys(arg, g, GUARD_KEYS)
   if (g.enabled !== undefined) out.enabled = checkBoolean(`${arg}.enabled`, g.enabled)
   if (g.finite !== undefined) out.finite = checkBoolean(`${arg}.finite`, g.finite)
   if (g.bounds !== undefined) out.bounds = g.bounds === false ? false : checkPositive(`${arg}.bounds`, g.bounds)
   if (g.speed !== undefined) out.speed = g.speed === false ? false : checkPositive(`${arg}.speed`, g.speed)
   if (g.snapshotInterval !== undefined) out.snapshotInterval = checkInteger(`${arg}.snapshotInterval`, g.snapshotInterval, 1, 1_000_000)
   return out
-}
-
-function checkBoolean(arg: string, v: unknown): boolean {
-  if (typeof v !== 'boolean') throw new ClothError(arg, v, 'must be true or false')
-  return v
 }
 
 export function createGuardWorld(defaults: GuardSettings): GuardWorld {

@@ -1,6 +1,6 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { vec3 } from 'gl-matrix'
-import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint } from '../../core/errors'
+import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkKeys, keysOf } from '../../core/errors'
 import { rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
@@ -19,6 +19,8 @@ export interface PinOptions {
    */
   blendTime?: number
 }
+
+const PIN_KEYS = keysOf<PinOptions>({ blendTime: true })
 
 const tmp = new Float64Array(16)
 const _IDENTITY = [0, 0, 0, 1]
@@ -50,6 +52,7 @@ export function pinParticle(
   }
   if (offset !== undefined) checkPoint('offset', offset)
   checkObject('options', options)
+  checkKeys('options', options, PIN_KEYS)
   const blendTime = options.blendTime === undefined ? 0.25 : checkNonNegative('options.blendTime', options.blendTime)
 
   // a frozen cloth is first brought to where its pins have carried it (the particle is held there)

@@ -1,4 +1,4 @@
-import { ClothError, checkNonNegative, checkPositive } from '../../core/errors'
+import { ClothError, checkNonNegative, checkPositive, checkKeys, keysOf } from '../../core/errors'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothSleep, ClothSleepOptions, SleepSettings, SleepWorld } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -20,11 +20,14 @@ import { newArray } from '../../core/shared'
 
 export const DEFAULT_SLEEP: Readonly<SleepSettings> = { enabled: true, speed: 0.01, delay: 1 }
 
+const SLEEP_KEYS = keysOf<ClothSleepOptions>({ enabled: true, speed: true, delay: true })
+
 /** Resolves the plugin's `sleep` option (boolean or options) into settings. */
 export function resolveSleepOptions(o: boolean | ClothSleepOptions | undefined, base: SleepSettings, arg: string): SleepSettings {
   if (o === undefined) return { ...base }
   if (typeof o === 'boolean') return { ...base, enabled: o }
   if (typeof o !== 'object' || o === null) throw new ClothError(arg, o, 'must be a boolean or { enabled?, speed?, delay? }')
+  checkKeys(arg, o, SLEEP_KEYS)
   if (o.enabled !== undefined && typeof o.enabled !== 'boolean') throw new ClothError(`${arg}.enabled`, o.enabled, 'must be a boolean')
   const speed = o.speed === undefined ? base.speed : checkPositive(`${arg}.speed`, o.speed)
   const delay = o.delay === undefined ? base.delay : checkNonNegative(`${arg}.delay`, o.delay)

@@ -1,5 +1,5 @@
 import { addComponent, hasComponent, observe, onRemove } from 'bitecs'
-import { ClothError, checkInteger, checkPositive } from '../../core/errors'
+import { ClothError, checkInteger, checkPositive, checkKeys, keysOf } from '../../core/errors'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothWorldState } from '../../world/state'
@@ -69,6 +69,8 @@ export interface TearableOptions {
   minPiece?: number
 }
 
+const TEARABLE_KEYS = keysOf<TearableOptions>({ strain: true, maxTearsPerStep: true, capacity: true, hysteresis: true, minPiece: true })
+
 /** Creates the per-world tearing state. Called by `installClothPlugin`. */
 export function createTearWorld(): TearWorld {
   return {
@@ -111,6 +113,7 @@ export function makeTearable(world: object, cloth: number, options: TearableOpti
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  checkKeys('options', options, TEARABLE_KEYS)
   const strain = options.strain === undefined ? c.material.tearStrain : checkPositive('options.strain', options.strain)
   const maxTears = options.maxTearsPerStep === undefined ? 4 : checkInteger('options.maxTearsPerStep', options.maxTearsPerStep, 1, 4096)
   const hysteresis = options.hysteresis === undefined ? 2 : checkInteger('options.hysteresis', options.hysteresis, 1, 255)

@@ -1,20 +1,6 @@
 import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, onRemove, removeComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import {
-  ClothError,
-  MAX_COORDINATE,
-  checkAtMost,
-  checkInteger,
-  checkNonNegative,
-  checkObject,
-  checkOneOf,
-  checkOut,
-  checkPoint,
-  checkPositive,
-  checkQuat,
-  checkVec3,
-  isArrayLike,
-} from '../../core/errors'
+import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkObject, checkOneOf, checkOut, checkPoint, checkPositive, checkQuat, checkVec3, isArrayLike, checkKeys, keysOf } from '../../core/errors'
 import { NOISE_SCRATCH, ZONE_STRIDE, addZoneAir } from '../../kernels/wind'
 import { getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
@@ -68,6 +54,23 @@ export interface GustOptions {
 const ZERO_ROTATION = [0, 0, 0, 1]
 
 /** Creates the per-world wind state (validates `airDensity`). Called by `installClothPlugin`. */
+const ZONE_KEYS = keysOf<WindZoneOptions>({
+  direction: true,
+  strength: true,
+  turbulence: true,
+  turbulenceScale: true,
+  turbulencePeriod: true,
+  shape: true,
+  position: true,
+  rotation: true,
+  size: true,
+  falloff: true,
+  seed: true,
+  airDensity: true,
+})
+const SETTABLE_ZONE_KEYS = ZONE_KEYS.filter((key) => key !== 'shape' && key !== 'position' && key !== 'rotation')
+const GUST_KEYS = keysOf<GustOptions>({ strength: true, duration: true })
+
 export function createWindWorld(airDensity: number | undefined): WindWorld {
   const rho = airDensity === undefined ? 1.2
     : checkAtMost('options.airDensity', checkNonNegative('options.airDensity', airDensity), MAX_AIR_DENSITY, ' kg/m³')
@@ -140,6 +143,7 @@ export function installWind(world: object, state: ClothWorldState): void {
 export function createWindZone(world: object, options: WindZoneOptions): number {
   const state = getClothWorldForChange(world)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  checkKeys('options', options, ZONE_KEYS)
   const shape = options.shape === undefined ? 'global' : checkOneOf('options.shape', options.shape, ['global', 'box', 'sphere'] as const)
   const position = options.position === undefined ? [0, 0, 0] : checkPoint('options.position', options.position)
   const rotation = options.rotation === undefined ? ZERO_ROTATION : checkQuat('options.rotation', options.rotation)
@@ -198,6 +202,8 @@ export function setWindZone(world: object, zone: number, options: Partial<Omit<W
   const state = getClothWorldForChange(world)
   checkZone(world, state, zone)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  // (the shape, position and rotation are fixed: given here, they were silently ignored)
+  checkKeys('options', options, SETTABLE_ZONE_KEYS)
   const Z = state.components.WindZone
   const shape = Z.shape[zone] === 0 ? 'global' : Z.shape[zone] === 1 ? 'box' : 'sphere'
   applyZoneOptions(Z, zone, checkZoneOptions(options, shape))
@@ -213,6 +219,7 @@ export function gustWind(world: object, zone: number, options: GustOptions): voi
   const state = getClothWorldForChange(world)
   checkZone(world, state, zone)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
+  checkKeys('options', options, GUST_KEYS)
   if (typeof options.strength !== 'number' || !Number.isFinite(options.strength) || Math.abs(options.strength) > MAX_WIND) {
     throw new ClothError('options.strength', options.strength, `must be a finite number (m/s) within ±${MAX_WIND}`)
   }
