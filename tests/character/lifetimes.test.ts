@@ -148,4 +148,34 @@ describe('character cloth: frames changed and bones removed while it runs', () =
     // measured: 1.6 % and 0.7 % (2174 % after, before the fix)
     expect(after).toBeLessThan(Math.max(0.05, 2 * before))
   })
+
+  it('an unpinned skinned cape whose frame (its first bone, the default) is removed while it runs takes the next bone as its frame', () => {
+    const world = installClothPlugin(createWorld())
+    const c = cape(world, 0, false) // held by max distance 0 at the collar
+    const bones = [addEntity(world), addEntity(world)]
+    setTransform(world, bones[0], [0, 1.6, 0])
+    setTransform(world, bones[1], [0, 1.2, 0])
+    const joints: number[] = [], weights: number[] = []
+    for (let i = 0; i < COLS * ROWS; i++) {
+      const u = Math.floor(i / COLS) / (ROWS - 1)
+      joints.push(0, 1, 0, 0)
+      weights.push(1 - u, u, 0, 0)
+    }
+    setClothSkinning(world, c, { bones, joints, weights })
+    setClothInertia(world, c, { linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+    setClothMotionConstraints(world, c, { maxDistance: painted() })
+    let before = 0, after = 0
+    for (let f = 1; f <= 120; f++) {
+      const x = 3 * f * DT // walking at 3 m/s
+      if (f < 60) setTransform(world, bones[0], [x, 1.6, 0])
+      setTransform(world, bones[1], [x, 1.2, 0])
+      if (f === 60) removeEntity(world, bones[0]) // the spine bone goes; the hip walks on
+      stepCloth(world, DT)
+      const s = getClothStretch(world, c).max
+      if (f < 60) before = Math.max(before, s)
+      else after = Math.max(after, s)
+    }
+    // measured: 1.6 % and 0.7 % (2174 % after, when the frame became the world)
+    expect(after).toBeLessThan(Math.max(0.05, 2 * before))
+  })
 })

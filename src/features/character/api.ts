@@ -401,7 +401,8 @@ export function installCharacter(world: object, state: ClothWorldState): void {
       for (const c of state.cloths) {
         const ch = c.character
         if (ch === null) continue
-        if (ch.frame === eid && ch.frameSlot >= 0) {
+        const lostFrame = ch.frame === eid && ch.frameSlot >= 0
+        if (lostFrame) {
           releaseAnchor(state, c, ch.frameSlot)
           untrackEntity(state, eid)
           ch.frameSlot = -1
@@ -416,6 +417,10 @@ export function installCharacter(world: object, state: ClothWorldState): void {
           skin.slots[b] = -1
           skin.bones[b] = 0
         }
+        // a default frame that went (a skinned cloth's first bone) passes to the next default (the
+        // next bone): left to the world, the part on the bone that went stayed where it went while
+        // the rest walked on (2174 % stretch)
+        if (lostFrame && ch.settings[S_FRAME_EXPLICIT] === 0) useDefaultFrame(state, c, ch)
       }
     }),
   )
