@@ -197,11 +197,6 @@ class Fans {
     }
   }
 
-  /**
-   * The seams of each step from triangle a to triangle b around rest point p, over triangles
-   * around p sharing an edge (two rest points), along every way with the fewest steps (when no
-   * such way joins them: the pair at p itself).
-   */
   /** Appends the seams between triangles a and b (see `seams`). */
   between(a: number, b: number): void {
     if (this.shared(a, b) === 1) this.steps(this.last, a, b)
@@ -225,6 +220,11 @@ class Fans {
     this.pairs[o + 3] = cb
   }
 
+  /**
+   * The seams of each step from triangle a to triangle b around rest point p, over triangles
+   * around p sharing an edge (two rest points), along every way with the fewest steps (when no
+   * such way joins them: the pair at p itself).
+   */
   private steps(p: number, a: number, b: number): void {
     const { fan, d } = this.fanOf(p)
     const f = fan.length, ia = fan.indexOf(a), ib = fan.indexOf(b)
