@@ -1,6 +1,7 @@
 import type { quat, vec3 } from 'gl-matrix'
 import { checkPoint, checkQuat } from './core/errors'
 import { normalizedQuat } from './core/math'
+import { carryFrozenReference } from './features/budget/freeze'
 import { carryWorldFrame } from './features/character/frames'
 import { carryPins } from './features/pins/api'
 import { getCloth, getClothWorldForChange } from './world/access'
@@ -74,6 +75,14 @@ export function teleportCloth(
   moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, px + m[7], py + m[8], pz + m[9], true) // (torn pieces too)
   carryPins(state, c, m)
   carryWorldFrame(c, m)
+  if (c.budget.frozen) {
+    // a frozen cloth is carried by its reference (moved along above) until it thaws: no teleport is
+    // left pending for its pins (kept, the thaw step moved the cloth back by the teleport and then
+    // by its target's jump there, which its character frame had forced: 152 % stretch)
+    carryFrozenReference(c, m)
+    c.pins.skipTeleport = false
+    c.pins.hand[10] = 0
+  }
   state.stats.teleports++
   wakeClothState(state, c)
 }

@@ -1,5 +1,7 @@
 import { particleBounds } from '../../kernels/mesh'
 import { carryFrozen } from '../../world/rigid'
+import { applyJump } from '../../world/kinematics'
+import { normalizeQuatAt } from '../../core/math'
 import { glideThawingPins } from '../pins/api'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -117,6 +119,22 @@ function pickReference(state: ClothWorldState, c: ClothState, except: number, sk
   // first bone went was left behind by the others, 30 m/s at its thaw)
   const slot = anchorSlot(c, skip)
   if (slot >= 0) setReference(c, ANCHOR_REF, slot, poses)
+}
+
+/**
+ * `teleportCloth`'s part for a frozen cloth, after it moved by the rigid motion at motion[0..9] (a
+ * record of `moveClothBy`): the pose it is carried from moves with it, so that the thaw carries it
+ * only by its reference's motion since, not by the teleport a second time (a cape frozen on a
+ * standing character moved with it by 10.6 m thawed 10.6 m beyond its pins: 10,304 % stretch).
+ */
+export function carryFrozenReference(c: ClothState, motion: Float64Array): void {
+  const lod = c.budget
+  if (lod.refSlot >= 0) {
+    applyJump(motion, 0, lod.refPose, 0)
+    normalizeQuatAt(lod.refPose, 3)
+  }
+  particleBounds(c.pos, c.count, lod.measure, 0, c.topology.unused)
+  for (let a = 0; a < 3; a++) lod.frozenCentre[a] = 0.5 * (lod.measure[a] + lod.measure[a + 3])
 }
 
 /**
