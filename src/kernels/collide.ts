@@ -121,19 +121,14 @@ function toLocalEnd(pos: Float64Array, j: number, f: Float64Array, s: Float64Arr
   s[2] = f[F_RE + 2] * bx + f[F_RE + 5] * by + f[F_RE + 8] * bz
 }
 
-/**
- * Whether a fast particle stays clear of a collider this substep, judged in the world: it ends
- * (w2: squared distance) farther from the shape's bounding-sphere centre than the sphere's reach
- * (`F_SWR`, which covers the shape's own motion) plus its own path (m2: squared length). The
- * distance to a point changes by at most the distance moved, so nothing is missed. Small enough
- * for the compiler to inline into the collider loops; most fast particles near a fast collider
- * stop here instead of in the swept test.
+/*
+ * FAST_CLEAR (written out in each collider loop: a helper taking doubles was boxed, 4.5 KB per
+ * step, whenever the compiler stopped inlining it): a fast particle stays clear of a collider this
+ * substep when it ends farther from the shape's bounding-sphere centre than the sphere's reach
+ * (`F_SWR`, which covers the shape's own motion) plus its own path (m2: squared length), judged in
+ * the world. The distance to a point changes by at most the distance moved, so nothing is missed;
+ * most fast particles near a fast collider stop here instead of in the swept test.
  */
-function sweptClear(w2: number, reach: number, m2: number): boolean {
-  if (w2 <= reach * reach) return false
-  const gap = Math.sqrt(w2) - reach
-  return gap * gap > m2
-}
 
 /**
  * Swept test for a particle that moved far relative to the collider this substep. In the
@@ -228,7 +223,8 @@ export function collideSphere(
     const m2 = mx * mx + my * my + mz * mz
     if (m2 > lim2) {
       const wx = x - swx, wy = y - swy, wz = z - swz
-      if (!sweptClear(wx * wx + wy * wy + wz * wz, swr, m2)) contacts += sweptContact(SHAPE_SPHERE, pos, prev, j, f, null, 0, s, touched)
+      const gap = Math.sqrt(wx * wx + wy * wy + wz * wz) - swr // (see FAST_CLEAR)
+      if (!(gap > 0 && gap * gap > m2)) contacts += sweptContact(SHAPE_SPHERE, pos, prev, j, f, null, 0, s, touched)
       continue
     }
     const dx = x - cx, dy = y - cy, dz = z - cz
@@ -275,7 +271,8 @@ export function collideCapsule(
     const m2 = mx * mx + my * my + mz * mz
     if (m2 > lim2) {
       const wx = x - swx, wy = y - swy, wz = z - swz
-      if (!sweptClear(wx * wx + wy * wy + wz * wz, swr, m2)) contacts += sweptContact(SHAPE_CAPSULE, pos, prev, j, f, null, 0, s, touched)
+      const gap = Math.sqrt(wx * wx + wy * wy + wz * wz) - swr // (see FAST_CLEAR)
+      if (!(gap > 0 && gap * gap > m2)) contacts += sweptContact(SHAPE_CAPSULE, pos, prev, j, f, null, 0, s, touched)
       continue
     }
     const dx = x - cx, dy = y - cy, dz = z - cz
@@ -327,7 +324,8 @@ export function collideBox(
     const m2 = mx * mx + my * my + mz * mz
     if (m2 > lim2) {
       const wx = x - swx, wy = y - swy, wz = z - swz
-      if (!sweptClear(wx * wx + wy * wy + wz * wz, swr, m2)) contacts += sweptContact(SHAPE_BOX, pos, prev, j, f, null, 0, s, touched)
+      const gap = Math.sqrt(wx * wx + wy * wy + wz * wz) - swr // (see FAST_CLEAR)
+      if (!(gap > 0 && gap * gap > m2)) contacts += sweptContact(SHAPE_BOX, pos, prev, j, f, null, 0, s, touched)
       continue
     }
     const bx = x - px, by = y - py, bz = z - pz
@@ -374,7 +372,8 @@ export function collideHull(
     const m2 = mx * mx + my * my + mz * mz
     if (m2 > lim2) {
       const wx = x - swx, wy = y - swy, wz = z - swz
-      if (!sweptClear(wx * wx + wy * wy + wz * wz, swr, m2))
+      const gap = Math.sqrt(wx * wx + wy * wy + wz * wz) - swr // (see FAST_CLEAR)
+      if (!(gap > 0 && gap * gap > m2))
         contacts += sweptContact(SHAPE_HULL, pos, prev, j, f, planes, planeCount, s, touched)
       continue
     }
