@@ -1,0 +1,93 @@
+// farStepEvery and a camera cut (found by a seeded soak): with farStepEvery 1 nothing pops; with 2
+// or 4 the first step back at full rate pops, a known limit (README) these tests pin down.
+import { addEntity, createWorld } from 'bitecs'
+import { describe, expect, it } from 'vitest'
+import {
+  createCloth,
+  getClothLod,
+  getClothState,
+  getClothStretch,
+  installClothPlugin,
+  pinRow,
+  setClothBudget,
+  setClothInertia,
+  setClothMotionConstraints,
+  setTransform,
+  stepCloth,
+} from '../src/index'
+
+const CAL = { nsPerParticle: 20, nsPerProjection: 12, nsPerColliderTest: 5, nsPerClothSubstep: 500 }
+
+/**
+ * A 7×11 wool cape on a hero walking +z at 3 m/s away from a camera at the origin; at frame 1000 the
+ * camera cuts to the hero (2 m beside it). Returns the cape's worst stretch and largest one-step
+ * velocity change (any particle) from the cut on, and its stretch before.
+ */
+function cameraCut(character: boolean, cull: number, farStepEvery: 1 | 2 | 4) {
+  const world = installClothPlugin(createWorld())
+  const hero = addEntity(world)
+  setTransform(world, hero, [0, 0, 0])
+  const viewer = addEntity(world)
+  setTransform(world, viewer, [0, 2, 0])
+  const cape = createCloth(world, {
+    width: 0.55,
+    height: 1.0,
+    resolution: [7, 11],
+    position: [0, 1.47, -0.25],
+    material: 'wool',
+    substeps: 4,
+  })
+  pinRow(world, cape, 0, hero)
+  if (character) {
+    setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+    const md = Array.from({ length: 77 }, (_, i) => {
+      const u = Math.floor(i / 7) / 10
+      return u === 1 ? Infinity : 0.9 * u * u
+    })
+    setClothMotionConstraints(world, cape, { maxDistance: md, backstop: { distance: 0.02, radius: 0.5 } })
+  }
+  setClothBudget(world, { viewer, near: 5, far: 26, cull, farStepEvery, calibration: CAL, adapt: false })
+  const c = getClothState(world, cape)
+  const prev = new Float64Array(3 * c.count)
+  let before = 0, after = 0, dvBefore = 0, dvAfter = 0, frozenAtCut = false
+  for (let f = 0; f < 1200; f++) {
+    setTransform(world, hero, [0, 0, (3 * f) / 60])
+    if (f === 1000) {
+      frozenAtCut = getClothLod(world, cape).frozen
+      setTransform(world, viewer, [2, 2, (3 * f) / 60]) // the camera cuts to the hero
+    }
+    stepCloth(world, 1 / 60)
+    const s = getClothStretch(world, cape).max
+    let dv = 0
+    for (let i = 0; i < 3 * c.count; i += 3) {
+      dv = Math.max(dv, Math.hypot(c.vel[i] - prev[i], c.vel[i + 1] - prev[i + 1], c.vel[i + 2] - prev[i + 2]))
+    }
+    prev.set(c.vel.subarray(0, 3 * c.count))
+    if (f > 600 && f < 1000) {
+      before = Math.max(before, s)
+      dvBefore = Math.max(dvBefore, dv)
+    }
+    if (f >= 1000) {
+      after = Math.max(after, s)
+      dvAfter = Math.max(dvAfter, dv)
+    }
+  }
+  return { before, after, dvBefore, dvAfter, frozenAtCut }
+}
+
+describe('a camera cut to a far cape', () => {
+  it('farStepEvery 1: a frozen character cape thawed by the cut does not pop (0.01 m/s, 0.1 %)', () => {
+    const r = cameraCut(true, 42, 1)
+    expect(r.frozenAtCut).toBe(true)
+    expect(r.dvAfter).toBeLessThan(0.1)
+    expect(r.after).toBeLessThan(0.02)
+  })
+
+  it('farStepEvery 2 (known limit): the first step back at full rate moves the cape at twice its walk', () => {
+    const r = cameraCut(false, 1e6, 2)
+    // measured: 3.00 m/s (0.00 before the cut); when this is fixed, fix the README's Known limits
+    expect(r.dvBefore).toBeLessThan(0.1)
+    expect(r.dvAfter).toBeGreaterThan(2)
+    expect(r.dvAfter).toBeLessThan(4)
+  })
+})
