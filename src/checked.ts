@@ -5,7 +5,18 @@
  * which is why the plugin's own systems call the unchecked kernels in `src/kernels/` directly:
  * their data was validated once, when it entered through the API.
  */
-import { ClothError, checkIndex, checkInteger, checkOneOf, checkPositive, isArrayLike, MAX_COORDINATE, MAX_SNAPSHOT_COORDINATE, checkKeys, keysOf } from './core/errors'
+import {
+  ClothError,
+  checkIndex,
+  checkInteger,
+  checkOneOf,
+  checkPositive,
+  isArrayLike,
+  MAX_COORDINATE,
+  MAX_SNAPSHOT_COORDINATE,
+  checkKeys,
+  keysOf,
+} from './core/errors'
 import { solveLineBending as solveLineBendingKernel } from './kernels/bending'
 import { dampPairs as dampPairsKernel } from './kernels/damping'
 import { solveDihedrals as solveDihedralsKernel } from './kernels/dihedral'
@@ -92,7 +103,8 @@ function positionsFor(arg: string, pos: unknown, n: number): Float64Array {
 
 function bounded(arg: string, v: ArrayLike<number>, len: number): void {
   for (let i = 0; i < len; i++) {
-    if (!(Math.abs(v[i]) <= MAX_SNAPSHOT_COORDINATE)) throw new ClothError(`${arg}[${i}]`, v[i], `must lie within ±${MAX_SNAPSHOT_COORDINATE}`)
+    if (!(Math.abs(v[i]) <= MAX_SNAPSHOT_COORDINATE))
+      throw new ClothError(`${arg}[${i}]`, v[i], `must lie within ±${MAX_SNAPSHOT_COORDINATE}`)
   }
 }
 

@@ -1,6 +1,20 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, checkBoolean, checkFiniteArray, checkOutObject, checkInteger, checkObject, checkPoint, checkNonNegative, checkOneOf, checkPositive, checkQuat, checkKeys, keysOf } from './core/errors'
+import {
+  ClothError,
+  checkBoolean,
+  checkFiniteArray,
+  checkOutObject,
+  checkInteger,
+  checkObject,
+  checkPoint,
+  checkNonNegative,
+  checkOneOf,
+  checkPositive,
+  checkQuat,
+  checkKeys,
+  keysOf,
+} from './core/errors'
 import { normalizedQuat, rotateVec3 } from './core/math'
 import { measureStretch } from './kernels/mesh'
 import { createKernelParams } from './kernels/params'

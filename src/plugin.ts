@@ -4,7 +4,17 @@ import { createPinStore } from '../components/Pin'
 import { createTransformStore, resetTransform } from '../components/Transform'
 import { createWindZoneStore } from '../components/WindZone'
 import { createTearableStore } from '../components/Tearable'
-import { ClothError, MAX_COORDINATE, checkBoundedArray, checkInteger, checkObject, checkPositive, checkVec3, checkKeys, keysOf } from './core/errors'
+import {
+  ClothError,
+  MAX_COORDINATE,
+  checkBoundedArray,
+  checkInteger,
+  checkObject,
+  checkPositive,
+  checkVec3,
+  checkKeys,
+  keysOf,
+} from './core/errors'
 import { findClothWorld, getClothWorld } from './world/access'
 import { growStores, transformSourceOf } from './world/capacity'
 import { createKinematics, transformLost } from './world/kinematics'
@@ -239,7 +249,8 @@ function validateTransformSource(t: TransformSource): void {
   const scales = (['sx', 'sy', 'sz'] as const).filter((key) => t[key] !== undefined)
   if (scales.length > 0) {
     for (const key of ['sx', 'sy', 'sz'] as const) {
-      if (t[key] === undefined) throw new ClothError(`options.transforms.${key}`, t[key], 'is missing: give sx, sy and sz together, or none')
+      if (t[key] === undefined)
+        throw new ClothError(`options.transforms.${key}`, t[key], 'is missing: give sx, sy and sz together, or none')
       store(key)
     }
   }

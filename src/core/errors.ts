@@ -163,7 +163,11 @@ export function keysOf<T>(keys: { [K in keyof Required<T>]: true }): readonly st
 export function checkKeys(argument: string, value: object, known: readonly string[]): void {
   for (const key in value) {
     if (!Object.hasOwn(value, key) || known.includes(key)) continue
-    throw new ClothError(`${argument}.${key}`, (value as Record<string, unknown>)[key], `is not an option here (known: ${known.join(', ')})`)
+    throw new ClothError(
+      `${argument}.${key}`,
+      (value as Record<string, unknown>)[key],
+      `is not an option here (known: ${known.join(', ')})`,
+    )
   }
 }
 

@@ -114,7 +114,13 @@ const CALIBRATION_KEYS = keysOf<ClothCostCalibration>({
   nsPerClothSubstep: true,
   nsPerWindTriangle: true,
 })
-const TARGET_KEYS = keysOf<ClothQualityTarget>({ maxStretch: true, msPerStep: true, minSubsteps: true, maxSubsteps: true, calibration: true })
+const TARGET_KEYS = keysOf<ClothQualityTarget>({
+  maxStretch: true,
+  msPerStep: true,
+  minSubsteps: true,
+  maxSubsteps: true,
+  calibration: true,
+})
 const BUDGET_KEYS = keysOf<ClothBudgetOptions>({
   msPerFrame: true,
   viewer: true,

@@ -117,7 +117,11 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  checkKeys('options', options, keysOf<ClothCollisionOptions>({ layer: true, mask: true, thickness: true, friction: true, staticFriction: true }))
+  checkKeys(
+    'options',
+    options,
+    keysOf<ClothCollisionOptions>({ layer: true, mask: true, thickness: true, friction: true, staticFriction: true }),
+  )
   const cc = c.collision
   const layer = options.layer === undefined ? cc.layer : checkInteger('options.layer', options.layer, 0, 0xffffffff)
   const mask = options.mask === undefined ? cc.mask : checkInteger('options.mask', options.mask, 0, 0xffffffff)

@@ -1,5 +1,16 @@
 import type { vec3 } from 'gl-matrix'
-import { ClothError, checkAtMost, checkIndex, checkNonNegative, checkObject, checkOut, checkPoint, checkPositive, checkKeys, keysOf } from '../../core/errors'
+import {
+  ClothError,
+  checkAtMost,
+  checkIndex,
+  checkNonNegative,
+  checkObject,
+  checkOut,
+  checkPoint,
+  checkPositive,
+  checkKeys,
+  keysOf,
+} from '../../core/errors'
 import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'

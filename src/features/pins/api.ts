@@ -1,6 +1,16 @@
 import { addComponent, addEntity, entityExists, hasComponent, removeEntity } from 'bitecs'
 import type { vec3 } from 'gl-matrix'
-import { ClothError, MAX_COORDINATE, checkIndex, checkInteger, checkNonNegative, checkObject, checkPoint, checkKeys, keysOf } from '../../core/errors'
+import {
+  ClothError,
+  MAX_COORDINATE,
+  checkIndex,
+  checkInteger,
+  checkNonNegative,
+  checkObject,
+  checkPoint,
+  checkKeys,
+  keysOf,
+} from '../../core/errors'
 import { rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'

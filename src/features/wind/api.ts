@@ -1,6 +1,22 @@
 import { addComponent, addEntity, entityExists, hasComponent, observe, onAdd, onRemove, removeComponent, removeEntity } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
-import { ClothError, MAX_COORDINATE, checkAtMost, checkInteger, checkNonNegative, checkObject, checkOneOf, checkOut, checkPoint, checkPositive, checkQuat, checkVec3, isArrayLike, checkKeys, keysOf } from '../../core/errors'
+import {
+  ClothError,
+  MAX_COORDINATE,
+  checkAtMost,
+  checkInteger,
+  checkNonNegative,
+  checkObject,
+  checkOneOf,
+  checkOut,
+  checkPoint,
+  checkPositive,
+  checkQuat,
+  checkVec3,
+  isArrayLike,
+  checkKeys,
+  keysOf,
+} from '../../core/errors'
 import { NOISE_SCRATCH, ZONE_STRIDE, addZoneAir } from '../../kernels/wind'
 import { getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
