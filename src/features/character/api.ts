@@ -1,4 +1,4 @@
-import { hasComponent, observe, onAdd, onRemove } from 'bitecs'
+import { hasComponent } from 'bitecs'
 import { ClothError, MAX_COORDINATE, checkKeys, checkObject, checkOneOf, isArrayLike, keysOf } from '../../core/errors'
 import { newArray, touchLayout } from '../../core/shared'
 import { grownArray } from '../../core/store'
@@ -11,9 +11,8 @@ import { wakeClothState } from '../../world/wake'
 import { releaseAnchor } from '../budget/freeze'
 import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
 import { blankCharacter, blankSkin, unconstrained } from './state'
-import { adoptPinFrame, backdate, dropPinFrame, defaultFrame, rebindRest, setFrame, useDefaultFrame } from './frames'
+import { backdate, defaultFrame, rebindRest, setFrame, useDefaultFrame } from './frames'
 import { bindRigid, identityPose, lastReference, reserveBoneScratch, restNormals, trackedPose } from './reference'
-import { deferrable } from '../../world/flight'
 import {
   M_BIND,
   M_POSE,
@@ -384,46 +383,6 @@ export function releaseCharacter(state: ClothWorldState, c: ClothState): void {
   c.character = null
   listLoosePieces(state, c) // (the pieces no pin holds, now that the character holds none)
   touchLayout()
-}
-
-/**
- * Registers the observer that detaches frames and bones whose Transform goes away (removed
- * entity, or component): the cloth keeps their last pose, so a recycled id is never followed.
- * Called by `installClothPlugin`.
- */
-export function installCharacter(world: object, state: ClothWorldState): void {
-  observe(world as never, onAdd(state.components.Pin), (pin: number) => adoptPinFrame(state, pin))
-  observe(world as never, onRemove(state.components.Pin), deferrable(state, (pin: number) => dropPinFrame(state, pin)))
-  observe(
-    world as never,
-    onRemove(state.transforms.component),
-    deferrable(state, (eid: number) => {
-      for (const c of state.cloths) {
-        const ch = c.character
-        if (ch === null) continue
-        const lostFrame = ch.frame === eid && ch.frameSlot >= 0
-        if (lostFrame) {
-          releaseAnchor(state, c, ch.frameSlot)
-          untrackEntity(state, eid)
-          ch.frameSlot = -1
-          ch.frame = 0
-        }
-        const skin = ch.skin
-        if (skin === null) continue
-        for (let b = 0; b < skin.bones.length; b++) {
-          if (skin.bones[b] !== eid || skin.slots[b] < 0) continue
-          releaseAnchor(state, c, skin.slots[b])
-          untrackEntity(state, eid)
-          skin.slots[b] = -1
-          skin.bones[b] = 0
-        }
-        // a default frame that went (a skinned cloth's first bone) passes to the next default (the
-        // next bone): left to the world, the part on the bone that went stayed where it went while
-        // the rest walked on (2174 % stretch)
-        if (lostFrame && ch.settings[S_FRAME_EXPLICIT] === 0) useDefaultFrame(state, c, ch)
-      }
-    }),
-  )
 }
 
 // ---------------------------------------------------------------------------------------------
