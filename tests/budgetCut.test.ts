@@ -1,22 +1,6 @@
-// farStepEvery and a camera cut (found by a seeded soak): with farStepEvery 1 nothing pops; with 2
-// or 4 the first step back at full rate pops, a known limit (README) these tests pin down.
-import { addEntity, createWorld } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import {
-  createCloth,
-  getClothLod,
-  getClothState,
-  getClothStretch,
-  installClothPlugin,
-  pinRow,
-  setClothBudget,
-  setClothInertia,
-  setClothMotionConstraints,
-  setTransform,
-  stepCloth,
-} from '../src/index'
-
-const CAL = { nsPerParticle: 20, nsPerProjection: 12, nsPerColliderTest: 5, nsPerClothSubstep: 500 }
+import { getClothLod, getClothState, getClothStretch, setClothBudget, setTransform, stepCloth } from '../src/index'
+import { CAL, budgetCape } from './fixtures/budgetCape'
 
 /**
  * A 7×11 wool cape on a hero walking +z at 3 m/s away from a camera at the origin; at frame 1000 the
@@ -24,28 +8,7 @@ const CAL = { nsPerParticle: 20, nsPerProjection: 12, nsPerColliderTest: 5, nsPe
  * velocity change (any particle) from the cut on, and its stretch before.
  */
 function cameraCut(character: boolean, cull: number, farStepEvery: 1 | 2 | 4) {
-  const world = installClothPlugin(createWorld())
-  const hero = addEntity(world)
-  setTransform(world, hero, [0, 0, 0])
-  const viewer = addEntity(world)
-  setTransform(world, viewer, [0, 2, 0])
-  const cape = createCloth(world, {
-    width: 0.55,
-    height: 1.0,
-    resolution: [7, 11],
-    position: [0, 1.47, -0.25],
-    material: 'wool',
-    substeps: 4,
-  })
-  pinRow(world, cape, 0, hero)
-  if (character) {
-    setClothInertia(world, cape, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
-    const md = Array.from({ length: 77 }, (_, i) => {
-      const u = Math.floor(i / 7) / 10
-      return u === 1 ? Infinity : 0.9 * u * u
-    })
-    setClothMotionConstraints(world, cape, { maxDistance: md, backstop: { distance: 0.02, radius: 0.5 } })
-  }
+  const { world, hero, viewer, cape } = budgetCape(character, [0, 2, 0])
   setClothBudget(world, { viewer, near: 5, far: 26, cull, farStepEvery, calibration: CAL, adapt: false })
   const c = getClothState(world, cape)
   const prev = new Float64Array(3 * c.count)

@@ -52,6 +52,21 @@ function fastest(world: object, cloth: number): number {
   return v
 }
 
+/** Two bones, at the collar (1.6 m) and the hip (1.2 m), the cape blended from the first to the second down its rows. */
+function skinToTwoBones(world: object, c: number): number[] {
+  const bones = [addEntity(world), addEntity(world)]
+  setTransform(world, bones[0], [0, 1.6, 0])
+  setTransform(world, bones[1], [0, 1.2, 0])
+  const joints: number[] = [], weights: number[] = []
+  for (let i = 0; i < COLS * ROWS; i++) {
+    const u = Math.floor(i / COLS) / (ROWS - 1)
+    joints.push(0, 1, 0, 0)
+    weights.push(1 - u, u, 0, 0)
+  }
+  setClothSkinning(world, c, { bones, joints, weights })
+  return bones
+}
+
 describe('character cloth: frames changed and bones removed while it runs', () => {
   it('a frozen cape held by its frame (max distance 0, no pins) given a new frame while frozen thaws carried, as without the change', () => {
     const thawSpeed = (change: boolean): number => {
@@ -121,16 +136,7 @@ describe('character cloth: frames changed and bones removed while it runs', () =
     const hero = addEntity(world)
     setTransform(world, hero, [0, 1.6, 0])
     const c = cape(world, hero, true)
-    const bones = [addEntity(world), addEntity(world)]
-    setTransform(world, bones[0], [0, 1.6, 0])
-    setTransform(world, bones[1], [0, 1.2, 0])
-    const joints: number[] = [], weights: number[] = []
-    for (let i = 0; i < COLS * ROWS; i++) {
-      const u = Math.floor(i / COLS) / (ROWS - 1)
-      joints.push(0, 1, 0, 0)
-      weights.push(1 - u, u, 0, 0)
-    }
-    setClothSkinning(world, c, { bones, joints, weights })
+    const bones = skinToTwoBones(world, c)
     setClothInertia(world, c, { frame: hero, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
     setClothMotionConstraints(world, c, { maxDistance: painted() })
     let before = 0, after = 0
@@ -152,16 +158,7 @@ describe('character cloth: frames changed and bones removed while it runs', () =
   it('an unpinned skinned cape whose frame (its first bone, the default) is removed while it runs takes the next bone as its frame', () => {
     const world = installClothPlugin(createWorld())
     const c = cape(world, 0, false) // held by max distance 0 at the collar
-    const bones = [addEntity(world), addEntity(world)]
-    setTransform(world, bones[0], [0, 1.6, 0])
-    setTransform(world, bones[1], [0, 1.2, 0])
-    const joints: number[] = [], weights: number[] = []
-    for (let i = 0; i < COLS * ROWS; i++) {
-      const u = Math.floor(i / COLS) / (ROWS - 1)
-      joints.push(0, 1, 0, 0)
-      weights.push(1 - u, u, 0, 0)
-    }
-    setClothSkinning(world, c, { bones, joints, weights })
+    const bones = skinToTwoBones(world, c)
     setClothInertia(world, c, { linear: 0.5, angular: 0.5, centrifugal: 0.5 })
     setClothMotionConstraints(world, c, { maxDistance: painted() })
     let before = 0, after = 0

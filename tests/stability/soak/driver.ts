@@ -43,17 +43,7 @@ import {
   type ClothSnapshot,
 } from '../../../src/index'
 import { getClothWorld } from '../../../src/world/access'
-
-export function mulberry(seed: number): () => number {
-  let a = seed >>> 0
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0
-    let t = a
-    t = Math.imul(t ^ (t >>> 15), t | 1)
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61)
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296
-  }
-}
+import { rng } from '../../helpers'
 
 export type Action =
   | { k: 'mode'; ch: number; mode: 'stand' | 'run' | 'turn' | 'jump' | 'teleport' | 'snap' }
@@ -92,7 +82,7 @@ export const NGRAB = 3
 export const NTARGET = 5 + NEXTRA
 
 export function generateScript(seed: number, frames: number, intensity = 1): Frame[] {
-  const r = mulberry(seed)
+  const r = rng(seed)
   const pick = <T>(a: readonly T[]): T => a[Math.floor(r() * a.length)]
   const out: Frame[] = []
   const p = (x: number) => r() < x * intensity
