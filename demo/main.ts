@@ -62,6 +62,13 @@ let tint = false
 // ------------------------------------------------------------------------------------------
 // Panel
 
+const panel = $('panel')
+const statsBox = $('stats-box')
+const statsEl = $('stats')
+const statsHead = $('stats-head')
+let statsShownAt = 0
+const hint = $('hint')
+
 const sceneSelect = $<HTMLSelectElement>('scene')
 for (const s of scenes) sceneSelect.add(new Option(s.title, s.id))
 const materialSelect = $<HTMLSelectElement>('material')
@@ -132,7 +139,43 @@ tethers.addEventListener('change', () =>
 tintBox.addEventListener('change', () => setTint(tintBox.checked))
 $('pause').addEventListener('click', () => setPaused(!paused))
 $('step').addEventListener('click', () => stepOnce++)
-$('reset').addEventListener('click', () => change(() => loadScene(scene.id, false)))
+// Reset starts the scene again as it opens: its default settings (the panel shows them) and its
+// own controls' defaults, also those it keeps across reloads (e.g. what the accuracy scene compares).
+// The stretch tint and pause are ways of looking and stay; so do the crowd's workers, which step
+// the same capes bit for bit.
+$('reset').addEventListener('click', () =>
+  change(() => {
+    scene.resetState?.()
+    loadScene(scene.id)
+  }))
+
+// folding: the panel down to its scene menu, the stats to a summary line (both start folded in
+// a narrow window, where they would cover most of the picture)
+const panelToggle = $<HTMLButtonElement>('panel-toggle')
+function foldPanel(folded: boolean): void {
+  panel.classList.toggle('collapsed', folded)
+  panelToggle.textContent = folded ? 'Show' : 'Hide'
+}
+function foldStats(folded: boolean): void {
+  statsBox.classList.toggle('collapsed', folded)
+  statsShownAt = 0
+}
+const narrow = window.matchMedia('(max-width: 639px)')
+// in a narrow window one of them opens at a time, so the picture keeps a place below them
+panelToggle.addEventListener('click', () => {
+  const open = panel.classList.contains('collapsed')
+  foldPanel(!open)
+  if (open && narrow.matches) foldStats(true)
+})
+$('stats-head').addEventListener('click', () => {
+  const open = statsBox.classList.contains('collapsed')
+  foldStats(!open)
+  if (open && narrow.matches) foldPanel(true)
+})
+if (narrow.matches) {
+  foldPanel(true)
+  foldStats(true)
+}
 
 function setPaused(p: boolean): void {
   paused = p
@@ -227,6 +270,35 @@ function updateCloths(): void {
   }
 }
 
+/**
+ * Meshes that draw the materials a scene's cloths may switch to later (the stretch tint's, the
+ * scene's `warmup`) every frame, under the floor (hidden by it), like the curtain's parked ball:
+ * three.js compiles their shaders with the rest when the scene loads (`renderer.compile`), and
+ * drawing them keeps the GPU driver's code for them ready, so the first switch does not stall a
+ * frame (in software WebGL, turning the crowd's LOD tint on took 262 ms more than a frame, the
+ * stretch tint 451 ms; warmed, 93 and 56 ms when drawn only once, about 0 drawn every frame;
+ * drawing them costs no measurable time). One small triangle with a cloth's attributes per
+ * material, casting and receiving shadows as cloths do.
+ */
+const warm = new THREE.Group()
+view.scene.add(warm)
+const warmGeometry = new THREE.BufferGeometry()
+warmGeometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array([0, 0, 0, 0.01, 0, 0, 0, 0.01, 0]), 3))
+warmGeometry.setAttribute('normal', new THREE.BufferAttribute(new Float32Array([0, 0, 1, 0, 0, 1, 0, 0, 1]), 3))
+warmGeometry.setAttribute('uv', new THREE.BufferAttribute(new Float32Array([0, 0, 1, 0, 0, 1]), 2))
+warmGeometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9).fill(0.5), 3))
+warmGeometry.setIndex(new THREE.BufferAttribute(new Uint32Array([0, 1, 2]), 1)) // 32-bit, as cloth geometries'
+function warmUp(materials: readonly THREE.Material[]): void {
+  warm.clear()
+  for (const material of materials) {
+    const m = new THREE.Mesh(warmGeometry, material)
+    m.position.set(0, -5, 0)
+    m.frustumCulled = false
+    m.castShadow = m.receiveShadow = true
+    warm.add(m)
+  }
+}
+
 function setTint(on: boolean): void {
   tint = on
   tintBox.checked = on
@@ -247,6 +319,7 @@ function loadScene(id: string, useDefaults = true): void {
   scene = scenes.find((s) => s.id === id) ?? scenes[0]
   sceneSelect.value = scene.id
   if (useDefaults) Object.assign(settings, { material: 'cotton', substeps: 8, iterations: 1, tethers: true }, scene.defaults)
+  for (const m of instance?.warmup ?? []) m.dispose() // the last scene's (its meshes' are disposed by clear)
   view.clear()
   clothViews.length = 0
   if (haveWorld) disposeClothWorld(world)
@@ -277,6 +350,7 @@ function loadScene(id: string, useDefaults = true): void {
   })
   simTime = 0
   setTint(tint)
+  warmUp([tintMaterial, ...(instance.warmup ?? [])])
   view.update()
   view.renderer.compile(view.scene, view.camera) // every shader now, not at the first frame that shows its object
   $('hint').textContent = scene.hint ?? DEFAULT_HINT
@@ -519,9 +593,8 @@ function draw(): void {
   const t1 = performance.now()
   updateCloths()
   const t2 = performance.now()
-  // centre the scene in the canvas right of the panel (when the window is wide enough to have room)
-  const free = canvas.clientWidth - panel.getBoundingClientRect().right
-  view.shiftX = free > 500 ? (canvas.clientWidth - free) / canvas.clientWidth : 0
+  view.fit = scene.camera?.fit ?? 1
+  view.frame = freeFrame(view.fit)
   view.update()
   view.render()
   const t3 = performance.now()
@@ -531,6 +604,37 @@ function draw(): void {
   acc.renderMs += t3 - t2
   drawLabels(instance.labels?.() ?? [])
   showStats()
+}
+
+/** The stats' widest (`#stats-box` in index.html) plus the margin right of them, px. */
+const STATS_WIDTH = 270 + 10
+
+/**
+ * The part of the canvas the overlays leave free, where the picture is framed: beside the panel
+ * (between it and the stats when they are unfolded) or below both (a narrow window), whichever
+ * shows the scene larger once it is fitted (`View.fit`); null when neither leaves room.
+ */
+function freeFrame(fit: number): View['frame'] {
+  const W = canvas.clientWidth, H = canvas.clientHeight
+  const p = panel.getBoundingClientRect()
+  const s = statsBox.getBoundingClientRect()
+  const statsOpen = s.height > 60 // folded, it is one line in a corner
+  const hintTop = hint.textContent ? hint.getBoundingClientRect().top : H
+  // beside: from the panel's right edge to where the stats may reach (or the canvas's): not
+  // their width now, which changes with their lines and would move the picture (and the crowd's
+  // view, so which capes are culled)
+  const right = statsOpen && s.left > p.right ? W - STATS_WIDTH : W
+  const beside = { x: p.right, y: 0, width: right - p.right, height: H }
+  // below: under the panel and the stats, above the hint
+  const top = Math.max(p.bottom, statsOpen || s.left < p.right ? s.bottom : 0)
+  const below = { x: 0, y: top, width: W, height: Math.max(0, Math.min(H, hintTop) - top) }
+  const scale = (r: { width: number; height: number }) => Math.min(r.height, fit > 0 ? r.width / fit : Infinity)
+  const roomy = (r: { width: number; height: number }) => r.width >= Math.min(360, 0.4 * W) && r.height >= Math.min(200, 0.3 * H)
+  const clear = [beside, below].filter(roomy).sort((a, b) => scale(b) - scale(a))
+  if (clear.length > 0) return clear[0]
+  // no room clear of both: beside the panel, under the stats (they cover the top corner only)
+  const besidePanel = { x: p.right, y: 0, width: W - p.right, height: H }
+  return roomy(besidePanel) ? besidePanel : null
 }
 
 // ------------------------------------------------------------------------------------------
@@ -557,9 +661,6 @@ function drawLabels(labels: readonly SceneLabel[]): void {
 // Overlay
 
 let lastStats = { particles: 0, constraints: 0, maxStretch: 0 }
-const panel = $('panel')
-const statsEl = $('stats')
-let statsShownAt = 0
 function showStats(): void {
   const now = performance.now()
   if (now - statsShownAt < 250) return // four times a second: readable, and cheap
@@ -574,11 +675,14 @@ function showStats(): void {
   }
   lastStats = { particles, constraints, maxStretch }
   const f = (v: number) => v.toFixed(2).padStart(6)
+  statsHead.textContent = statsBox.classList.contains('collapsed')
+    ? `▸ ${fps} fps · ${costs.frameMs.toFixed(1)} ms/frame · stretch ${(maxStretch * 100).toFixed(1)} %`
+    : '▾ stats'
   statsEl.textContent = [
-    `fps         ${fps}${fixedRatio === null && resolution > 0 ? ` (at ${RESOLUTIONS[resolution] * 100} % resolution)` : ''}`,
+    `fps         ${fps}${fixedRatio === null && resolution > 0 ? ` (${RESOLUTIONS[resolution] * 100} % resolution)` : ''}`,
     `ms/frame    ${f(costs.frameMs)}`,
     `  step      ${f(costs.stepMs)}`,
-    ...(costs.waitMs > 0 ? [`  (waiting  ${f(costs.waitMs)} for the workers: main thread free)`] : []),
+    ...(costs.waitMs > 0 ? [`  awaited   ${f(costs.waitMs)} (workers)`] : []), // the main thread was free meanwhile
     `  geometry  ${f(costs.geometryMs)}`,
     `  render    ${f(costs.renderMs)}`,
     `  scene     ${f(costs.sceneMs)}`,

@@ -79,6 +79,12 @@ export interface SceneInstance {
   labels?(): readonly SceneLabel[]
   /** Panel settings the scene does not take from the panel (shown disabled). */
   locked?(): readonly (keyof DemoSettings)[]
+  /**
+   * Materials the scene may switch its meshes to later (e.g. the crowd's LOD tint): their shaders
+   * are compiled when the scene loads and kept drawn (a triangle under the floor each), so the
+   * first switch does not stall a frame.
+   */
+  warmup?: readonly THREE.Material[]
   /** Actions and readouts for scripts and browser tests, exposed as `window.__demo.api`. */
   api?: Record<string, (...args: never[]) => unknown>
 }
@@ -100,7 +106,13 @@ export interface DemoScene {
   title: string
   /** Settings this scene starts with (the panel shows them). */
   defaults?: Partial<DemoSettings>
-  camera?: { target: [number, number, number]; distance: number; yaw?: number; pitch?: number; fov?: number }
+  /**
+   * Where the camera starts. `fit`: the narrowest aspect ratio (width / height) of the free part of
+   * the canvas at which everything the scene shows across still fits at the camera's field of
+   * view; a narrower one (a window upright, the panel beside the picture) zooms out to keep it in
+   * (default 1; 0 never zooms out).
+   */
+  camera?: { target: [number, number, number]; distance: number; yaw?: number; pitch?: number; fov?: number; fit?: number }
   /** Half-size of the sun's shadow box around the camera target, m (default 4). */
   shadowRadius?: number
   /** Shadow map size, texels (default 2048). */
@@ -116,6 +128,11 @@ export interface DemoScene {
   hint?: string
   /** Pictures for the README (`npm run screenshots`). */
   moments?: SceneMoment[]
+  /**
+   * Puts back what the scene keeps across its reloads (e.g. which counts the accuracy scene
+   * compares): the panel's Reset calls it before loading the scene with its defaults.
+   */
+  resetState?(): void
   /** Plugin options of the scene's world (e.g. `threads`); read each time the scene loads. */
   worldOptions?(): ClothPluginOptions
   create(ctx: SceneContext): SceneInstance

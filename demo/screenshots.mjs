@@ -53,6 +53,9 @@ export async function photograph(
         await page.waitForFunction(() => window.__demo?.ready === true, null, { timeout: 180_000 })
         await page.evaluate(({ seconds, action, actionAt }) => {
           const d = window.__demo
+          // live timings mean nothing after a simulated run; hidden first, so the picture is
+          // framed as without them (the view frames it in the canvas the overlays leave free)
+          document.getElementById('stats-box').style.display = 'none'
           d.setPaused(true)
           d.loadScene(d.scene, true)
           if (action && !actionAt) d.api[action]()
@@ -61,7 +64,6 @@ export async function photograph(
             d.api[action]()
             d.simulate(seconds - actionAt)
           } else d.simulate(seconds)
-          document.getElementById('stats').style.display = 'none' // live timings mean nothing after a simulated run
         }, m)
         const file = join(out, `${scene}-${m.name}.jpg`)
         await page.screenshot({ path: file, type: 'jpeg', quality: 82 })

@@ -18,8 +18,18 @@ export class View {
   readonly ground: THREE.Mesh
   /** Orbit camera: yaw and pitch (rad) and distance (m) around `target`. */
   readonly orbit = { yaw: 0.6, pitch: 0.3, distance: 4, target: new THREE.Vector3(0, 1, 0) }
-  /** Moves the picture sideways by this share of the viewport's half-width (room for the panel). */
-  shiftX = 0
+  /**
+   * The part of the canvas the picture is framed in, CSS pixels from its top left (the canvas
+   * the overlays leave free), or null for the whole canvas: the camera looks at the middle of this
+   * rectangle, and the rest of the canvas shows what lies around it.
+   */
+  frame: { x: number; y: number; width: number; height: number } | null = null
+  /**
+   * Narrowest aspect ratio (width / height) of `frame` at which the picture keeps its vertical
+   * field of view; a narrower frame (a window upright, the panel beside it) zooms out so that as
+   * much shows across as at this ratio. 0: never zoom out.
+   */
+  fit = 0
   /** Half-size of the sun's shadow box around the camera's target, m (scenes set it). */
   shadowRadius = 4
   /** Direction toward the sun (unit); the sky's glow follows it. */
@@ -96,12 +106,17 @@ export class View {
     const cp = Math.cos(pitch)
     this.camera.position.set(Math.sin(yaw) * cp, Math.sin(pitch), Math.cos(yaw) * cp).multiplyScalar(distance).add(target)
     this.camera.lookAt(target)
-    this.camera.aspect = w / Math.max(1, h)
-    this.camera.updateProjectionMatrix()
-    if (this.shiftX !== 0) {
-      // shift the image in clip space (x_ndc += shiftX) without turning the camera
-      this.camera.projectionMatrix.elements[8] -= this.shiftX
-      this.camera.projectionMatrixInverse.copy(this.camera.projectionMatrix).invert()
+    const f = this.frame
+    const fw = Math.max(1, f?.width ?? w), fh = Math.max(1, f?.height ?? h)
+    this.camera.zoom = this.fit > 0 ? Math.min(1, fw / fh / this.fit) : 1
+    if (f) {
+      // the frame is the full picture, the canvas a window around it (it may reach past the
+      // frame on every side): the camera is not turned, the image is moved and cut
+      this.camera.setViewOffset(fw, fh, -f.x, -f.y, Math.max(1, w), Math.max(1, h))
+    } else {
+      this.camera.clearViewOffset()
+      this.camera.aspect = w / Math.max(1, h)
+      this.camera.updateProjectionMatrix()
     }
     this.camera.updateMatrixWorld()
     // the sun's orthographic shadow box follows what the camera looks at, snapped to its texels

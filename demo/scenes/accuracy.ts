@@ -38,12 +38,17 @@ export const accuracyScene: DemoScene = {
   id: 'accuracy',
   title: 'Accuracy side by side',
   defaults: { substeps: 1, iterations: 12, tethers: false, material: 'cotton' },
-  camera: { target: [0, 1.45, 0], distance: 4.8, yaw: 0, pitch: 0.08 },
+  camera: { target: [0, 1.45, 0], distance: 4.8, yaw: 0, pitch: 0.08, fit: 1.25 },
   shadowRadius: 3.5,
   moments: [
     { name: 'rest', seconds: 4 },
     { name: 'motion', seconds: 2.6, action: 'gust', actionAt: 1.2 },
   ],
+  resetState() {
+    mode = 'iterations'
+    rightIterations = 12
+    rightSubsteps = 12
+  },
   create({ world, settings, ui, refresh, root, showCloth }) {
     // the panel shows the compared count (the right side's); the other count is 1
     if (mode === 'iterations') Object.assign(settings, { substeps: 1, iterations: rightIterations })

@@ -28,7 +28,7 @@ export const capeScene: DemoScene = {
   id: 'cape',
   title: 'Cape',
   defaults: { substeps: 8, iterations: 1, material: 'wool' },
-  camera: { target: [0, 1.1, 0], distance: 3.3, yaw: Math.PI + 0.8, pitch: 0.16 },
+  camera: { target: [0, 1.1, 0], distance: 3.3, yaw: Math.PI + 0.8, pitch: 0.16, fit: 0.55 },
   shadowRadius: 3,
   sun: [-0.75, 0.7, -0.3],
   moments: [
@@ -67,6 +67,15 @@ export const capeScene: DemoScene = {
       cape0.inertia = v
       apply()
     }, 'inertia')
+    // running steadily there is no acceleration to share: air drag sets the hem's angle (the
+    // motion limits cap it), so the slider shows as the body starts, stops and turns
+    inertiaSlider.parentElement!.title = "share of the chest's acceleration, angular acceleration and rotation the cape feels " +
+      '(0: carried rigidly, 1: world space). Running steadily there is none: air drag sets the hem angle and the motion ' +
+      'limits cap it; inertia shows as the body starts, stops and turns, most with Air drag off'
+    const note = document.createElement('div')
+    note.className = 'note'
+    note.textContent = 'felt as it starts, stops, turns; try Air drag off'
+    inertiaSlider.parentElement!.after(note)
     const reachSlider = addSlider(ui, 'Reach', 0.25, 2, 0.25, reach, (v) => {
       reach = v
       apply()
@@ -107,7 +116,7 @@ export const capeScene: DemoScene = {
       sync: () => figure.sync(),
       stats: () => [
         `speed       ${hero.speed.toFixed(1)} m/s`,
-        `doing       ${hero.doing}${hero.auto ? ' (auto)' : ''}`,
+        `doing       ${hero.doing}${hero.auto ? ', auto' : ''}`,
         `hem angle   ${capeHemAngle(world, cape, hero, mesh).toFixed(0)}°`,
       ],
       follow: () => hero.chestPoint(0, 0.12, 0).toArray(),

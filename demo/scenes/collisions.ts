@@ -49,12 +49,15 @@ export const collisionsScene: DemoScene = {
   id: 'collisions',
   title: 'Colliders and self-collision',
   defaults: { substeps: 8, iterations: 1, material: 'cotton' },
-  camera: { target: [0, 0.35, 0.45], distance: 6.2, yaw: 0.3, pitch: 0.36 },
+  camera: { target: [0, 0.35, 0.45], distance: 6.2, yaw: 0.3, pitch: 0.36, fit: 1.25 },
   shadowRadius: 4.5,
   moments: [
     { name: 'rest', seconds: 5 },
     { name: 'motion', seconds: 0.42 },
   ],
+  resetState() {
+    selfCollision = true
+  },
   create({ world, settings, ui, root, showCloth }) {
     const ground = addEntity(world as never)
     setTransform(world, ground, [0, 0, 0])

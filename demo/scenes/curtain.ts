@@ -34,7 +34,7 @@ export const curtainScene: DemoScene = {
   id: 'curtain',
   title: 'Tearing curtain',
   defaults: { substeps: 8, iterations: 1, material: 'cotton', tethers: false },
-  camera: { target: [0, 1.3, 0], distance: 4.6, yaw: 0.45, pitch: 0.12 },
+  camera: { target: [0, 1.3, 0], distance: 4.6, yaw: 0.45, pitch: 0.12, fit: 0.8 },
   shadowRadius: 3.5,
   hint: 'click to throw a ball · drag the cloth to pull it · right-drag or shift-drag to orbit · wheel to zoom',
   moments: [

@@ -12,7 +12,7 @@ export const flagScene: DemoScene = {
   title: 'Flag in the wind',
   // a light flag carries ~100 g of wind load: a few iterations keep its edges from stretching
   defaults: { substeps: 8, iterations: 3, material: 'nylon' },
-  camera: { target: [0.85, 2.75, 0], distance: 4.3, yaw: 0.35, pitch: 0.0 },
+  camera: { target: [0.85, 2.75, 0], distance: 4.3, yaw: 0.35, pitch: 0.0, fit: 0.7 },
   shadowRadius: 4,
   moments: [
     { name: 'rest', seconds: 5, action: 'calm' },
@@ -76,7 +76,7 @@ export const flagScene: DemoScene = {
           nextGust = time + 5 + 4 * ((Math.sin(time * 12.9898) * 43758.5453) % 1 + 1) % 1
         }
       },
-      stats: () => [`wind        ${strength.toFixed(1)} m/s, turbulence ${turbulence.toFixed(2)}`],
+      stats: () => [`wind        ${strength.toFixed(1)} m/s`, `turbulence  ${turbulence.toFixed(2)}`],
       api: {
         gust,
         /** A light breeze: the flag hangs and stirs. */

@@ -35,7 +35,7 @@ export const materialsScene: DemoScene = {
   title: 'Materials',
   // tethers off: rubber's stretch is part of the comparison
   defaults: { substeps: 8, iterations: 1, tethers: false },
-  camera: { target: [0, 1.45, 0], distance: 5.4, yaw: 0.3, pitch: 0.12 },
+  camera: { target: [0, 1.45, 0], distance: 5.4, yaw: 0.3, pitch: 0.12, fit: 1.2 },
   shadowRadius: 4,
   moments: [
     { name: 'rest', seconds: 4 },
@@ -105,9 +105,12 @@ export const materialsScene: DemoScene = {
         className: 'card',
       }]
     })
+    // in a narrow window the cards stand close together: name and weight only
+    const narrow = window.matchMedia('(max-width: 639px)')
+    const short = labels.map((l) => ({ ...l, text: l.text.split('\n').slice(0, 2).join('\n') }))
     return {
       cloths,
-      labels: () => labels,
+      labels: () => (narrow.matches ? short : labels),
       locked: () => ['material'],
       stats: () => [`wind        ${strength.toFixed(1)} m/s`],
       api: { gust, railY: () => railY, railRadius: () => RAIL_RADIUS },

@@ -12,7 +12,7 @@ export const sheetScene: DemoScene = {
   id: 'sheet',
   title: 'Hanging sheet',
   defaults: { substeps: 4, iterations: 1, material: 'cotton' },
-  camera: { target: [0, 1.3, 0], distance: 3, yaw: 0.5, pitch: 0.15 },
+  camera: { target: [0, 1.3, 0], distance: 3, yaw: 0.5, pitch: 0.15, fit: 0.6 },
   shadowRadius: 2.5,
   moments: [
     { name: 'rest', seconds: 3 },

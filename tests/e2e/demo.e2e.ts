@@ -173,7 +173,7 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
   it('changing iterations changes the max-stretch readout', async () => {
     // top row pinned, tethers off, one substep: iterations alone decide how much the sheet stretches
     const readout = async (iterations: number) => {
-      await open('sheet')
+      await open('sheet') // the scene afresh; the panel's settings then apply live
       await page.evaluate((n) => {
         const set = (id: string, v: number) => {
           const el = document.getElementById(id) as HTMLInputElement
@@ -185,7 +185,6 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
         const t = document.getElementById('tethers') as HTMLInputElement
         if (t.checked) t.click()
       }, iterations)
-      await page.click('#reset')
       await page.evaluate(() => __demo.simulate(2))
       await page.waitForTimeout(400) // the overlay refreshes four times a second
       await frames(1)
@@ -198,6 +197,32 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
     const one = await readout(1)
     const many = await readout(16)
     expect(one).toBeGreaterThan(3 * many)
+    expect(errors).toEqual([])
+  })
+
+  it('Reset starts the scene again with its defaults, and the panel shows them', async () => {
+    errors.length = 0
+    await open('accuracy')
+    await page.click('#compare-substeps')
+    await page.evaluate(() => {
+      const el = document.getElementById('substeps') as HTMLInputElement
+      el.value = '5'
+      el.dispatchEvent(new Event('input', { bubbles: true }))
+      const t = document.getElementById('tethers') as HTMLInputElement
+      t.click()
+    })
+    const panel = () =>
+      page.evaluate(() => ({
+        substeps: (document.getElementById('substeps') as HTMLInputElement).value,
+        iterations: (document.getElementById('iterations') as HTMLInputElement).value,
+        tethers: (document.getElementById('tethers') as HTMLInputElement).checked,
+        mode: __demo.api.mode(),
+      }))
+    expect(await panel()).toEqual({ substeps: '5', iterations: '1', tethers: true, mode: 'substeps' })
+    await page.click('#reset')
+    // the scene's defaults (1 substep × 12 iterations compared, no tethers), in the panel and the scene
+    expect(await panel()).toEqual({ substeps: '1', iterations: '12', tethers: false, mode: 'iterations' })
+    expect(await page.isDisabled('#substeps')).toBe(true)
     expect(errors).toEqual([])
   })
 
