@@ -115,8 +115,8 @@ function pickReference(state: ClothWorldState, c: ClothState, except: number, sk
     setReference(c, pins[q], slot, poses)
     return
   }
-  // (the next bone when the one going was the first: an unpinned skinned cape frozen while its
-  // first bone went was left behind by the others, 30 m/s at its thaw)
+  // (past the one going, to the next frame or bone: a frame or first bone going took the anchor
+  // with it, and a frozen cape re-framed thawed at 30 m/s)
   const slot = anchorSlot(c, skip)
   if (slot >= 0) setReference(c, ANCHOR_REF, slot, poses)
 }
