@@ -436,6 +436,8 @@ export function buildGridTopology(
   )
 }
 
+const GRID_KEYS = keysOf<GridOptions>({ width: true, height: true, resolution: true })
+
 /**
  * The mesh of a rectangular sheet, as `createCloth` lays it out: vertices row-major from the top
  * left in the sheet's local frame (x right, y up, front facing +z, the middle of the top edge at the
@@ -444,7 +446,7 @@ export function buildGridTopology(
  */
 export function buildGridMesh(options: GridOptions): { positions: Float64Array; indices: Uint32Array; uvs: Float32Array } {
   const { width, height, columns, rows } = checkGridOptions(options)
-  checkKeys('options', options, keysOf<GridOptions>({ width: true, height: true, resolution: true }))
+  checkKeys('options', options, GRID_KEYS)
   return { ...gridMesh(width, height, columns, rows), uvs: gridUvs(columns, rows) }
 }
 

@@ -21,7 +21,7 @@ import {
 import { pinSidesToBars } from '../fixtures/bars'
 import { allFinite, makeWorld, rejects } from '../helpers'
 import { meshPieces, pieceCount } from '../tearing/util'
-import { surfaceDistances } from './surface'
+import { edgeStretch, surfaceDistances } from './surface'
 
 /** A 0.6 × 1 m cape of 10 × 16 particles pinned by its top row to a hero that sways, turns and hops. */
 function swingingCape() {
@@ -292,15 +292,7 @@ describe('render proxies', () => {
         continue
       }
       visible.push(a, b, c)
-      for (const [p, q] of [[a, b], [b, c], [c, a]]) {
-        const now = Math.hypot(
-          mesh.positions[3 * p] - mesh.positions[3 * q],
-          mesh.positions[3 * p + 1] - mesh.positions[3 * q + 1],
-          mesh.positions[3 * p + 2] - mesh.positions[3 * q + 2],
-        )
-        const rest = Math.hypot(fine.positions[3 * p] - fine.positions[3 * q], fine.positions[3 * p + 1] - fine.positions[3 * q + 1])
-        stretch = Math.max(stretch, now / rest)
-      }
+      for (const [p, q] of [[a, b], [b, c], [c, a]]) stretch = Math.max(stretch, edgeStretch(mesh.positions, fine.positions, p, q))
     }
     // a thin seam of render triangles along the tear is hidden; nothing drawn bridges the gap
     expect(hidden).toBeGreaterThan(0)

@@ -14,6 +14,7 @@ import {
   updateRenderProxy,
 } from '../../src/index'
 import { makeWorld } from '../helpers'
+import { edgeStretch } from './surface'
 
 /**
  * A 14×24 cape on a swaying hero, drawn by a 4× render proxy, torn apart by two hands pulling its
@@ -46,14 +47,9 @@ function tornCape(seed: number) {
       const a = m.indices[3 * t], b = m.indices[3 * t + 1], c = m.indices[3 * t + 2]
       if (a === b) continue // hidden
       for (const [p, q] of [[a, b], [b, c], [c, a]]) {
-        const now = Math.hypot(
-          m.positions[3 * p] - m.positions[3 * q],
-          m.positions[3 * p + 1] - m.positions[3 * q + 1],
-          m.positions[3 * p + 2] - m.positions[3 * q + 2],
-        )
-        const rest = Math.hypot(fine.positions[3 * p] - fine.positions[3 * q], fine.positions[3 * p + 1] - fine.positions[3 * q + 1])
-        if (tri[a] === tri[b] && tri[b] === tri[c]) within = Math.max(within, now / rest)
-        else spanning = Math.max(spanning, now / rest)
+        const r = edgeStretch(m.positions, fine.positions, p, q)
+        if (tri[a] === tri[b] && tri[b] === tri[c]) within = Math.max(within, r)
+        else spanning = Math.max(spanning, r)
       }
     }
   }

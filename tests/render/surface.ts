@@ -84,3 +84,13 @@ export function surfaceDistances(
   }
   return out
 }
+
+/** A render edge's length against its rest length (rest positions in the x-y plane, as `buildGridMesh` gives them). */
+export function edgeStretch(positions: ArrayLike<number>, rest: ArrayLike<number>, p: number, q: number): number {
+  const now = Math.hypot(
+    positions[3 * p] - positions[3 * q],
+    positions[3 * p + 1] - positions[3 * q + 1],
+    positions[3 * p + 2] - positions[3 * q + 2],
+  )
+  return now / Math.hypot(rest[3 * p] - rest[3 * q], rest[3 * p + 1] - rest[3 * q + 1])
+}

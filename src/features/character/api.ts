@@ -11,8 +11,8 @@ import { wakeClothState } from '../../world/wake'
 import { releaseAnchor } from '../budget/freeze'
 import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
 import { blankCharacter, blankSkin, unconstrained } from './state'
-import { backdate, defaultFrame, rebindRest, setFrame, useDefaultFrame } from './frames'
-import { bindRigid, identityPose, lastReference, reserveBoneScratch, restNormals, trackedPose } from './reference'
+import { backdate, defaultFrame, rebindRest, restAsCreated, setFrame, useDefaultFrame } from './frames'
+import { bindRigid, identityPose, lastReference, reserveBoneScratch, trackedPose } from './reference'
 import {
   M_BIND,
   M_POSE,
@@ -196,6 +196,8 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
   wakeClothState(state, c)
 }
 
+const SKINNING_KEYS = keysOf<ClothSkinningOptions>({ bones: true, joints: true, weights: true })
+
 /**
  * Makes the cloth's reference pose skinned: linear blend skinning of its rest shape by `bones`
  * (entities with a Transform), with 4 bone indices (`joints`) and 4 weights (summing to 1) per
@@ -220,7 +222,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     return
   }
   checkObject('skinning', skinning)
-  checkKeys('skinning', skinning, keysOf<ClothSkinningOptions>({ bones: true, joints: true, weights: true }))
+  checkKeys('skinning', skinning, SKINNING_KEYS)
   const n = c.count
   const { bones, joints, weights } = skinning
   if (!isArrayLike(bones) || bones.length === 0 || bones.length > 65535)
@@ -309,8 +311,7 @@ function ensureCharacter(state: ClothWorldState, c: ClothState): ClothCharacter 
   settings[S_TELEPORT_ANGLE] = Infinity
   settings[S_EVERY] = 1
   // the rest shape as created, bound to the frame's pose now (float64 until then: a bind is float32)
-  ch.rest.set(c.guard.rest.subarray(0, 3 * c.count))
-  restNormals(c, ch.rest, ch.restNormal)
+  restAsCreated(c, ch)
   // the world as the frame: still, its origin at the cloth's centre, since the reference is kept as
   // float32 offsets from the frame's origin (from the world's, a cape 10 km out was 0.4 mm off)
   identityPose(ch.motion, M_POSE)

@@ -67,10 +67,8 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
   // setting does: kept where it stood, a reference that drifted meanwhile (the world as the frame
   // for a moment while the character walked) stayed 5 cm off the pins for good (16 % stretch)
   const onPins = rebind && ch.skin === null && eid !== 0 && pinnedTo(state, c, eid)
-  if (onPins) {
-    ch.rest.set(c.guard.rest.subarray(0, 3 * c.count))
-    restNormals(c, ch.rest, ch.restNormal)
-  } else if (ch.skin === null && rebind) rebindRest(state, c, ch)
+  if (onPins) restAsCreated(c, ch)
+  else if (ch.skin === null && rebind) rebindRest(state, c, ch)
   const oldFrame = ch.frame, oldSlot = ch.frameSlot
   const slot = eid !== 0 ? trackEntity(state, eid) : -1
   if (slot >= 0) backdate(state, slot, eid, oldSlot, oldFrame)
@@ -91,6 +89,12 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
   m[M_PRIMED] = 0
   m[M_REF_VALID] = 0
   if (ch.skin === null) bindRigid(c, ch)
+}
+
+/** The character's rest shape back to the cloth as created, with its normals. */
+export function restAsCreated(c: ClothState, ch: ClothCharacter): void {
+  ch.rest.set(c.guard.rest.subarray(0, 3 * c.count))
+  restNormals(c, ch.rest, ch.restNormal)
 }
 
 /** Whether a pin of the cloth holds it to `eid`. */

@@ -106,6 +106,8 @@ export interface ClothCollisionOptions {
   staticFriction?: number
 }
 
+const COLLISION_KEYS = keysOf<ClothCollisionOptions>({ layer: true, mask: true, thickness: true, friction: true, staticFriction: true })
+
 /**
  * Sets how a cloth collides: its layer and mask (a cloth and a collider touch only when each one's
  * layer is in the other's mask), its thickness and its friction against colliders. Options left
@@ -120,7 +122,7 @@ export function setClothCollision(world: object, cloth: number, options: ClothCo
   checkKeys(
     'options',
     options,
-    keysOf<ClothCollisionOptions>({ layer: true, mask: true, thickness: true, friction: true, staticFriction: true }),
+    COLLISION_KEYS,
   )
   const cc = c.collision
   const layer = options.layer === undefined ? cc.layer : checkInteger('options.layer', options.layer, 0, 0xffffffff)

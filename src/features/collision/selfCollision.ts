@@ -65,6 +65,8 @@ export interface SelfCollisionOptions {
   staticFriction?: number
 }
 
+const SELF_KEYS = keysOf<SelfCollisionOptions>({ thickness: true, friction: true, staticFriction: true })
+
 /**
  * Turns on self-collision for a cloth (adds its SelfCollision component): particles are kept
  * `thickness` apart from each other, and from the particles of every other cloth that has it on
@@ -76,7 +78,7 @@ export function enableSelfCollision(world: object, cloth: number, options: SelfC
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (typeof options !== 'object' || options === null) throw new ClothError('options', options, 'must be an object')
-  checkKeys('options', options, keysOf<SelfCollisionOptions>({ thickness: true, friction: true, staticFriction: true }))
+  checkKeys('options', options, SELF_KEYS)
   const thickness = options.thickness === undefined ? 0
     : checkAtMost('options.thickness', checkPositive('options.thickness', options.thickness), MAX_COORDINATE, ' m')
   const friction = options.friction === undefined ? -1 : checkNonNegative('options.friction', options.friction)
