@@ -162,7 +162,7 @@ export function restoreClothState(world: object, cloth: number, snapshot: ClothS
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   const s = snapshot
-  const arg = 'state'
+  const arg = 'snapshot'
   const k = state.kinematics
   k.foreign = s === null || typeof s !== 'object' || savedIn.get(s) !== k
   try {

@@ -191,7 +191,7 @@ describe('character cloth snapshots', () => {
     expect(record(world, scene, inputsFrom(2, 10), 40)).toEqual(record(twin, twinScene, twinInputs, 40))
   })
 
-  it('restores into a twin world built by the same calls; rejects a snapshot whose frame or bone entity is gone, naming the state', () => {
+  it('restores into a twin world built by the same calls; rejects a snapshot whose frame or bone entity is gone, naming the snapshot', () => {
     const a = installClothPlugin(createWorld()), b = installClothPlugin(createWorld())
     const sa = buildScene(a), sb = buildScene(b)
     const inputs = makeInputs(4)
@@ -208,7 +208,7 @@ describe('character cloth snapshots', () => {
       error = e
     }
     expect(error).toBeInstanceOf(ClothError)
-    expect((error as ClothError).argument).toBe('state')
+    expect((error as ClothError).argument).toBe('snapshot')
     const broken = { ...snaps[0], character: snaps[0].character.slice(0, 3) }
     expect(() => restoreClothState(a, sa.cape, broken)).toThrow(ClothError)
   })
@@ -272,7 +272,7 @@ describe('character cloth snapshots', () => {
     for (let j = 0; j < 18; j++) offPins = Math.max(offPins, Math.abs(ra[j] - pos[j]))
     expect(offPins).toBeLessThan(1e-5)
     expect(diff).toBeLessThan(1e-9)
-    // a pose no Transform gives is refused, naming the state
+    // a pose no Transform gives is refused, naming the snapshot
     for (const [at, value] of [[0, 1e12], [3, 2], [7, 0], [8, Number.NaN]] as const) {
       const pinPoses = snap.pinPoses!.slice()
       pinPoses[at] = value

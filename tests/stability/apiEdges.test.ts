@@ -139,13 +139,13 @@ describe('restoreClothState: a snapshot that passes the checks but holds values 
     }],
   ]
   for (const [name, edit] of tampered) {
-    it(`${name}: ClothError('state...') at restore, or the cloth stays finite and steps without a foreign error`, () => {
+    it(`${name}: ClothError('snapshot...') at restore, or the cloth stays finite and steps without a foreign error`, () => {
       const { world, cloth } = scene()
       stepCloth(world, 1 / 60)
       const snapshot = saveClothState(world, cloth)
       edit(snapshot)
       // observed: accepted; NaN positions within 30 steps (the last: RangeError "Invalid typed array length" from stepCloth)
-      rejectsOrStaysFinite(world, () => [cloth], () => restoreClothState(world, cloth, snapshot), 'state')
+      rejectsOrStaysFinite(world, () => [cloth], () => restoreClothState(world, cloth, snapshot), 'snapshot')
     })
   }
 
@@ -193,7 +193,7 @@ describe('restoreClothState: a snapshot that passes the checks but holds values 
       error = e
     }
     expect(error).toBeInstanceOf(ClothError)
-    expect((error as ClothError).message).toContain('state')
+    expect((error as ClothError).message).toContain('snapshot')
   })
 })
 

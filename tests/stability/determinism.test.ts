@@ -244,26 +244,26 @@ describe('snapshots', () => {
       }
       return 'no error'
     }
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], other))).toBe('state')
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], {} as ClothSnapshot))).toBe('state')
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], { ...snap, pos: snap.pos.slice(1) }))).toBe('state')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], other))).toBe('snapshot')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], {} as ClothSnapshot))).toBe('snapshot')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], { ...snap, pos: snap.pos.slice(1) }))).toBe('snapshot')
     const negative = { ...snap, invMass: Float64Array.from(snap.invMass) }
     negative.invMass[3] = -1
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], negative))).toBe('state.invMass[3]')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], negative))).toBe('snapshot.invMass[3]')
     const noSubsteps = { ...snap, settings: Float64Array.from(snap.settings) }
     noSubsteps.settings[0] = 0
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], noSubsteps))).toBe('state.settings')
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], { ...snap, tethers: undefined as never }))).toBe('state.tethers')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], noSubsteps))).toBe('snapshot.settings')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], { ...snap, tethers: undefined as never }))).toBe('snapshot.tethers')
     stepCloth(world, 1 / 60) // tethers are built at the first step
     const stepped = saveClothState(world, scene.cloths[0])
     expect(stepped.tethers.count).toBeGreaterThan(0)
     const far = { ...stepped, tethers: { ...stepped.tethers, anchor: stepped.tethers.anchor.map(() => 1e6) } }
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], far))).toBe('state.tethers')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], far))).toBe('snapshot.tethers')
     const nan = { ...snap, vel: Float64Array.from(snap.vel) }
     nan.vel[5] = NaN
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], nan))).toBe('state')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], nan))).toBe('snapshot')
     removeEntity(world, scene.hero) // the cape's pin target is gone
-    expect(argOf(() => restoreClothState(world, scene.cloths[0], snap))).toBe('state')
+    expect(argOf(() => restoreClothState(world, scene.cloths[0], snap))).toBe('snapshot')
     expect(argOf(() => saveClothState(world, 9999))).toBe('cloth')
     expect(argOf(() => saveClothState(world, scene.cloths[1], 5 as never))).toBe('into')
   })

@@ -237,7 +237,7 @@ describe('snapshots with colliders, wind and tearing', () => {
     expect(getClothTearCount(world, s.sheet)).toBe(tears)
   })
 
-  it('rejects a torn cloth’s snapshot once the cloth has torn further, or into a twin torn differently, with a ClothError naming the state', () => {
+  it('rejects a torn cloth’s snapshot once the cloth has torn further, or into a twin torn differently, with a ClothError naming the snapshot', () => {
     const world = installClothPlugin(createWorld())
     const s = buildScene(world)
     const inputs = makeInputs(21)
@@ -256,7 +256,7 @@ describe('snapshots with colliders, wind and tearing', () => {
     }
     const e1 = error(() => restoreClothState(world, s.sheet, snap))
     expect(e1).toBeInstanceOf(ClothError)
-    expect(e1.argument).toBe('state')
+    expect(e1.argument).toBe('snapshot')
     expect(e1.message).toMatch(/tore \(\d+ tears? since\).*does not restore a torn mesh/)
     // a twin built the same way but torn elsewhere, as often: its mesh is not this one
     const twin = installClothPlugin(createWorld())
@@ -264,7 +264,7 @@ describe('snapshots with colliders, wind and tearing', () => {
     const ti = makeInputs(22)
     record(twin, st, ti, 30)
     const e2 = error(() => restoreClothState(twin, st.sheet, saveClothState(world, s.sheet)))
-    expect(e2.argument).toBe('state')
+    expect(e2.argument).toBe('snapshot')
     const tornTwin = getClothState(twin, st.sheet).count === getClothState(world, s.sheet).count ? /torn differently/ : /mesh|tore/
     expect(e2.message).toMatch(tornTwin)
     // and tearable vs not

@@ -50,7 +50,7 @@ describe('tearing snapshots', () => {
     expect(tearsOnReplay).toBeGreaterThan(40) // 53 tears along the way
   })
 
-  it('rejects a malformed tear clock with ClothError naming state, and restores an older snapshot without one', () => {
+  it('rejects a malformed tear clock with ClothError naming the snapshot, and restores an older snapshot without one', () => {
     const { world, cloth } = tearingSheet()
     for (let f = 0; f < 5; f++) stepCloth(world, 1 / 60)
     const snap = saveClothState(world, cloth)
@@ -59,20 +59,20 @@ describe('tearing snapshots', () => {
       change(s)
       return s
     }
-    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = new Float64Array(1)))), 'state')
-    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = [1, 2] as never))), 'state')
-    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = Float64Array.of(3, 7)))), 'state.tearClock') // grew after now
-    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = Float64Array.of(NaN, -2)))), 'state.tearClock')
-    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = Float64Array.of(0.5, -2)))), 'state.tearClock')
-    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearTip = new Uint8Array(3)))), 'state')
+    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = new Float64Array(1)))), 'snapshot')
+    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = [1, 2] as never))), 'snapshot')
+    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = Float64Array.of(3, 7)))), 'snapshot.tearClock') // grew after now
+    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = Float64Array.of(NaN, -2)))), 'snapshot.tearClock')
+    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearClock = Float64Array.of(0.5, -2)))), 'snapshot.tearClock')
+    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearTip = new Uint8Array(3)))), 'snapshot')
     rejects(
       () => restoreClothState(world, cloth, broken((s) => (s.tearTip = new Uint8Array(snap.tearTip!.length).fill(2)))),
-      'state.tearTip[0]',
+      'snapshot.tearTip[0]',
     )
-    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearSplitAt = undefined))), 'state')
+    rejects(() => restoreClothState(world, cloth, broken((s) => (s.tearSplitAt = undefined))), 'snapshot')
     rejects(
       () => restoreClothState(world, cloth, broken((s) => (s.tearSplitAt = new Int32Array(snap.tearSplitAt!.length).fill(1e6)))),
-      'state.tearSplitAt[0]',
+      'snapshot.tearSplitAt[0]',
     )
     // a snapshot from before the tear clock was saved still restores
     const old = broken((s) => {

@@ -50,7 +50,7 @@ describe('wind zone lifetimes', () => {
     expect(sampleWind(b.world, [0, 2, 0])[0]).toBe(before)
   })
 
-  it('a snapshot from before zone generations were saved still restores; a malformed one throws ClothError(state)', () => {
+  it('a snapshot from before zone generations were saved still restores; a malformed one throws ClothError(snapshot)', () => {
     const { world, cloth, zone } = gustyWorld()
     const saved = saveClothState(world, cloth)
     const older = structuredClone(saved) as ClothSnapshot
@@ -63,7 +63,7 @@ describe('wind zone lifetimes', () => {
     for (const bad of [new Uint32Array(3), Array.from(saved.windGenerations!), new Int32Array(1), null]) {
       const s = structuredClone(saved) as ClothSnapshot
       s.windGenerations = bad as never
-      rejects(() => restoreClothState(world, cloth, s), 'state')
+      rejects(() => restoreClothState(world, cloth, s), 'snapshot')
     }
   })
 
