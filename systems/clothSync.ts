@@ -52,8 +52,11 @@ export function clothSync<W extends object>(world: W): W {
       // of what it follows makes it step now, so that it handles the jump (as a teleport) when
       // it happens rather than being dragged across it by its next step
       const jumped = frameStart && (jumpedPinTarget(state, c) >= 0 || characterJumped(state, c))
-      if (++lod.phase < lod.stepEvery && !jumped) idle = true
-      else lod.phase = 0
+      // (a cloth about to freeze steps now too, to freeze where its pins and frame are)
+      if (++lod.phase < lod.stepEvery && !jumped && !lod.freezing) {
+        idle = true
+        lod.waited++
+      } else lod.phase = 0
     }
     c.idle = idle
     if (idle) {
@@ -63,6 +66,11 @@ export function clothSync<W extends object>(world: W): W {
       else state.stats.lodSkippedSteps++
       continue
     }
+    // the step covers the steps the cloth sat out too, at whatever rate it now runs: its pins and
+    // frame moved on meanwhile (a far cape back at full rate took their two steps' motion in one
+    // step's time, at twice their speed)
+    c.h = (state.fixedTimeStep * (lod.waited + 1)) / c.substeps
+    lod.waited = 0
     if (c.substeps > total) total = c.substeps
     const pinJump = frameStart ? followTargetJumps(state, c) : 0
     if (c.character !== null) beginCharacterStep(state, c, frameStart, pinJump)

@@ -153,6 +153,18 @@ describe('snapshots under quality targets and level of detail: a rollback replay
     expect(levels.size).toBeGreaterThan(2)
   })
 
+  it('saved between a far cloth’s catch-up step and its freeze (farStepEvery 4, cull 40)', () => {
+    const setup: Setup = { budget: { near: 6, far: 25, cull: 40, farStepEvery: 4, interval: 7 } }
+    const s = build(setup)
+    const ats: number[] = []
+    for (let f = 0; f < 900 && ats.length < 2; f++) {
+      stepCloth(s.world, inputs(s, setup, f))
+      if (s.capes.some((cl) => getClothState(s.world, cl).budget.freezing)) ats.push(f + 1)
+    }
+    expect(ats.length).toBeGreaterThan(0) // (the scene reaches the window)
+    for (const at of ats) rollback(setup, at, 60)
+  })
+
   it('a snapshot saved without the budget section (older versions) still restores', () => {
     const s = build({ budget: { interval: 5 } })
     for (let f = 0; f < 20; f++) stepCloth(s.world, inputs(s, {}, f))

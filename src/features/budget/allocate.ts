@@ -15,6 +15,7 @@ const M_STRAIN = 6
 export function updateBudget(state: ClothWorldState): void {
   const q = state.budget
   if (q.settings === null && q.targets === 0) return
+  if (q.settings !== null) freezeCaughtUp(state)
   if (--q.countdown > 0) return
   const b = q.settings
   q.countdown = b !== null ? b.interval : 15
@@ -112,8 +113,16 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
     lod.distance = d
     lod.priority = 1 / (1 + (d / b.near) * (d / b.near))
     const freeze = (b.freezeInvisible && !lod.visible) || d > b.cull
-    if (freeze && !lod.frozen) freezeCloth(state, c, state.kinematics.stepFrom)
-    else if (!freeze && lod.frozen) thaw(state, c, state.kinematics.stepFrom)
+    if (freeze && !lod.frozen) {
+      // a far cloth that sat steps out lags its pins and frame by them: it takes its step now and
+      // freezes at the next, where it is (frozen with the lag, it thawed with it undone at once:
+      // 67 % stretch on a cape whose camera cut to it)
+      if (lod.waited > 0 && !c.sleep.asleep) lod.freezing = true
+      else freezeCloth(state, c, state.kinematics.stepFrom)
+    } else if (!freeze) {
+      lod.freezing = false
+      if (lod.frozen) thaw(state, c, state.kinematics.stepFrom)
+    }
     // distance: full quality within `near`, substeps scaled by near/d beyond, the floor past `far`
     const top = topLevel(c)
     let level = top
@@ -152,6 +161,18 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
     }
   }
   q.timing[Q_PREDICTED] = total
+}
+
+/** Sync phase, every step with a world budget: freezes the cloths that took their catch-up step (`ClothBudget.freezing`). */
+function freezeCaughtUp(state: ClothWorldState): void {
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    const lod = c.budget
+    if (!lod.freezing || (lod.waited > 0 && !c.sleep.asleep)) continue
+    lod.freezing = false
+    freezeCloth(state, c, state.kinematics.stepFrom)
+  }
 }
 
 /** Share of `msPerFrame` the time budget plans to spend. */

@@ -182,6 +182,8 @@ export function createClothBudget(substeps: number, iterations: number): ClothBu
     wantIterations: iterations,
     stepEvery: 1,
     phase: 0,
+    waited: 0,
+    freezing: false,
     frozen: false,
     visible: true,
     hasTarget: false,

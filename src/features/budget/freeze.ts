@@ -57,6 +57,7 @@ export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array)
   glideThawingPins(state, c, poses, poses === k.stepFrom ? k.scaleStepFrom : k.scaleStepTo)
   lod.frozen = false
   lod.phase = lod.stepEvery - 1 // a far cloth steps at once: where it was carried to is this step's start
+  lod.waited = 0 // (so its step is one fixed step long)
   lod.refPin = -1
   lod.refSlot = -1
 }

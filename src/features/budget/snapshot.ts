@@ -15,7 +15,9 @@ export interface BudgetSnapshot {
   /**
    * countdown, timing (factor, measured, predicted); wantSubsteps, wantIterations, stepEvery,
    * phase, frozen, visible, lowChecks, level, applied, distance, priority, centre (3), frozen
-   * centre (3), the reference pin's index in the pins (−1: none), the reference pose (7).
+   * centre (3), the reference pin's index in the pins (−1: none), the reference pose (7), the
+   * steps sat out since the cloth's last step and whether it freezes once caught up (0 in
+   * snapshots of versions without them).
    * Absent in snapshots of versions without it: the cloth then wants the quality it runs.
    */
   budget?: Float64Array
@@ -48,6 +50,8 @@ export function saveBudget(state: ClothWorldState, c: ClothState, s: BudgetSnaps
   }
   b[21] = lod.refPin >= 0 ? c.pins.list.indexOf(lod.refPin) : lod.refPin === ANCHOR_REF && lod.refSlot >= 0 ? ANCHOR_REF : -1
   for (let j = 0; j < 7; j++) b[22 + j] = lod.refPose[j]
+  b[29] = lod.waited
+  b[30] = lod.freezing ? 1 : 0
 }
 
 /** Throws ClothError unless the budget section (when present) is complete and usable. */
@@ -59,7 +63,7 @@ export function checkBudget(s: BudgetSnapshot, arg: string, pinCount: number): v
   const int = (v: number, min: number) => Number.isInteger(v) && v >= min
   if (
     !int(b[0], -1e9) || !(b[1] > 0) || !int(b[4], 1) || !int(b[5], 1) || !int(b[6], 1) || !int(b[7], 0) || !int(b[10], 0) ||
-    !int(b[11], -1) || !int(b[12], -1) || !int(b[21], ANCHOR_REF) || b[21] >= pinCount
+    !int(b[11], -1) || !int(b[12], -1) || !int(b[29], 0) || !int(b[21], ANCHOR_REF) || b[21] >= pinCount
   ) {
     throw new ClothError(`${arg}.budget`, b, 'must be the budget state saved by saveClothState (counts, levels, a pin index in range)')
   }
@@ -113,4 +117,6 @@ export function restoreBudget(state: ClothWorldState, c: ClothState, s: BudgetSn
     lod.refSlot = anchor
   }
   for (let j = 0; j < 7; j++) lod.refPose[j] = b[22 + j]
+  lod.waited = b[29] | 0
+  lod.freezing = b[30] === 1 && q.settings !== null
 }

@@ -60,6 +60,13 @@ export interface ClothBudget {
   /** Runs every n-th fixed step; `phase` counts the steps since it last ran. */
   stepEvery: number
   phase: number
+  /**
+   * Fixed steps the cloth sat out (stepping every n-th) since its last step: its next step covers
+   * them too, whatever rate it then runs at (the sync phase sets the step's length from it).
+   */
+  waited: number
+  /** Chosen to freeze while it sat steps out: it steps now to catch up, and freezes at the next step. */
+  freezing: boolean
   frozen: boolean
   visible: boolean
   /** Quality target: on, its substep bounds, its largest stretch and time per step (0 = none). */
