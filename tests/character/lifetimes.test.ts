@@ -176,3 +176,33 @@ describe('character cloth: frames changed and bones removed while it runs', () =
     expect(after).toBeLessThan(Math.max(0.05, 2 * before))
   })
 })
+
+describe('a skinned cape with the world as its frame (frame: null) whose skeleton jumps 10 m', () => {
+  // Its teleports are its first bone's jumps: before, nothing carried it, and its limits dragged it
+  // across the 10 m (27 m/s, 12 % stretch); a reset left it at rest in the world under a walking
+  // skeleton (swinging up to 7.4 m/s). Measured now: keep 1.2 %, 4.2 m/s; reset 0.6 %, 3.8 m/s.
+  it.each(['keep', 'reset'] as const)("teleport '%s': carried or reset, as with its first bone as the frame", (mode) => {
+    const run = (frame: 'bone' | 'world') => {
+      const world = installClothPlugin(createWorld())
+      const c = cape(world, 0, false) // held by max distance 0 at the collar
+      const bones = skinToTwoBones(world, c)
+      setClothInertia(world, c, frame === 'world' ? { frame: null, teleport: { mode } } : { teleport: { mode } })
+      setClothMotionConstraints(world, c, { maxDistance: painted() })
+      let stretch = 0, speed = 0
+      for (let f = 1; f <= 120; f++) {
+        const x = 3 * f * DT + (f >= 60 ? 10 : 0) // walking at 3 m/s, 10 m on at frame 60
+        setTransform(world, bones[0], [x, 1.6, 0])
+        setTransform(world, bones[1], [x, 1.2, 0])
+        stepCloth(world, DT)
+        if (f >= 60) {
+          stretch = Math.max(stretch, getClothStretch(world, c).max)
+          speed = Math.max(speed, fastest(world, c))
+        }
+      }
+      return { stretch, speed }
+    }
+    const world = run('world'), bone = run('bone')
+    expect(world.stretch).toBeLessThan(Math.max(0.03, 2 * bone.stretch))
+    expect(world.speed).toBeLessThan(1.5 * Math.max(bone.speed, 3))
+  })
+})

@@ -84,9 +84,10 @@ export function markFrameTeleports(state: ClothWorldState): void {
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const ch = c.character
-    if (ch === null || ch.frameSlot < 0) continue
-    const slot = ch.frameSlot, o = 7 * slot
-    readPoseInto(state, ch.frame, pose)
+    if (ch === null) continue
+    const slot = jumpSlot(ch), o = 7 * slot
+    if (slot < 0) continue
+    readPoseInto(state, slot === ch.frameSlot ? ch.frame : boneAt(ch, slot), pose)
     const ex = pose[0] - k.sampleTo[o] - (k.stepTo[o] - k.stepFrom[o]) * ratio
     const ey = pose[1] - k.sampleTo[o + 1] - (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
     const ez = pose[2] - k.sampleTo[o + 2] - (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
@@ -101,6 +102,24 @@ export function markFrameTeleports(state: ClothWorldState): void {
     const skin = ch.skin
     if (skin !== null) { for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) k.forceJump[skin.slots[b]] = 1 }
   }
+}
+
+/**
+ * Whose jumps are the cloth's teleports: its frame's, or with the world as its frame, its first
+ * skin bone's still there (the skin jumping with its character carries the cloth along: left in
+ * the world, a skinned cape was dragged 10 m by its limits, at 27 m/s and 12 % stretch). −1: none.
+ */
+function jumpSlot(ch: ClothCharacter): number {
+  if (ch.frameSlot >= 0 || ch.frame !== 0 || ch.skin === null) return ch.frameSlot
+  const slots = ch.skin.slots
+  for (let b = 0; b < slots.length; b++) if (slots[b] >= 0) return slots[b]
+  return -1
+}
+
+/** The entity of the skin bone at kinematic slot `slot`. */
+function boneAt(ch: ClothCharacter, slot: number): number {
+  const skin = ch.skin!
+  return skin.bones[skin.slots.indexOf(slot)]
 }
 
 /**
@@ -157,7 +176,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const ch = c.character!
   const k = state.kinematics
   const m = ch.motion
-  const slot = ch.frameSlot
+  const slot = jumpSlot(ch)
   const jumped = frameStart && slot >= 0 && k.jumped[slot] !== 0
   const teleported = jumped && k.jumped[slot] === 1 // (2: the carried motion of dropped time)
   if (frameStart || m[M_GAP] === 1) resyncBones(state, ch, m[M_GAP] === 1)
@@ -165,7 +184,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
     // start from the frame's pose now (a jump moved the tracked poses; a gap left them behind).
     // The frame's last velocities stay: they are what the cloth's own velocities were carried with
     // (a sleeping cloth's are zero, like its frame's; a frozen cloth kept both)
-    if (slot >= 0) trackedStartPose(state, slot, m, M_POSE)
+    if (ch.frameSlot >= 0) trackedStartPose(state, ch.frameSlot, m, M_POSE)
     m[M_REF_VALID] = 0
     m[M_GAP] = 0
   }
@@ -218,7 +237,9 @@ function resyncBones(state: ClothWorldState, ch: ClothCharacter, all: boolean): 
 }
 
 /**
- * Teleport 'reset': every particle on its reference at the step's start, at rest in the frame;
+ * Teleport 'reset': every particle on its reference at the step's start, at rest in the frame
+ * (with the world as the frame, moving as its reference does over the step: the skin's motion; at
+ * rest in the world, a cape reset onto a walking skeleton was left behind and swung up to 7 m/s);
  * pieces a tear freed from the character (`ClothState.detached`) stay where they lie, as they do
  * in a carry.
  */
@@ -242,8 +263,19 @@ function resetToReference(c: ClothState, ch: ClothCharacter): void {
     vel[j + 1] = vy + az * rx - ax * rz
     vel[j + 2] = vz + ax * ry - ay * rx
   }
+  if (ch.frameSlot < 0) referenceVelocities(c, ch)
   if (detached[0] > 0) swapDetached(c, detached, false) // (their positions and velocities back)
   c.version++
+}
+
+/** Each particle's velocity: its reference's over the step (start to end, see kernels/motion.ts `BLEND`). */
+function referenceVelocities(c: ClothState, ch: ClothCharacter): void {
+  const w = ch.work, ref = ch.ref, vel = c.vel
+  const inv = 1 / (c.h * c.substeps)
+  for (let i = 0; i < c.count; i++) {
+    const j = 3 * i, o = BLEND * i
+    for (let a = 0; a < 3; a++) vel[j + a] = (w[W_TO + a] + ref[o + 3 + a] - w[W_FROM + a] - ref[o + a]) * inv
+  }
 }
 
 /**
