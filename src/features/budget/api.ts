@@ -262,6 +262,7 @@ export function configureBudget(world: object, options: ClothBudgetOptions | nul
     for (let ci = 0; ci < state.cloths.length; ci++) {
       const c = state.cloths[ci]
       if (c.budget.frozen) thaw(state, c, state.kinematics.stepTo) // (between steps)
+      c.budget.freezing = false
       c.budget.level = c.budget.applied = -1
       applyConfig(state, c, c.budget.wantSubsteps, c.budget.wantIterations, 1)
     }

@@ -2,6 +2,7 @@ import { allFinite, fit64 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { ANCHOR_REF, anchorSlot } from './freeze'
+import { applyConfig } from './levels'
 import { Q_FACTOR, Q_MEASURED, Q_PREDICTED } from './types'
 
 /**
@@ -117,6 +118,12 @@ export function restoreBudget(state: ClothWorldState, c: ClothState, s: BudgetSn
     lod.refSlot = anchor
   }
   for (let j = 0; j < 7; j++) lod.refPose[j] = b[22 + j]
-  lod.waited = b[29] | 0
+  lod.waited = b[29] | 0 // (the restored cloth lags its pins by them: its next step covers them)
   lod.freezing = b[30] === 1 && q.settings !== null
+  if (q.settings === null) {
+    // the level the snapshot held is the budget's, gone since: the cloth runs its own quality (it
+    // ran a far level for good, nothing setting it back)
+    lod.level = lod.applied = -1
+    applyConfig(state, c, lod.wantSubsteps, lod.wantIterations, 1)
+  }
 }

@@ -180,16 +180,27 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const jumped = frameStart && slot >= 0 && k.jumped[slot] !== 0
   const teleported = jumped && k.jumped[slot] === 1 // (2: the carried motion of dropped time)
   if (frameStart || m[M_GAP] === 1) resyncBones(state, ch, m[M_GAP] === 1)
-  if (jumped || m[M_GAP] === 1) {
+  const gap = m[M_GAP] === 1
+  if (jumped || gap) {
     // start from the frame's pose now (a jump moved the tracked poses; a gap left them behind).
     // The frame's last velocities stay: they are what the cloth's own velocities were carried with
-    // (a sleeping cloth's are zero, like its frame's; a frozen cloth kept both)
-    if (ch.frameSlot >= 0) trackedStartPose(state, ch.frameSlot, m, M_POSE)
+    // (a sleeping cloth's are zero, like its frame's; a frozen cloth kept both), turned as the
+    // frame turned meanwhile, as the thaw's carry turned the cloth's (kept as they were, the first
+    // step felt a 90° turn while frozen as the frame's whole change of velocity: 2.4 m/s)
+    if (ch.frameSlot >= 0) {
+      if (gap) {
+        trackedStartPose(state, ch.frameSlot, gapPose, 0)
+        relativeRotationAt(gapPose, 3, m, M_POSE + 3, gapPose, 10)
+        turnVelocities(m, gapPose, 10)
+      }
+      trackedStartPose(state, ch.frameSlot, m, M_POSE)
+    }
     m[M_REF_VALID] = 0
     m[M_GAP] = 0
   }
   // a jump turned the cloth's velocities (carried along) or replaced them (reset): the frame's too
-  if (jumped) turnVelocities(m, k.jump, 10 * slot + 3)
+  // (after a gap, the turn since its last step holds the jump's)
+  if (jumped && !gap) turnVelocities(m, k.jump, 10 * slot + 3)
   const reset = teleported && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT
   if (reset) m[M_PRIMED] = 0
   if (jumped && pinJump === JUMP_NONE) {
@@ -211,6 +222,9 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
     if (!ch.constrained) m[M_REF_VALID] = 0 // kept only while constraints use it
   }
 }
+
+/** The frame's pose at the step's start after a gap (10 values), then its turn since its pose before (4). */
+const gapPose = new Float64Array(14)
 
 /** The frame's velocity history turned by the unit quaternion at q[qo..qo+3]. */
 function turnVelocities(m: Float64Array, q: Float64Array, qo: number): void {

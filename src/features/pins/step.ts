@@ -85,6 +85,9 @@ function replaceHandMove(state: ClothWorldState, c: ClothState): void {
   moveClothBy(c, k.jump, 10 * slot) // J
 }
 
+/** Where the pins stand in this step's target poses (0 its start, 1 its end; below 0 before it). */
+const pinFraction = new Float64Array(1)
+
 /**
  * Places the pinned particles of a cloth for local substep k of n: the target's pose is
  * interpolated (position lerp, rotation slerp) to (k + 1)/n of the way through the step, so a fast
@@ -96,7 +99,13 @@ function replaceHandMove(state: ClothWorldState, c: ClothState): void {
 export function placePins(state: ClothWorldState, c: ClothState, k: number, n: number, advance = true): void {
   const P = state.components.Pin
   const h = c.params[P_H]
-  c.params[P_STEP_FRACTION] = (k + 1) / n
+  const f = (k + 1) / n
+  c.params[P_STEP_FRACTION] = f
+  // a step that spans fixed steps the cloth sat out (stepping every n-th) moves its pins over the
+  // whole span, the part before this fixed step along its motion extrapolated back (all of it at
+  // the first substep, the pinned particles left their substeps at a fraction of the pins' speed)
+  const span = Math.round((c.h * n) / state.fixedTimeStep)
+  pinFraction[0] = span > 1 ? 1 - (1 - f) * span : f
   const pos = c.pos
   const K = state.kinematics
   const from = K.stepFrom, to = K.stepTo
@@ -128,8 +137,8 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
     // the target's pose and scale (k + 1)/n of the way through the step
     const slot = P.slot[pin]
     if (slot !== poseSlot) {
-      interpolatePose(from, to, 7 * slot, c.params, P_STEP_FRACTION, pose, 0)
-      interpolateScale(K, 3 * slot, c.params, P_STEP_FRACTION, scale, 0)
+      interpolatePose(from, to, 7 * slot, pinFraction, 0, pose, 0)
+      interpolateScale(K, 3 * slot, pinFraction, 0, scale, 0)
       poseSlot = slot
     }
     lx *= scale[0]
