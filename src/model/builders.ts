@@ -2,7 +2,7 @@ import type { ClothMaterialSpec } from './materials'
 import { assemble } from './assembly'
 import { PairList, analyseMesh, isQuadDiagonal } from './meshInfo'
 import { BEND, SHEAR, STRETCH, type ClothTopology, type TopologyOptions } from './topology'
-import { orientTriangles } from './orient'
+import { orientTriangles, simulatedFaces } from './orient'
 
 /**
  * The mesh of a rectangular sheet of `columns` × `rows` vertices: row-major from the top-left
@@ -104,8 +104,12 @@ export function buildMeshTopology(
 ): ClothTopology {
   const n = (positions.length / 3) | 0
   const rest = Float64Array.from(positions)
-  const tris = Uint32Array.from(indices)
-  if (options.grid === undefined) orientTriangles(tris, n) // (a user's mesh: its windings agreed; grids agree)
+  let tris: Uint32Array = Uint32Array.from(indices)
+  if (options.grid === undefined) {
+    // a user's mesh: its windings made to agree, its repeated faces and slivers not cloth (grids are clean)
+    orientTriangles(tris, n)
+    tris = simulatedFaces(tris, rest, n)
+  }
   const mesh = analyseMesh(rest, tris, n)
   const shearModel = options.shear ?? 'distance'
   const bending = options.bending ?? 'line'

@@ -16,27 +16,8 @@
  */
 export function orientTriangles(tris: Uint32Array, n: number): number {
   const count = (tris.length / 3) | 0
-  // each vertex's triangles (counting sort: no maps, linear in the mesh; 180,000 triangles took
-  // 0.7 s with a map of edges)
-  const start = new Int32Array(n + 1)
-  for (let k = 0; k < 3 * count; k++) start[tris[k] + 1]++
-  for (let v = 0; v < n; v++) start[v + 1] += start[v]
-  const around = new Int32Array(3 * count)
-  const fill = start.slice(0, n)
-  for (let k = 0; k < 3 * count; k++) around[fill[tris[k]]++] = (k / 3) | 0
-  // the first triangle with each vertex set; later ones are its copies
-  const first = new Int32Array(count).fill(-1)
-  for (let t = 0; t < count; t++) {
-    const a = tris[3 * t]
-    for (let q = start[a]; q < start[a + 1]; q++) {
-      const u = around[q]
-      if (u >= t) break // (listed in triangle order)
-      if (first[u] < 0 && sameVertices(tris, u, t)) {
-        first[t] = u
-        break
-      }
-    }
-  }
+  const { start, around } = vertexTriangles(tris, n)
+  const first = copiesOf(tris, start, around)
   let flipped = 0
   const seen = new Uint8Array(count)
   const queue = new Int32Array(count)
@@ -83,6 +64,104 @@ export function orientTriangles(tris: Uint32Array, n: number): number {
     }
   }
   return flipped
+}
+
+/**
+ * The faces of a user's mesh the cloth is made of (build time, after `orientTriangles`): all but
+ * the copies of a face held twice (once per side) and the zero-area triangles whose three vertices
+ * lie on one piece of the triangles with area. Both had been cloth: a double-sided sheet weighed twice its density ×
+ * area, and with four triangles on each edge lost every bending hinge and took its shear as
+ * stretch; a sliver an exporter left along a row put a third triangle on two edges, which a tear
+ * then could not part (drawn metres long across the opening, it joined the falling piece to the
+ * pinned one). Returns `tris` itself when none goes.
+ */
+export function simulatedFaces(tris: Uint32Array, rest: Float64Array, n: number): Uint32Array {
+  const count = (tris.length / 3) | 0
+  const { start, around } = vertexTriangles(tris, n)
+  const first = copiesOf(tris, start, around)
+  const flat = new Uint8Array(count)
+  const held = new Int32Array(n) // kept faces of area at each vertex
+  for (let t = 0; t < count; t++) {
+    if (first[t] >= 0) continue
+    flat[t] = zeroArea(tris, rest, t) ? 1 : 0
+    if (flat[t] === 0) for (let k = 0; k < 3; k++) held[tris[3 * t + k]]++
+  }
+  // the pieces the faces of area make (a flat triangle joining two of them, as a collapsed row
+  // does, stays: without it they fell apart)
+  const piece = new Int32Array(n)
+  for (let v = 0; v < n; v++) piece[v] = v
+  for (let t = 0; t < count; t++) {
+    if (first[t] >= 0 || flat[t] === 1) continue
+    for (let k = 1; k < 3; k++) join(piece, tris[3 * t], tris[3 * t + k])
+  }
+  let kept = 0
+  const keep = new Uint8Array(count)
+  for (let t = 0; t < count; t++) {
+    const a = tris[3 * t], b = tris[3 * t + 1], c = tris[3 * t + 2]
+    const spare = flat[t] === 1 && held[a] > 0 && held[b] > 0 && held[c] > 0 && root(piece, a) === root(piece, b) && root(piece, a) === root(piece, c)
+    keep[t] = first[t] < 0 && !spare ? 1 : 0
+    kept += keep[t]
+  }
+  if (kept === count) return tris
+  const out = new Uint32Array(3 * kept)
+  let w = 0
+  for (let t = 0; t < count; t++) if (keep[t] === 1) for (let k = 0; k < 3; k++) out[w++] = tris[3 * t + k]
+  return out
+}
+
+/** The root of v's set (path halving). */
+function root(parent: Int32Array, v: number): number {
+  while (parent[v] !== v) {
+    parent[v] = parent[parent[v]]
+    v = parent[v]
+  }
+  return v
+}
+
+function join(parent: Int32Array, a: number, b: number): void {
+  const ra = root(parent, a), rb = root(parent, b)
+  if (ra !== rb) parent[ra < rb ? rb : ra] = ra < rb ? ra : rb
+}
+
+/** Whether triangle t has no area: its sides' cross product within rounding of its longest side squared. */
+function zeroArea(tris: Uint32Array, rest: Float64Array, t: number): boolean {
+  const a = 3 * tris[3 * t], b = 3 * tris[3 * t + 1], c = 3 * tris[3 * t + 2]
+  const ux = rest[b] - rest[a], uy = rest[b + 1] - rest[a + 1], uz = rest[b + 2] - rest[a + 2]
+  const vx = rest[c] - rest[a], vy = rest[c + 1] - rest[a + 1], vz = rest[c + 2] - rest[a + 2]
+  const wx = rest[c] - rest[b], wy = rest[c + 1] - rest[b + 1], wz = rest[c + 2] - rest[b + 2]
+  const cross = Math.hypot(uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx)
+  const longest = Math.max(ux * ux + uy * uy + uz * uz, vx * vx + vy * vy + vz * vz, wx * wx + wy * wy + wz * wz)
+  return cross <= 1e-9 * longest
+}
+
+/** Each vertex's triangles (counting sort: no maps, linear in the mesh; 180,000 triangles took 0.7 s with a map of edges). */
+function vertexTriangles(tris: Uint32Array, n: number): { start: Int32Array; around: Int32Array } {
+  const count = (tris.length / 3) | 0
+  const start = new Int32Array(n + 1)
+  for (let k = 0; k < 3 * count; k++) start[tris[k] + 1]++
+  for (let v = 0; v < n; v++) start[v + 1] += start[v]
+  const around = new Int32Array(3 * count)
+  const fill = start.slice(0, n)
+  for (let k = 0; k < 3 * count; k++) around[fill[tris[k]]++] = (k / 3) | 0
+  return { start, around }
+}
+
+/** Per triangle, the first triangle with its vertex set when it is a later copy of one, else −1. */
+function copiesOf(tris: Uint32Array, start: Int32Array, around: Int32Array): Int32Array {
+  const count = (tris.length / 3) | 0
+  const first = new Int32Array(count).fill(-1)
+  for (let t = 0; t < count; t++) {
+    const a = tris[3 * t]
+    for (let q = start[a]; q < start[a + 1]; q++) {
+      const u = around[q]
+      if (u >= t) break // (listed in triangle order)
+      if (first[u] < 0 && sameVertices(tris, u, t)) {
+        first[t] = u
+        break
+      }
+    }
+  }
+  return first
 }
 
 /** Whether triangle t has vertex v. */
