@@ -1,3 +1,4 @@
+import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
 import {
   getClothLod,
@@ -6,6 +7,7 @@ import {
   restoreClothState,
   saveClothState,
   setClothBudget,
+  setClothSkinning,
   setTransform,
   stepCloth,
 } from '../src/index'
@@ -191,5 +193,67 @@ describe('a snapshot saved under a budget, restored after the budget was removed
     }
     expect(getClothLod(world, cape)).toMatchObject({ substeps: 4, stepEvery: 1 })
     expect(getClothStretch(world, cape).max).toBeLessThan(0.05)
+  })
+})
+
+describe('a skinned character cape frozen while its back bone leans or sways, thawed', () => {
+  /**
+   * A 7×11 wool cape pinned to a hero walking at 3 m/s, skinned to the hero (collar) and a back bone
+   * (hem: 90 %), painted max distance and a backstop; culled over frames 60–180 while the back bone
+   * moves by `swing`. Returns the largest one-step velocity change of any particle and the worst
+   * stretch from frame 150 on.
+   */
+  function swingWhileFrozen(budget: boolean, swing: (f: number) => number) {
+    const { world, hero, viewer, cape } = budgetCape(true, [2, 2, 0])
+    const bone = addEntity(world)
+    setTransform(world, bone, [0, 1.2, 0])
+    const joints: number[] = [], weights: number[] = []
+    for (let i = 0; i < 77; i++) {
+      const u = Math.floor(i / 7) / 10
+      joints.push(0, 1, 0, 0)
+      weights.push(1 - u, u, 0, 0)
+    }
+    setClothSkinning(world, cape, { bones: [hero, bone], joints, weights })
+    if (budget) setClothBudget(world, { viewer, near: 5, far: 26, cull: 42, calibration: CAL, adapt: false, interval: 1 })
+    const c = getClothState(world, cape)
+    const prev = new Float64Array(3 * c.count)
+    let dv = 0, stretch = 0, frozen = false
+    for (let f = 0; f < 260; f++) {
+      const a = swing(f), z = (3 * f) / 60
+      setTransform(world, hero, [0, 0, z])
+      setTransform(world, bone, [0, 1.2, z], [Math.sin(a / 2), 0, 0, Math.cos(a / 2)])
+      setTransform(world, viewer, f >= 60 && f < 180 ? [100, 2, z] : [2, 2, z])
+      stepCloth(world, 1 / 60)
+      frozen ||= getClothLod(world, cape).frozen
+      let d = 0
+      for (let i = 0; i < 3 * c.count; i += 3) d = Math.max(d, Math.hypot(c.vel[i] - prev[i], c.vel[i + 1] - prev[i + 1], c.vel[i + 2] - prev[i + 2]))
+      prev.set(c.vel.subarray(0, 3 * c.count))
+      if (f >= 150) {
+        dv = Math.max(dv, d)
+        stretch = Math.max(stretch, getClothStretch(world, cape).max)
+      }
+    }
+    expect(frozen).toBe(budget)
+    return { dv, stretch }
+  }
+
+  // The thaw carries the cape rigidly by its pins' target, while its skinned reference moved on:
+  // the backstop then pushed it out of the body in one substep. Corrections in the step after a gap
+  // are placements, without velocity (found by a hunt). Measured: a lean toward the body 4.5 m/s and
+  // 8.8 % (24.4 m/s and 33 % before; 0.20 m/s and 5.2 % never frozen). Known limit: the rest.
+  it('a back bone leaning 0.5 rad toward the body while frozen', () => {
+    const lean = (f: number) => (f < 100 ? 0 : f < 130 ? (-0.5 * (f - 100)) / 30 : -0.5)
+    const r = swingWhileFrozen(true, lean)
+    expect(r.dv).toBeLessThan(8)
+    expect(r.stretch).toBeLessThan(0.15)
+  })
+
+  // Measured: 1.1–3.2 m/s over 8 phases of the sway, 1.4–1.7 never frozen (10–19 m/s before).
+  it('a back bone swaying 0.3 rad at 5 rad/s: within 2.5× of the cape never frozen, at any phase', () => {
+    for (let k = 0; k < 8; k += 2) {
+      const sway = (f: number) => 0.3 * Math.sin((5 * f) / 60 + (k * Math.PI) / 4)
+      const r = swingWhileFrozen(true, sway), base = swingWhileFrozen(false, sway)
+      expect(r.dv).toBeLessThan(2.5 * Math.max(base.dv, 0.3))
+    }
   })
 })

@@ -31,6 +31,7 @@ import {
   W_FROM,
   W_TO,
   W_V,
+  W_RESUME,
   W_W,
   type ClothCharacter,
 } from './types'
@@ -197,6 +198,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
     }
     m[M_REF_VALID] = 0
     m[M_GAP] = 0
+    if (gap && ch.constrained) ch.work[W_RESUME] = 1
   }
   // a jump turned the cloth's velocities (carried along) or replaced them (reset): the frame's too
   // (after a gap, the turn since its last step holds the jump's)
@@ -351,6 +353,9 @@ export function placeHeld(c: ClothState): void {
   placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount)
 }
 
+/** `since` for the limits after a gap: their corrections enter the velocity at 1/2²⁰ (see `constrainAndUpdateVelocities`). */
+const RESUME_SINCE = 1 << 20
+
 /** Whether the motion constraints run at local substep k: every `every`-th substep and the step's last (every substep with a drive). */
 function limitsRun(c: ClothState, ch: ClothCharacter, k: number): boolean {
   const every = ch.settings[S_EVERY]
@@ -372,8 +377,13 @@ export function writebackCharacter(c: ClothState): void {
     return
   }
   if (ch.drive !== null) driveTowardReference(c.pos, c.prev, c.invMass, ch.ref, ch.refParams, ch.drive, c.params, c.count)
-  // the substeps since the last check: `every` (the step's last substep may come sooner); 1 with a drive
-  const since = ch.drive !== null ? 1 : (k % every) + 1
+  // the substeps since the last check: `every` (the step's last substep may come sooner); 1 with a
+  // drive. In the step after a gap, a correction is a placement, without velocity: the cloth was
+  // carried rigidly by one pin target while its reference moved on (a skinned cape frozen while its
+  // back bone leaned thawed with the backstop inside it, pushed out at 24 m/s)
+  const resume = ch.work[W_RESUME] === 1
+  if (resume && k === c.substeps - 1) ch.work[W_RESUME] = 0
+  const since = resume ? RESUME_SINCE : ch.drive !== null ? 1 : (k % every) + 1
   constrainAndUpdateVelocities(
     c.pos,
     c.prev,

@@ -225,7 +225,13 @@ export const W_RT = W_TT + 12
  * (BLEND_*), so that it runs where the cloth steps (a worker, in a threaded world). 0 between steps.
  */
 export const W_BLEND = W_RT + 9
-export const WORK = W_BLEND + 1
+/**
+ * 1 through the step after a gap (the cloth sat steps out asleep or frozen, and was carried
+ * rigidly while its reference moved on): the limits then place particles without a velocity kick
+ * (see `writebackCharacter`). Set by the sync phase, cleared at the step's last substep.
+ */
+export const W_RESUME = W_BLEND + 1
+export const WORK = W_RESUME + 1
 /** `work[W_BLEND]`: the end of last step becomes the start, then the end is blended. */
 export const BLEND_END = 1
 /** `work[W_BLEND]`: start and end are blended (the reference was not continuous). */
