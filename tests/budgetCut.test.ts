@@ -226,7 +226,8 @@ describe('a skinned character cape frozen while its back bone leans or sways, th
       stepCloth(world, 1 / 60)
       frozen ||= getClothLod(world, cape).frozen
       let d = 0
-      for (let i = 0; i < 3 * c.count; i += 3) d = Math.max(d, Math.hypot(c.vel[i] - prev[i], c.vel[i + 1] - prev[i + 1], c.vel[i + 2] - prev[i + 2]))
+      for (let i = 0; i < 3 * c.count; i += 3)
+        d = Math.max(d, Math.hypot(c.vel[i] - prev[i], c.vel[i + 1] - prev[i + 1], c.vel[i + 2] - prev[i + 2]))
       prev.set(c.vel.subarray(0, 3 * c.count))
       if (f >= 150) {
         dv = Math.max(dv, d)

@@ -174,17 +174,20 @@ describe('meshes as exports leave them: faces held twice, slivers', () => {
   // Each copy had been cloth: the sheet weighed twice its density × area (0.300 kg for 0.150), its
   // edges with four triangles each lost every dihedral hinge (0 for 341) and took shear as stretch,
   // and torn in a wind the guard reset it 9 times in 120 frames (found by a hunt).
-  it.each(['line', 'dihedral'] as const)('a double-sided sheet (every face twice, once per side) is its one-sided sheet, byte for byte (%s bending)', (bending) => {
-    const one = sheet(12)
-    const both = one.indices.slice()
-    for (let t = 0; t < one.indices.length; t += 3) both.push(one.indices[t], one.indices[t + 2], one.indices[t + 1])
-    const a = run(one, bending), b = run({ positions: one.positions, indices: both }, bending)
-    expect(b.c.topology.triangleCount).toBe(a.c.topology.triangleCount)
-    expect(b.c.topology.hingeCount).toBe(a.c.topology.hingeCount)
-    expect(b.bytes).toBe(a.bytes)
-    expect(a.tears).toBeGreaterThan(0) // (it tore)
-    expect(b.resets).toBe(0)
-  })
+  it.each(['line', 'dihedral'] as const)(
+    'a double-sided sheet (every face twice, once per side) is its one-sided sheet, byte for byte (%s bending)',
+    (bending) => {
+      const one = sheet(12)
+      const both = one.indices.slice()
+      for (let t = 0; t < one.indices.length; t += 3) both.push(one.indices[t], one.indices[t + 2], one.indices[t + 1])
+      const a = run(one, bending), b = run({ positions: one.positions, indices: both }, bending)
+      expect(b.c.topology.triangleCount).toBe(a.c.topology.triangleCount)
+      expect(b.c.topology.hingeCount).toBe(a.c.topology.hingeCount)
+      expect(b.bytes).toBe(a.bytes)
+      expect(a.tears).toBeGreaterThan(0) // (it tore)
+      expect(b.resets).toBe(0)
+    },
+  )
 
   // A zero-area triangle along a row put a third triangle on two of its edges, which a tear could
   // not part: drawn metres long across the opening, it joined the falling piece to the pinned one
@@ -208,7 +211,11 @@ describe('meshes as exports leave them: faces held twice, slivers', () => {
       for (let t = 0; t < m.indices.length; t++) {
         const a = m.indices[t], b = m.indices[t % 3 === 2 ? t - 2 : t + 1]
         const l0 = Math.hypot(rest[3 * a] - rest[3 * b], rest[3 * a + 1] - rest[3 * b + 1], rest[3 * a + 2] - rest[3 * b + 2])
-        const l = Math.hypot(m.positions[3 * a] - m.positions[3 * b], m.positions[3 * a + 1] - m.positions[3 * b + 1], m.positions[3 * a + 2] - m.positions[3 * b + 2])
+        const l = Math.hypot(
+          m.positions[3 * a] - m.positions[3 * b],
+          m.positions[3 * a + 1] - m.positions[3 * b + 1],
+          m.positions[3 * a + 2] - m.positions[3 * b + 2],
+        )
         if (l0 > 0) worst = Math.max(worst, l / l0)
       }
       return { worst, resets: r.resets, tears: r.tears }

@@ -84,7 +84,7 @@ export function simulatedFaces(tris: Uint32Array, rest: Float64Array, n: number)
   for (let t = 0; t < count; t++) {
     if (first[t] >= 0) continue
     flat[t] = zeroArea(tris, rest, t) ? 1 : 0
-    if (flat[t] === 0) for (let k = 0; k < 3; k++) held[tris[3 * t + k]]++
+    if (flat[t] === 0) { for (let k = 0; k < 3; k++) held[tris[3 * t + k]]++ }
   }
   // the pieces the faces of area make (a flat triangle joining two of them, as a collapsed row
   // does, stays: without it they fell apart)
@@ -98,14 +98,15 @@ export function simulatedFaces(tris: Uint32Array, rest: Float64Array, n: number)
   const keep = new Uint8Array(count)
   for (let t = 0; t < count; t++) {
     const a = tris[3 * t], b = tris[3 * t + 1], c = tris[3 * t + 2]
-    const spare = flat[t] === 1 && held[a] > 0 && held[b] > 0 && held[c] > 0 && root(piece, a) === root(piece, b) && root(piece, a) === root(piece, c)
+    const spare = flat[t] === 1 && held[a] > 0 && held[b] > 0 && held[c] > 0 && root(piece, a) === root(piece, b) &&
+      root(piece, a) === root(piece, c)
     keep[t] = first[t] < 0 && !spare ? 1 : 0
     kept += keep[t]
   }
   if (kept === count) return tris
   const out = new Uint32Array(3 * kept)
   let w = 0
-  for (let t = 0; t < count; t++) if (keep[t] === 1) for (let k = 0; k < 3; k++) out[w++] = tris[3 * t + k]
+  for (let t = 0; t < count; t++) if (keep[t] === 1) { for (let k = 0; k < 3; k++) out[w++] = tris[3 * t + k] }
   return out
 }
 
