@@ -10,6 +10,7 @@ import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
 import { releaseAnchor } from '../budget/freeze'
 import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
+import { clampFeltVelocities } from './frame'
 import { blankCharacter, blankSkin, unconstrained } from './state'
 import { backdate, defaultFrame, rebindRest, restAsCreated, setFrame, useDefaultFrame } from './frames'
 import { bindRigid, identityPose, lastReference, reserveBoneScratch, trackedPose } from './reference'
@@ -120,6 +121,7 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
   s[S_TELEPORT_MODE] = mode
   s[S_TELEPORT_DISTANCE] = distance
   s[S_TELEPORT_ANGLE] = angle
+  clampFeltVelocities(ch)
   ch.inertia = true
   wakeClothState(state, c)
 }
