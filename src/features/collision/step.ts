@@ -2,6 +2,7 @@ import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_SPHERE } from '../../core/s
 import { collideBox, collideCapsule, collideHull, collidePlane, collideSphere, measureCloth } from '../../kernels/collide'
 import { F_MU_K, F_MU_S, F_RADIUS } from '../../kernels/colliderFrame'
 import type { ClothWorldState } from '../../world/state'
+import { pinTravel } from '../pins/step'
 import { fillColliderFrame, sweepColliderBounds } from './colliders'
 import { colliderLayersMatch, colliderReaches } from './reach'
 import { buildSelfCollisionPairs, solveSelfCollision } from './selfCollision'
@@ -15,6 +16,9 @@ export function sweepColliders(state: ClothWorldState): void {
   const colliders = state.collision.colliders
   for (let k = 0; k < colliders.length; k++) sweepColliderBounds(state, colliders[k])
 }
+
+/** Slot of `measure` after `measureCloth`'s: how far the cloth's pins still go this step (`pinTravel`). */
+const M_PIN_TRAVEL = 11
 
 /**
  * Once per fixed step (the collide phase's first substep): for each running cloth that could
@@ -46,9 +50,12 @@ export function beginCollisionStep(state: ClothWorldState): void {
     }
     if (!candidates && cc.self === null) continue
     measureCloth(c.pos, c.vel, c.invMass, c.count, cc.self !== null ? 1 : 0, m, c.topology.unused)
-    // how far a particle can get this step: its speed now, gravity, and room for acceleration
+    // how far a particle can get this step: its speed now, gravity, where its pins still go (they
+    // drag the rest), and room for acceleration
     const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
-    const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt) + 0.01
+    m[M_PIN_TRAVEL] = 0
+    if (c.pins.list.length > 0) pinTravel(state, c, m, M_PIN_TRAVEL)
+    const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt + m[M_PIN_TRAVEL]) + 0.01
     const b = cc.bounds
     for (let a = 0; a < 3; a++) {
       b[a] = m[a] - travel
