@@ -1,3 +1,4 @@
+import { rotateVecAt } from '../../core/math'
 import { P_H, P_STEP_FRACTION } from '../../kernels/params'
 import { interpolatePose, interpolateScale } from '../../world/kinematics'
 import { moveClothBy } from '../../world/rigid'
@@ -84,6 +85,9 @@ function replaceHandMove(state: ClothWorldState, c: ClothState): void {
   moveClothBy(c, hand, 0, true) // T⁻¹
   moveClothBy(c, k.jump, 10 * slot) // J
 }
+
+/** A pin's offset, scaled and turned (scratch of `pinTravel`). */
+const offset = new Float64Array(3)
 
 /** Where the pins stand in this step's target poses (0 its start, 1 its end; below 0 before it). */
 const pinFraction = new Float64Array(1)
@@ -174,14 +178,12 @@ export function pinTravel(state: ClothWorldState, c: ClothState, out: Float64Arr
     const slot = P.slot[pin]
     if (P.target[pin] === 0 || slot < 0) continue
     const t = 7 * slot
-    const lx = P.ox[pin] * sc[3 * slot], ly = P.oy[pin] * sc[3 * slot + 1], lz = P.oz[pin] * sc[3 * slot + 2]
-    const qx = to[t + 3], qy = to[t + 4], qz = to[t + 5], qw = to[t + 6]
-    // v' = v + w·t + q × t, t = 2·q × v
-    const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)
+    offset[0] = P.ox[pin] * sc[3 * slot]
+    offset[1] = P.oy[pin] * sc[3 * slot + 1]
+    offset[2] = P.oz[pin] * sc[3 * slot + 2]
+    rotateVecAt(to, t + 3, offset, 0, offset, 0)
     const i = 3 * P.particle[pin]
-    const dx = to[t] + lx + qw * tx + (qy * tz - qz * ty) - pos[i]
-    const dy = to[t + 1] + ly + qw * ty + (qz * tx - qx * tz) - pos[i + 1]
-    const dz = to[t + 2] + lz + qw * tz + (qx * ty - qy * tx) - pos[i + 2]
+    const dx = to[t] + offset[0] - pos[i], dy = to[t + 1] + offset[1] - pos[i + 1], dz = to[t + 2] + offset[2] - pos[i + 2]
     const d2 = dx * dx + dy * dy + dz * dz
     if (d2 > far2) far2 = d2
   }
