@@ -9,7 +9,7 @@
  * again. Messages (new cloths, new arrays) arrive through the event loop, so when a step needs a
  * layout the worker has not received yet, the loop returns and resumes once the message is in.
  */
-import { runWorkerStep } from '../systems/threaded'
+import { runWorkerStep } from '../systems/pipeline'
 import { clothFingerprint } from './threads/layout'
 import { bindCloth, bindWorld, createWorkerWorld, readStepInputs, type WorldMessage } from './threads/mirror'
 import { C_DONE, C_LAYOUT, C_QUIT, C_STATE, C_STEP, reportWorkerFailure } from './threads/pool'

@@ -1,5 +1,6 @@
-import { beginCollisionStep, collideSubstep } from '../src/features/collision/step'
+import { beginClothCollision, beginCollisionStep, collideClothColliders, collideSubstep } from '../src/features/collision/step'
 import { getClothWorld } from '../src/world/access'
+import type { ClothState, ClothWorldState } from '../src/world/state'
 
 /**
  * Collide phase, every substep, after the constraint solve: particle–particle contacts of cloths
@@ -15,4 +16,14 @@ export function clothCollide<W extends object>(world: W): W {
   if (state.substep === 0) beginCollisionStep(state)
   collideSubstep(state)
   return world
+}
+
+/**
+ * The collide phase of one cloth at the world's substep, in a world where no cloth collides with
+ * itself or others (their contacts couple cloths within a substep: see `runSubsteps`).
+ */
+export function collideOfCloth(state: ClothWorldState, c: ClothState): void {
+  if (state.collision.colliders.length === 0) return
+  if (state.substep === 0) beginClothCollision(state, c)
+  collideClothColliders(state, c)
 }

@@ -1,4 +1,5 @@
 import { getClothWorld } from '../src/world/access'
+import type { ClothState, ClothWorldState } from '../src/world/state'
 import { localSubstep } from '../src/world/stats'
 import { applyWind } from '../src/features/wind/step'
 
@@ -11,10 +12,12 @@ import { applyWind } from '../src/features/wind/step'
 export function clothForces<W extends object>(world: W): W {
   const state = getClothWorld(world)
   const cloths = state.cloths
-  for (let ci = 0; ci < cloths.length; ci++) {
-    const c = cloths[ci]
-    c.subIndex = c.idle ? -1 : localSubstep(c.substeps, state.substep, state.substepCount)
-    if (c.subIndex >= 0 && c.wind !== null) applyWind(state, c)
-  }
+  for (let ci = 0; ci < cloths.length; ci++) forcesOfCloth(state, cloths[ci])
   return world
+}
+
+/** The forces phase of one cloth at the world's substep `state.substep`. */
+export function forcesOfCloth(state: ClothWorldState, c: ClothState): void {
+  c.subIndex = c.idle ? -1 : localSubstep(c.substeps, state.substep, state.substepCount)
+  if (c.subIndex >= 0 && c.wind !== null) applyWind(state, c)
 }

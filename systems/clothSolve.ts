@@ -6,6 +6,7 @@ import { solveGrabs } from '../src/kernels/grab'
 import { beginGrabSubstep, endGrabSubstep } from '../src/features/grab/step'
 import { anchorsMoveTogether } from '../src/features/pins/step'
 import { getClothWorld } from '../src/world/access'
+import type { ClothState, ClothWorldState } from '../src/world/state'
 
 /**
  * Solve phase, every substep: Gauss-Seidel sweeps over each cloth's constraints, `iterations`
@@ -18,55 +19,57 @@ import { getClothWorld } from '../src/world/access'
  */
 export function clothSolve<W extends object>(world: W): W {
   const state = getClothWorld(world)
-  const stats = state.stats
   const cloths = state.cloths
-  for (let ci = 0; ci < cloths.length; ci++) {
-    const c = cloths[ci]
-    if (c.subIndex < 0) continue
-    const t = c.topology
-    const p = c.params
-    const tethers = c.tethers.set
-    // XPBD with several iterations accumulates multipliers from zero each substep; with one
-    // iteration (or classic PBD) they are always zero and the cheaper loops skip them
-    const accumulate = c.solver === 'xpbd' && c.iterations > 1
-    // the distance loops read inverse masses at position offsets; masses change only between
-    // steps (pins, unpins, tears, restores), so one copy per step keeps them current
-    if (c.subIndex === 0) spreadInverseMasses(c.invMass, c.invMass3, c.count)
-    if (accumulate) {
-      // the live constraints only (a tearable cloth reserves room for more)
-      c.distLambda.fill(0, 0, t.distCount)
-      c.compLambda.fill(0, 0, t.compCount)
-      c.lineLambda.fill(0, 0, 3 * t.lineCount)
-      c.hingeLambda.fill(0, 0, t.hingeCount)
-    }
-    const hingeLambda = accumulate ? c.hingeLambda : null
-    const lineLambda = accumulate ? c.lineLambda : null
-    const compLambda = accumulate ? c.compLambda : null
-    const grabs = c.grab
-    if (grabs.count > 0) beginGrabSubstep(c)
-    for (let it = 0; it < c.iterations; it++) {
-      if (grabs.count > 0) solveGrabs(c.pos, c.invMass, grabs.particle, grabs.data, grabs.count, p)
-      if (t.lineCount > 0) {
-        solveLineBending(c.pos, c.invMass, t.lineIds, t.lineRest, t.lineCompliance, lineLambda, p, 0, t.lineCount)
-      }
-      if (t.hingeCount > 0) {
-        solveDihedrals(c.pos, c.invMass, t.hingeIds, t.hingeRest, t.hingeCompliance, hingeLambda, t.hingeSide, p, 0, t.hingeCount)
-      }
-      if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, p, 0, t.distCount)
-      else solveDistances(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, p, 0, t.distCount)
-      if (t.compCount > 0) {
-        solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, p, 0, t.compCount)
-      }
-    }
-    if (tethers.count > 0) {
-      const apart = anchorsMoveTogether(state, c) ? null : t.restPositions
-      solveTethers(c.pos, c.invMass, tethers.particle, tethers.anchor, tethers.rest, apart, tethers.count)
-    }
-    if (grabs.count > 0) endGrabSubstep(c)
-    stats.dihedralProjections += t.hingeCount * c.iterations
-    stats.lineProjections += t.lineCount * c.iterations
-    stats.distanceProjections += (t.distCount + t.compCount) * c.iterations
-    stats.tetherProjections += tethers.count
-  }
+  for (let ci = 0; ci < cloths.length; ci++) solveOfCloth(state, cloths[ci])
   return world
+}
+
+/** The solve phase of one cloth at the world's substep. */
+export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
+  const stats = state.stats
+  if (c.subIndex < 0) return
+  const t = c.topology
+  const p = c.params
+  const tethers = c.tethers.set
+  // XPBD with several iterations accumulates multipliers from zero each substep; with one
+  // iteration (or classic PBD) they are always zero and the cheaper loops skip them
+  const accumulate = c.solver === 'xpbd' && c.iterations > 1
+  // the distance loops read inverse masses at position offsets; masses change only between
+  // steps (pins, unpins, tears, restores), so one copy per step keeps them current
+  if (c.subIndex === 0) spreadInverseMasses(c.invMass, c.invMass3, c.count)
+  if (accumulate) {
+    // the live constraints only (a tearable cloth reserves room for more)
+    c.distLambda.fill(0, 0, t.distCount)
+    c.compLambda.fill(0, 0, t.compCount)
+    c.lineLambda.fill(0, 0, 3 * t.lineCount)
+    c.hingeLambda.fill(0, 0, t.hingeCount)
+  }
+  const hingeLambda = accumulate ? c.hingeLambda : null
+  const lineLambda = accumulate ? c.lineLambda : null
+  const compLambda = accumulate ? c.compLambda : null
+  const grabs = c.grab
+  if (grabs.count > 0) beginGrabSubstep(c)
+  for (let it = 0; it < c.iterations; it++) {
+    if (grabs.count > 0) solveGrabs(c.pos, c.invMass, grabs.particle, grabs.data, grabs.count, p)
+    if (t.lineCount > 0) {
+      solveLineBending(c.pos, c.invMass, t.lineIds, t.lineRest, t.lineCompliance, lineLambda, p, 0, t.lineCount)
+    }
+    if (t.hingeCount > 0) {
+      solveDihedrals(c.pos, c.invMass, t.hingeIds, t.hingeRest, t.hingeCompliance, hingeLambda, t.hingeSide, p, 0, t.hingeCount)
+    }
+    if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, p, 0, t.distCount)
+    else solveDistances(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, p, 0, t.distCount)
+    if (t.compCount > 0) {
+      solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, p, 0, t.compCount)
+    }
+  }
+  if (tethers.count > 0) {
+    const apart = anchorsMoveTogether(state, c) ? null : t.restPositions
+    solveTethers(c.pos, c.invMass, tethers.particle, tethers.anchor, tethers.rest, apart, tethers.count)
+  }
+  if (grabs.count > 0) endGrabSubstep(c)
+  stats.dihedralProjections += t.hingeCount * c.iterations
+  stats.lineProjections += t.lineCount * c.iterations
+  stats.distanceProjections += (t.distCount + t.compCount) * c.iterations
+  stats.tetherProjections += tethers.count
 }

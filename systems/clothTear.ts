@@ -1,4 +1,5 @@
 import { getClothWorld } from '../src/world/access'
+import type { ClothState, ClothWorldState } from '../src/world/state'
 import { tearStep } from '../src/features/tearing/step'
 
 /**
@@ -9,10 +10,11 @@ import { tearStep } from '../src/features/tearing/step'
 export function clothTear<W extends object>(world: W): W {
   const state = getClothWorld(world)
   const cloths = state.cloths
-  for (let ci = 0; ci < cloths.length; ci++) {
-    const c = cloths[ci]
-    if (c.tear === null || c.subIndex !== c.substeps - 1) continue
-    tearStep(state, c)
-  }
+  for (let ci = 0; ci < cloths.length; ci++) tearOfCloth(state, cloths[ci])
   return world
+}
+
+/** The tear phase of one cloth at the world's substep. */
+export function tearOfCloth(state: ClothWorldState, c: ClothState): void {
+  if (c.tear !== null && c.subIndex === c.substeps - 1) tearStep(state, c)
 }

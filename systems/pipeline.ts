@@ -1,14 +1,20 @@
 import { ClothError, checkInteger } from '../src/core/errors'
 import { getClothWorld } from '../src/world/access'
 import type { ClothWorldState } from '../src/world/state'
-import { clothCollide } from './clothCollide'
-import { clothForces } from './clothForces'
 import { clothGuard } from './clothGuard'
-import { clothPredict } from './clothPredict'
-import { clothSolve } from './clothSolve'
+import { clothCollide, collideOfCloth } from './clothCollide'
+import { clothForces, forcesOfCloth } from './clothForces'
+import { clothPredict, predictOfCloth } from './clothPredict'
+import { clothSolve, solveOfCloth } from './clothSolve'
+import { clothTear, tearOfCloth } from './clothTear'
+import { clothWriteback, writebackOfCloth } from './clothWriteback'
+import { guardCheck } from '../src/features/guard/step'
+import { setGuardAnchor } from '../src/features/character/step'
+import { IO_HEALTH, OUT_EVENTS, OUT_MS, OUT_SLEPT, OUT_TEARS, writeClothHandoff } from '../src/threads/handoff'
+import { EV } from '../src/features/tearing/types'
+import { takeStats } from '../src/world/stats'
+import type { WorkerWorld } from '../src/threads/mirror'
 import { clothSync } from './clothSync'
-import { clothTear } from './clothTear'
-import { clothWriteback } from './clothWriteback'
 import { clothEvents } from './clothEvents'
 import { Q_MEASURED, Q_T0 } from '../src/features/budget/types'
 import { waitForWorkers } from '../src/threads/pool'
@@ -40,10 +46,12 @@ import { landRemovals, landStores } from '../src/world/flight'
  *   events                    after the step: tear listeners see a finished step and may change the world
  *
  * `clothPhases` (`scheduled.ts`) lists the per-substep phases in that order for engines that
- * schedule systems themselves, each checking that no frame is open.
+ * schedule systems themselves, each checking that no frame is open. The pipeline itself runs them
+ * cloth by cloth (`runSubsteps`): the same numbers in the same order for each cloth, so the same
+ * bytes as the phase systems run by hand.
  */
 
-/** Runs one fixed step of every cloth: sync, then all substeps of all phases. */
+/** Runs one fixed step of every cloth: sync, then all substeps of all phases, then the guard. */
 export function clothFixedStep<W extends object>(world: W): W {
   const state = getClothWorld(world)
   if (state.frame.open) throw new ClothError('world', world, 'is between beginClothStep and endClothStep (call endClothStep first)')
@@ -82,22 +90,57 @@ export function startFixedStep(world: object, blocking: boolean): void {
   state.frame.deferred = true
 }
 
-/** The substeps of every cloth here on this thread, then the guard (timed when the budget asks). */
+/**
+ * The substeps of a fixed step, for every cloth of the world (on this thread, or a worker's
+ * share): forces, predict, solve, collide, tear, writeback at each substep, in the order above.
+ *
+ * A cloth's substeps touch only that cloth and what the sync phase fixed for the step (pin
+ * targets, collider frames, wind), so each cloth runs all its substeps before the next cloth
+ * starts: its particles stay in the core's cache from one phase and substep to the next instead of
+ * every phase streaming the whole world through it (the 64-cape crowd: see the character
+ * benchmark). Where cloths collide with themselves or each other, their contacts join cloths
+ * within a substep, and the world runs phase by phase, each phase over every cloth. Either way
+ * each cloth computes the same numbers in the same order: the results are the same bytes.
+ */
 function runSubsteps(world: object): void {
+  const state = getClothWorld(world)
+  const n = state.substepCount
+  if (state.collision.selfCloths.length > 0) {
+    for (let s = 0; s < n; s++) {
+      state.substep = s
+      clothForces(world)
+      clothPredict(world)
+      clothSolve(world)
+      clothCollide(world)
+      clothTear(world)
+      clothWriteback(world)
+    }
+    return
+  }
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) {
+    const c = cloths[ci]
+    for (let s = 0; s < n; s++) {
+      state.substep = s
+      forcesOfCloth(state, c)
+      predictOfCloth(state, c)
+      solveOfCloth(state, c)
+      collideOfCloth(state, c)
+      tearOfCloth(state, c)
+      writebackOfCloth(state, c)
+    }
+  }
+  if (n > 0) state.substep = n - 1 // (where the loop by phases leaves it)
+}
+
+/** The substeps of every cloth here on this thread, then the guard (timed when the budget asks). */
+function runStep(world: object): void {
   const state = getClothWorld(world)
   const timing = state.budget.timing
   // a time budget that adapts times one step before each allocation (the sync phase decides)
   const timed = state.budget.timeNext
   if (timed) timing[Q_T0] = performance.now()
-  for (let s = 0; s < state.substepCount; s++) {
-    state.substep = s
-    clothForces(world)
-    clothPredict(world)
-    clothSolve(world)
-    clothCollide(world)
-    clothTear(world)
-    clothWriteback(world)
-  }
+  runSubsteps(world)
   clothGuard(world)
   if (timed) timing[Q_MEASURED] = performance.now() - timing[Q_T0]
 }
@@ -122,7 +165,7 @@ export function finishFixedStep(world: object): void {
       if (threaded) collectClothStep(state, th)
       else if (f.deferred) {
         f.deferred = false
-        runSubsteps(world) // (its guard leaves the reset listeners to deliverResets below)
+        runStep(world) // (its guard leaves the reset listeners to deliverResets below)
       }
     } finally {
       // entities removed while the step was in flight go now, at the same point in every mode,
@@ -147,4 +190,35 @@ export function clothSubstepCount(world: object): number {
 export function setClothSubstep(world: object, s: number): void {
   const state = getClothWorld(world)
   state.substep = checkInteger('s', s, 0, Math.max(0, state.substepCount - 1))
+}
+
+/**
+ * Worker: runs the step for the cloths of `ww` (read in by `readStepInputs`): every substep's
+ * phases, then the guard's check of each cloth; writes the cloths' handoff blocks and the worker's
+ * output block (`out`).
+ */
+export function runWorkerStep(ww: WorkerWorld, list: Int32Array, out: Float64Array): void {
+  // the clock only for the budget's timed steps (performance.now allocates)
+  const timed = ww.state.budget.timeNext
+  const t0 = timed ? performance.now() : 0
+  const world = ww.world
+  const state = ww.state
+  state.sleep.count = 0
+  state.tearing.pendingCount = 0
+  runSubsteps(world)
+  const n = list[0]
+  for (let i = 1; i <= n; i++) {
+    const io = ww.ios[list[i]]!
+    const c = ww.cloths[list[i]]!
+    if (c.subIndex >= 0) setGuardAnchor(c)
+    io[IO_HEALTH] = guardCheck(state, c)
+  }
+  for (let i = 1; i <= n; i++) writeClothHandoff(ww.cloths[list[i]]!, ww.ios[list[i]]!)
+  takeStats(state.stats, out, 0)
+  out[OUT_SLEPT] = state.sleep.count
+  const tw = state.tearing
+  const events = Math.min(tw.pendingCount, ((out.length - OUT_EVENTS) / EV) | 0)
+  out[OUT_TEARS] = events
+  for (let i = 0; i < events * EV; i++) out[OUT_EVENTS + i] = tw.pending[i]
+  out[OUT_MS] = timed ? performance.now() - t0 : 0
 }

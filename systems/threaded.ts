@@ -1,7 +1,7 @@
 import { HEALTH_OK } from '../src/kernels/guard'
 import type { ClothThreads, ClothWorldState } from '../src/world/state'
-import { guardCheck, restoreSafePose } from '../src/features/guard/step'
-import { placeHeldAfterReset, setGuardAnchor } from '../src/features/character/step'
+import { restoreSafePose } from '../src/features/guard/step'
+import { placeHeldAfterReset } from '../src/features/character/step'
 import { EV } from '../src/features/tearing/types'
 import { Q_MEASURED } from '../src/features/budget/types'
 import { refreshBindings } from '../src/threads/bind'
@@ -15,18 +15,11 @@ import {
   writeClothHandoff,
   writeWorldHandoff,
 } from '../src/threads/handoff'
-import { addStats, takeStats } from '../src/world/stats'
+import { addStats } from '../src/world/stats'
 import { clothFingerprint } from '../src/threads/layout'
-import type { WorkerWorld } from '../src/threads/mirror'
 import { partitionCloths } from '../src/threads/partition'
 import { startWorkers, workersReady } from '../src/threads/pool'
 import { verifyWorker } from '../src/threads/verify'
-import { clothCollide } from './clothCollide'
-import { clothForces } from './clothForces'
-import { clothPredict } from './clothPredict'
-import { clothSolve } from './clothSolve'
-import { clothTear } from './clothTear'
-import { clothWriteback } from './clothWriteback'
 
 /**
  * The fixed step of a threaded world, split between threads. The main thread runs the sync phase
@@ -165,43 +158,4 @@ function mergeTearEvents(state: ClothWorldState, th: ClothThreads): void {
     const to = tw.pendingCount++ * EV
     for (let j = 0; j < EV; j++) tw.pending[to + j] = out[from + j]
   }
-}
-
-/**
- * Worker: runs the step for the cloths of `ww` (read in by `readStepInputs`): every substep's
- * phases, then the guard's check of each cloth; writes the cloths' handoff blocks and the worker's
- * output block (`out`).
- */
-export function runWorkerStep(ww: WorkerWorld, list: Int32Array, out: Float64Array): void {
-  // the clock only for the budget's timed steps (performance.now allocates)
-  const timed = ww.state.budget.timeNext
-  const t0 = timed ? performance.now() : 0
-  const world = ww.world
-  const state = ww.state
-  state.sleep.count = 0
-  state.tearing.pendingCount = 0
-  for (let s = 0; s < state.substepCount; s++) {
-    state.substep = s
-    clothForces(world)
-    clothPredict(world)
-    clothSolve(world)
-    clothCollide(world)
-    clothTear(world)
-    clothWriteback(world)
-  }
-  const n = list[0]
-  for (let i = 1; i <= n; i++) {
-    const io = ww.ios[list[i]]!
-    const c = ww.cloths[list[i]]!
-    if (c.subIndex >= 0) setGuardAnchor(c)
-    io[IO_HEALTH] = guardCheck(state, c)
-  }
-  for (let i = 1; i <= n; i++) writeClothHandoff(ww.cloths[list[i]]!, ww.ios[list[i]]!)
-  takeStats(state.stats, out, 0)
-  out[OUT_SLEPT] = state.sleep.count
-  const tw = state.tearing
-  const events = Math.min(tw.pendingCount, ((out.length - OUT_EVENTS) / EV) | 0)
-  out[OUT_TEARS] = events
-  for (let i = 0; i < events * EV; i++) out[OUT_EVENTS + i] = tw.pending[i]
-  out[OUT_MS] = timed ? performance.now() - t0 : 0
 }

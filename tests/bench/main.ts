@@ -5,7 +5,7 @@ import { windCost } from './wind'
 import { tearCost } from './tearing'
 import { guardCost, snapshotCost } from './stability'
 import { outOfRange, perCollider, selfShare } from './collision'
-import { capes, payForUse, sleepingCost } from './budget'
+import { capes, clothByCloth, payForUse, sleepingCost } from './budget'
 import { demoScenes } from './demo'
 import { threeCost } from './three'
 import { proxyCost } from './render'
@@ -51,6 +51,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
       payForUse()
       sleepingCost()
       capes()
+      clothByCloth()
     },
   },
   collision: {

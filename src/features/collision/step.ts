@@ -1,7 +1,7 @@
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_SPHERE } from '../../core/shapes'
 import { collideBox, collideCapsule, collideHull, collidePlane, collideSphere, measureCloth } from '../../kernels/collide'
 import { F_MU_K, F_MU_S, F_RADIUS } from '../../kernels/colliderFrame'
-import type { ClothWorldState } from '../../world/state'
+import type { ClothState, ClothWorldState } from '../../world/state'
 import { pinTravel } from '../pins/step'
 import { fillColliderFrame, sweepColliderBounds } from './colliders'
 import { colliderLayersMatch, colliderReaches } from './reach'
@@ -29,47 +29,49 @@ const M_PIN_TRAVEL = 11
  * cloth (asleep, frozen) keeps its last bounds.
  */
 export function beginCollisionStep(state: ClothWorldState): void {
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) beginClothCollision(state, cloths[ci])
+  if (state.collision.selfCloths.length > 0) buildSelfCollisionPairs(state)
+}
+
+/** `beginCollisionStep`'s work for one cloth: its bounds and its colliders in range (not the self-collision pairs). */
+export function beginClothCollision(state: ClothWorldState, c: ClothState): void {
   const cw = state.collision
   const C = cw.Collider
   const colliders = cw.colliders
-  const g = state.gravity
-  const gravity = Math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
-  const m = cw.measure
-  const cloths = state.cloths
-  for (let ci = 0; ci < cloths.length; ci++) {
-    const c = cloths[ci]
-    const cc = c.collision
-    cc.activeCount = 0
-    if (c.idle) continue
-    let candidates = false
-    for (let k = 0; k < colliders.length; k++) {
-      if (colliderLayersMatch(C, colliders[k], cc)) {
-        candidates = true
-        break
-      }
-    }
-    if (!candidates && cc.self === null) continue
-    measureCloth(c.pos, c.vel, c.invMass, c.count, cc.self !== null ? 1 : 0, m, c.topology.unused)
-    // how far a particle can get this step: its speed now, gravity, where its pins still go (they
-    // drag the rest), and room for acceleration
-    const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
-    m[M_PIN_TRAVEL] = 0
-    if (c.pins.list.length > 0) pinTravel(state, c, m, M_PIN_TRAVEL)
-    const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt + m[M_PIN_TRAVEL]) + 0.01
-    const b = cc.bounds
-    for (let a = 0; a < 3; a++) {
-      b[a] = m[a] - travel
-      b[3 + a] = m[3 + a] + travel
-      b[B_MEAN_V + a] = m[7 + a]
-    }
-    b[B_MAX_DEV] = m[10]
-    if (!candidates) continue
-    for (let k = 0; k < colliders.length; k++) {
-      const e = colliders[k]
-      if (colliderLayersMatch(C, e, cc) && colliderReaches(C, e, b, c)) cc.active[cc.activeCount++] = e
+  const cc = c.collision
+  cc.activeCount = 0
+  if (c.idle) return
+  let candidates = false
+  for (let k = 0; k < colliders.length; k++) {
+    if (colliderLayersMatch(C, colliders[k], cc)) {
+      candidates = true
+      break
     }
   }
-  if (cw.selfCloths.length > 0) buildSelfCollisionPairs(state)
+  if (!candidates && cc.self === null) return
+  const m = cw.measure
+  measureCloth(c.pos, c.vel, c.invMass, c.count, cc.self !== null ? 1 : 0, m, c.topology.unused)
+  // how far a particle can get this step: its speed now, gravity, where its pins still go (they
+  // drag the rest), and room for acceleration
+  const g = state.gravity
+  const gravity = Math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
+  const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
+  m[M_PIN_TRAVEL] = 0
+  if (c.pins.list.length > 0) pinTravel(state, c, m, M_PIN_TRAVEL)
+  const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt + m[M_PIN_TRAVEL]) + 0.01
+  const b = cc.bounds
+  for (let a = 0; a < 3; a++) {
+    b[a] = m[a] - travel
+    b[3 + a] = m[3 + a] + travel
+    b[B_MEAN_V + a] = m[7 + a]
+  }
+  b[B_MAX_DEV] = m[10]
+  if (!candidates) return
+  for (let k = 0; k < colliders.length; k++) {
+    const e = colliders[k]
+    if (colliderLayersMatch(C, e, cc) && colliderReaches(C, e, b, c)) cc.active[cc.activeCount++] = e
+  }
 }
 
 /**
@@ -86,39 +88,41 @@ function collideColliders(state: ClothWorldState): void {
   const cw = state.collision
   // with no collider a self-colliding cloth still forgets its collider contacts below
   if (cw.colliders.length === 0 && cw.selfCloths.length === 0) return
+  const cloths = state.cloths
+  for (let ci = 0; ci < cloths.length; ci++) collideClothColliders(state, cloths[ci])
+}
+
+/** One running cloth against its colliders in range, at the world's substep (`collideSubstep`'s second part). */
+export function collideClothColliders(state: ClothWorldState, c: ClothState): void {
+  if (c.subIndex < 0) return
+  const cw = state.collision
   const C = cw.Collider
   const f = cw.frame, s = cw.scratch
-  const stats = state.stats
-  const cloths = state.cloths
-  for (let ci = 0; ci < cloths.length; ci++) {
-    const c = cloths[ci]
-    if (c.subIndex < 0) continue
-    const cc = c.collision
-    // self-colliding cloths remember which particles rest on a collider (heavier in particle pairs);
-    // forgotten every substep, also with no collider in range (a cloth lifted off the ground)
-    const touched = cc.self !== null ? cc.self.touched : null
-    if (touched !== null) touched.fill(0)
-    if (cc.activeCount === 0) continue
-    const muK = cc.friction >= 0 ? cc.friction : c.material.friction
-    const muS = cc.staticFriction >= 0 ? cc.staticFriction : muK
-    const r = cc.thickness >= 0 ? cc.thickness : c.material.thickness
-    for (let a = 0; a < cc.activeCount; a++) {
-      const e = cc.active[a]
-      f[F_RADIUS] = r
-      fillColliderFrame(state, e, c.subIndex, c.substeps, f)
-      // friction: the cloth's, or the geometric mean with the collider's when it sets one
-      const ck = C.friction[e], cs = C.staticFriction[e]
-      f[F_MU_K] = ck >= 0 ? Math.sqrt(muK * ck) : muK
-      f[F_MU_S] = cs >= 0 ? Math.sqrt(muS * cs) : ck >= 0 ? Math.sqrt(muS * ck) : muS
-      const shape = C.shape[e]
-      if (shape === SHAPE_SPHERE) collideSphere(c.pos, c.prev, c.invMass, c.count, f, s, touched)
-      else if (shape === SHAPE_CAPSULE) collideCapsule(c.pos, c.prev, c.invMass, c.count, f, s, touched)
-      else if (shape === SHAPE_BOX) collideBox(c.pos, c.prev, c.invMass, c.count, f, s, touched)
-      else if (shape === SHAPE_HULL) {
-        const hull = C.hulls[e]!
-        collideHull(c.pos, c.prev, c.invMass, c.count, f, hull.planes, hull.planeCount, s, touched)
-      } else collidePlane(c.pos, c.prev, c.invMass, c.count, f, s, touched)
-      stats.colliderTests += c.count
-    }
+  const cc = c.collision
+  // self-colliding cloths remember which particles rest on a collider (heavier in particle pairs);
+  // forgotten every substep, also with no collider in range (a cloth lifted off the ground)
+  const touched = cc.self !== null ? cc.self.touched : null
+  if (touched !== null) touched.fill(0)
+  if (cc.activeCount === 0) return
+  const muK = cc.friction >= 0 ? cc.friction : c.material.friction
+  const muS = cc.staticFriction >= 0 ? cc.staticFriction : muK
+  const r = cc.thickness >= 0 ? cc.thickness : c.material.thickness
+  for (let a = 0; a < cc.activeCount; a++) {
+    const e = cc.active[a]
+    f[F_RADIUS] = r
+    fillColliderFrame(state, e, c.subIndex, c.substeps, f)
+    // friction: the cloth's, or the geometric mean with the collider's when it sets one
+    const ck = C.friction[e], cs = C.staticFriction[e]
+    f[F_MU_K] = ck >= 0 ? Math.sqrt(muK * ck) : muK
+    f[F_MU_S] = cs >= 0 ? Math.sqrt(muS * cs) : ck >= 0 ? Math.sqrt(muS * ck) : muS
+    const shape = C.shape[e]
+    if (shape === SHAPE_SPHERE) collideSphere(c.pos, c.prev, c.invMass, c.count, f, s, touched)
+    else if (shape === SHAPE_CAPSULE) collideCapsule(c.pos, c.prev, c.invMass, c.count, f, s, touched)
+    else if (shape === SHAPE_BOX) collideBox(c.pos, c.prev, c.invMass, c.count, f, s, touched)
+    else if (shape === SHAPE_HULL) {
+      const hull = C.hulls[e]!
+      collideHull(c.pos, c.prev, c.invMass, c.count, f, hull.planes, hull.planeCount, s, touched)
+    } else collidePlane(c.pos, c.prev, c.invMass, c.count, f, s, touched)
+    state.stats.colliderTests += c.count
   }
 }
