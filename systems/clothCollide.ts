@@ -19,8 +19,8 @@ export function clothCollide<W extends object>(world: W): W {
 }
 
 /**
- * The collide phase of one cloth at the world's substep, in a world where no cloth collides with
- * itself or others (their contacts couple cloths within a substep: see `runSubsteps`).
+ * The collide phase of one cloth that collides with neither itself nor other cloths, at the world's
+ * substep (the cloths that do run together: see `runSubsteps` in pipeline.ts).
  */
 export function collideOfCloth(state: ClothWorldState, c: ClothState): void {
   if (state.collision.colliders.length === 0) return

@@ -2,12 +2,14 @@ import { ClothError, checkInteger } from '../src/core/errors'
 import { getClothWorld } from '../src/world/access'
 import type { ClothWorldState } from '../src/world/state'
 import { clothGuard } from './clothGuard'
-import { clothCollide, collideOfCloth } from './clothCollide'
-import { clothForces, forcesOfCloth } from './clothForces'
-import { clothPredict, predictOfCloth } from './clothPredict'
-import { clothSolve, solveOfCloth } from './clothSolve'
-import { clothTear, tearOfCloth } from './clothTear'
-import { clothWriteback, writebackOfCloth } from './clothWriteback'
+import { collideOfCloth } from './clothCollide'
+import { forcesOfCloth } from './clothForces'
+import { predictOfCloth } from './clothPredict'
+import { solveOfCloth } from './clothSolve'
+import { tearOfCloth } from './clothTear'
+import { writebackOfCloth } from './clothWriteback'
+import { collideSelfColliding } from '../src/features/collision/step'
+import { orderTearEvents } from '../src/features/tearing/events'
 import { guardCheck } from '../src/features/guard/step'
 import { setGuardAnchor } from '../src/features/character/step'
 import { IO_HEALTH, OUT_EVENTS, OUT_MS, OUT_SLEPT, OUT_TEARS, writeClothHandoff } from '../src/threads/handoff'
@@ -97,29 +99,20 @@ export function startFixedStep(world: object, blocking: boolean): void {
  * A cloth's substeps touch only that cloth and what the sync phase fixed for the step (pin
  * targets, collider frames, wind), so each cloth runs all its substeps before the next cloth
  * starts: its particles stay in the core's cache from one phase and substep to the next instead of
- * every phase streaming the whole world through it (the 64-cape crowd: see the character
- * benchmark). Where cloths collide with themselves or each other, their contacts join cloths
- * within a substep, and the world runs phase by phase, each phase over every cloth. Either way
- * each cloth computes the same numbers in the same order: the results are the same bytes.
+ * every phase streaming the whole world through it (the 64-cape crowd: see the budget benchmark).
+ * Cloths that collide with themselves or each other (`selfCloths`) are joined within a substep by
+ * their contacts: they run after the others, together, phase by phase (and the step's tear events
+ * are put back in cloth order). Either way each cloth computes the same numbers in the same order:
+ * the results are the same bytes as the phase systems run by hand.
  */
 function runSubsteps(world: object): void {
   const state = getClothWorld(world)
   const n = state.substepCount
-  if (state.collision.selfCloths.length > 0) {
-    for (let s = 0; s < n; s++) {
-      state.substep = s
-      clothForces(world)
-      clothPredict(world)
-      clothSolve(world)
-      clothCollide(world)
-      clothTear(world)
-      clothWriteback(world)
-    }
-    return
-  }
   const cloths = state.cloths
+  const group = state.collision.selfCloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
+    if (c.collision.self !== null) continue // (with its group, below)
     for (let s = 0; s < n; s++) {
       state.substep = s
       forcesOfCloth(state, c)
@@ -129,6 +122,19 @@ function runSubsteps(world: object): void {
       tearOfCloth(state, c)
       writebackOfCloth(state, c)
     }
+  }
+  if (group.length > 0) {
+    const tornBefore = state.tearing.pendingCount
+    for (let s = 0; s < n; s++) {
+      state.substep = s
+      for (let q = 0; q < group.length; q++) forcesOfCloth(state, group[q])
+      for (let q = 0; q < group.length; q++) predictOfCloth(state, group[q])
+      for (let q = 0; q < group.length; q++) solveOfCloth(state, group[q])
+      collideSelfColliding(state)
+      for (let q = 0; q < group.length; q++) tearOfCloth(state, group[q])
+      for (let q = 0; q < group.length; q++) writebackOfCloth(state, group[q])
+    }
+    if (tornBefore > 0 && state.tearing.pendingCount > tornBefore) orderTearEvents(state)
   }
   if (n > 0) state.substep = n - 1 // (where the loop by phases leaves it)
 }

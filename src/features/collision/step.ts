@@ -126,3 +126,19 @@ export function collideClothColliders(state: ClothWorldState, c: ClothState): vo
     state.stats.colliderTests += c.count
   }
 }
+
+/**
+ * The collide phase of the cloths that collide with themselves or each other (`selfCloths`, in
+ * creation order), at the world's substep: their bounds and colliders in range and their pairs at
+ * the step's first substep, then their particle contacts, then each against its colliders. Their
+ * contacts join them within a substep, so the pipeline runs them phase by phase together.
+ */
+export function collideSelfColliding(state: ClothWorldState): void {
+  const group = state.collision.selfCloths
+  if (state.substep === 0) {
+    for (let q = 0; q < group.length; q++) beginClothCollision(state, group[q])
+    buildSelfCollisionPairs(state)
+  }
+  solveSelfCollision(state)
+  for (let q = 0; q < group.length; q++) collideClothColliders(state, group[q])
+}

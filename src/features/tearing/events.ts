@@ -111,3 +111,26 @@ export function dispatchTearEvents(state: ClothWorldState): void {
   }
   tw.delivering = 0
 }
+
+/** One event, while `orderTearEvents` moves it. */
+const moving = new Float64Array(EV)
+
+/**
+ * Puts the step's tear events (`pending`) in the order of their cloths' creation, each cloth's in
+ * the order they happened (a stable insertion sort, allocation-free): the pipeline steps the
+ * self-colliding cloths after the others, and listeners see events cloth by cloth in creation
+ * order in every mode (the workers' are merged so).
+ */
+export function orderTearEvents(state: ClothWorldState): void {
+  const tw = state.tearing, p = tw.pending
+  const Cloth = state.components.Cloth.state
+  for (let i = 1; i < tw.pendingCount; i++) {
+    const seq = Cloth[p[i * EV]]?.seq ?? -1
+    let j = i
+    while (j > 0 && (Cloth[p[(j - 1) * EV]]?.seq ?? -1) > seq) j--
+    if (j === i) continue
+    for (let k = 0; k < EV; k++) moving[k] = p[i * EV + k]
+    p.copyWithin((j + 1) * EV, j * EV, i * EV)
+    for (let k = 0; k < EV; k++) p[j * EV + k] = moving[k]
+  }
+}
