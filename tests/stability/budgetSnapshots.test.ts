@@ -4,12 +4,14 @@
 // cloth's level, its every-n-th-step phase and its freeze are part of the state (rollback netcode
 // needs byte identity with every feature on).
 import { addEntity, createWorld } from 'bitecs'
+import { CAL, budgetCape } from '../fixtures/budgetCape'
 import { describe, expect, it } from 'vitest'
 import {
   createCloth,
   getClothBudgetStats,
   getClothLod,
   getClothState,
+  getClothStretch,
   installClothPlugin,
   pinRow,
   restoreClothState,
@@ -174,4 +176,46 @@ describe('snapshots under quality targets and level of detail: a rollback replay
     restoreClothState(s.world, s.capes[0], saved)
     stepCloth(s.world, 1 / 60)
   })
+
+  for (const character of [false, true]) {
+    it(`a ${character ? 'character ' : ''}cape's snapshot saved while frozen, restored once the budget is gone, thaws onto its pins as removing the budget thaws it`, () => {
+      // frozen from frame 60 (the viewer 100 m away) while its hero walks on at 3 m/s; saved at
+      // frame 150 and restored right after setClothBudget(null) (a game saved under a budget, loaded
+      // without one). Restored still frozen with no budget to thaw it, it started where it froze,
+      // its pins metres ahead: 3.8 m/s and 10 % (plain), 111 m/s and 463 % (character)
+      const run = (restore: boolean) => {
+        const { world, hero, viewer, cape } = budgetCape(character, [2, 2, 0])
+        setClothBudget(world, { viewer, near: 5, far: 26, cull: 42, calibration: CAL, adapt: false, interval: 1 })
+        const c = getClothState(world, cape)
+        let snap: ClothSnapshot | null = null
+        const before = new Float64Array(3 * c.count)
+        let dv = 0, stretch = 0
+        for (let f = 0; f < 200; f++) {
+          setTransform(world, hero, [0, 0, (3 * f) / 60])
+          setTransform(world, viewer, [f >= 60 ? 100 : 2, 2, (3 * f) / 60])
+          if (f === 150) {
+            expect(getClothLod(world, cape).frozen).toBe(true)
+            snap = saveClothState(world, cape)
+            setClothBudget(world, null)
+            if (restore) restoreClothState(world, cape, snap!)
+          }
+          stepCloth(world, 1 / 60)
+          if (f >= 150) {
+            for (let i = 0; i < c.count; i++) {
+              if (c.invMass[i] === 0) continue
+              const j = 3 * i
+              dv = Math.max(dv, Math.hypot(c.vel[j] - before[j], c.vel[j + 1] - before[j + 1], c.vel[j + 2] - before[j + 2]))
+            }
+            stretch = Math.max(stretch, getClothStretch(world, cape).max)
+          }
+          before.set(c.vel.subarray(0, 3 * c.count))
+        }
+        return { dv, stretch }
+      }
+      const removed = run(false), restored = run(true)
+      expect(removed.dv).toBeLessThan(1)
+      expect(restored.dv).toBeLessThan(removed.dv + 0.05)
+      expect(restored.stretch).toBeLessThan(removed.stretch + 0.005)
+    })
+  }
 })

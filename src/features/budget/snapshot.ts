@@ -1,7 +1,7 @@
 import { allFinite, fit64 } from '../../core/arrays'
 import { ClothError } from '../../core/errors'
 import type { ClothState, ClothWorldState } from '../../world/state'
-import { ANCHOR_REF, anchorSlot } from './freeze'
+import { ANCHOR_REF, anchorSlot, thaw } from './freeze'
 import { applyConfig } from './levels'
 import { Q_FACTOR, Q_MEASURED, Q_PREDICTED } from './types'
 
@@ -94,7 +94,7 @@ export function restoreBudget(state: ClothWorldState, c: ClothState, s: BudgetSn
   lod.wantIterations = b[5] | 0
   lod.stepEvery = b[6] | 0
   lod.phase = b[7] | 0
-  lod.frozen = b[8] === 1 && q.settings !== null // (only a world budget thaws a cloth)
+  lod.frozen = b[8] === 1 // (with no world budget, thawed below)
   lod.visible = b[9] === 1
   lod.lowChecks = b[10] | 0
   lod.level = b[11] | 0
@@ -121,6 +121,10 @@ export function restoreBudget(state: ClothWorldState, c: ClothState, s: BudgetSn
   lod.waited = b[29] | 0 // (the restored cloth lags its pins by them: its next step covers them)
   lod.freezing = b[30] === 1 && q.settings !== null
   if (q.settings === null) {
+    // frozen by a budget gone since: only a world budget thaws a cloth, so it thaws now, carried
+    // by its reference's motion since the freeze as `setClothBudget(null)` thaws it (left where it
+    // froze, a cape whose character walked on was yanked at 111 m/s)
+    if (lod.frozen) thaw(state, c, state.kinematics.stepTo)
     // the level the snapshot held is the budget's, gone since: the cloth runs its own quality (it
     // ran a far level for good, nothing setting it back)
     lod.level = lod.applied = -1
