@@ -4,7 +4,9 @@ import type { ClothWorldState } from '../../world/state'
 import { deferrable } from '../../world/flight'
 import { releaseAnchor } from '../budget/freeze'
 import { adoptPinFrame, dropPinFrame, useDefaultFrame } from './frames'
-import { M_PRIMED, S_FRAME_EXPLICIT } from './types'
+import { M_POSE, M_PRIMED, S_FRAME_EXPLICIT, type ClothCharacter } from './types'
+import { carryPose, trackedPose } from './reference'
+import { relativeRotationAt } from '../../core/math'
 
 /**
  * Registers the observers of character cloth: pins added or removed (the default frame follows
@@ -23,6 +25,7 @@ export function installCharacter(world: object, state: ClothWorldState): void {
         const ch = c.character
         if (ch === null) continue
         const lostFrame = ch.frame === eid && ch.frameSlot >= 0
+        if (ch.skin !== null) keepBonePoses(state, ch, eid, lostFrame)
         if (lostFrame) {
           releaseAnchor(state, c, ch.frameSlot)
           untrackEntity(state, eid)
@@ -48,4 +51,37 @@ export function installCharacter(world: object, state: ClothWorldState): void {
       }
     }),
   )
+}
+
+/** The frame's pose now (10 values), then its turn (4): scratch of `keepBonePoses`. */
+const now = new Float64Array(14)
+
+/**
+ * Before the bone `eid` goes (its slot still tracked): the cloth keeps its pose, and carries it
+ * with its frame from then on. Kept poses are in the terms of the frame's pose at the cloth's last
+ * step (`M_POSE`), which is what carries them (step by step, and over a gap: asleep or frozen): the
+ * bone's pose now, carried back by the frame's motion since that step. When the frame itself goes
+ * (`lostFrame`), every kept pose is carried by its motion until now, the time at which the next
+ * frame's pose is taken. (The pose of the cloth's last step, kept as it was, rode the frame's
+ * motion again from then: a cape frozen 30 steps before its frame bone went was pulled 2 m long,
+ * 1667 % stretch for good after its thaw.)
+ */
+function keepBonePoses(state: ClothWorldState, ch: ClothCharacter, eid: number, lostFrame: boolean): void {
+  const skin = ch.skin!
+  const m = ch.motion
+  const frame = ch.frameSlot >= 0
+  if (frame) {
+    trackedPose(state, ch.frameSlot, now, 0)
+    relativeRotationAt(m, M_POSE + 3, now, 3, now, 10) // (the turn from now back to M_POSE)
+  }
+  for (let b = 0; b < skin.bones.length; b++) {
+    if (skin.bones[b] !== eid || skin.slots[b] < 0) continue
+    trackedPose(state, skin.slots[b], skin.pose, 10 * b)
+    if (frame) carryPose(skin.pose, 10 * b, now, 0, m, M_POSE, now, 10)
+  }
+  if (!lostFrame) return
+  relativeRotationAt(now, 3, m, M_POSE + 3, now, 10) // (the turn from M_POSE to now)
+  for (let b = 0; b < skin.bones.length; b++) {
+    if (skin.slots[b] < 0 || skin.bones[b] === eid) carryPose(skin.pose, 10 * b, m, M_POSE, now, 0, now, 10)
+  }
 }

@@ -14,7 +14,7 @@ import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
-import { blendReference, followBones, referenceSubstep, trackedStartPose, updateReference } from './reference'
+import { blendReference, carryRemovedBones, followBones, referenceSubstep, trackedStartPose, updateReference } from './reference'
 import {
   M_GAP,
   M_POSE,
@@ -193,6 +193,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
         trackedStartPose(state, ch.frameSlot, gapPose, 0)
         relativeRotationAt(gapPose, 3, m, M_POSE + 3, gapPose, 10)
         turnVelocities(m, gapPose, 10)
+        if (ch.skin !== null) carryRemovedBones(ch.skin, m, M_POSE, gapPose, 0, gapPose, 10)
       }
       trackedStartPose(state, ch.frameSlot, m, M_POSE)
     }
