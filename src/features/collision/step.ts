@@ -3,6 +3,7 @@ import { collideBox, collideCapsule, collideHull, collidePlane, collideSphere, m
 import { F_MU_K, F_MU_S, F_RADIUS } from '../../kernels/colliderFrame'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { pinTravel } from '../pins/step'
+import { grabTravel } from '../grab/step'
 import { fillColliderFrame, sweepColliderBounds } from './colliders'
 import { colliderLayersMatch, colliderReaches } from './reach'
 import { buildSelfCollisionPairs, solveSelfCollision } from './selfCollision'
@@ -17,7 +18,7 @@ export function sweepColliders(state: ClothWorldState): void {
   for (let k = 0; k < colliders.length; k++) sweepColliderBounds(state, colliders[k])
 }
 
-/** Slot of `measure` after `measureCloth`'s: how far the cloth's pins still go this step (`pinTravel`). */
+/** Slot of `measure` after `measureCloth`'s: how far the cloth's pins and hands still go this step (`pinTravel`, `grabTravel`). */
 const M_PIN_TRAVEL = 11
 
 /**
@@ -53,12 +54,13 @@ export function beginClothCollision(state: ClothWorldState, c: ClothState): void
   const m = cw.measure
   measureCloth(c.pos, c.vel, c.invMass, c.count, cc.self !== null ? 1 : 0, m, c.topology.unused)
   // how far a particle can get this step: its speed now, gravity, where its pins still go (they
-  // drag the rest), and room for acceleration
+  // drag the rest) and where hands still pull it, and room for acceleration
   const g = state.gravity
   const gravity = Math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
   const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)
   m[M_PIN_TRAVEL] = 0
   if (c.pins.list.length > 0) pinTravel(state, c, m, M_PIN_TRAVEL)
+  if (c.grab.count > 0) grabTravel(c, m, M_PIN_TRAVEL) // (the larger of the two)
   const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt + m[M_PIN_TRAVEL]) + 0.01
   const b = cc.bounds
   for (let a = 0; a < 3; a++) {

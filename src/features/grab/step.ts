@@ -64,3 +64,21 @@ export function endGrabSubstep(c: ClothState): void {
     }
   }
 }
+
+/**
+ * At the step's first collide phase (after `advanceGrabs`): how far the grabbed particles are from where their
+ * hands have them at the step's end, the farthest into out[o], for the collider broadphase (see
+ * `pinTravel`: a hand yanking a sheet 0.3 m toward a ball its bounds did not reach dragged it
+ * 37 mm inside).
+ */
+export function grabTravel(c: ClothState, out: Float64Array, o: number): void {
+  const G = c.grab, pos = c.pos
+  let far2 = 0
+  for (let g = 0; g < G.count; g++) {
+    const d = GRAB_STRIDE * g + G_STEP_TO, i = 3 * G.particle[g]
+    const dx = G.data[d] - pos[i], dy = G.data[d + 1] - pos[i + 1], dz = G.data[d + 2] - pos[i + 2]
+    const d2 = dx * dx + dy * dy + dz * dz
+    if (d2 > far2) far2 = d2
+  }
+  if (Math.sqrt(far2) > out[o]) out[o] = Math.sqrt(far2)
+}
