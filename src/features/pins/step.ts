@@ -106,10 +106,14 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
   const f = (k + 1) / n
   c.params[P_STEP_FRACTION] = f
   // a step that spans fixed steps the cloth sat out (stepping every n-th) moves its pins over the
-  // whole span, the part before this fixed step along its motion extrapolated back (all of it at
-  // the first substep, the pinned particles left their substeps at a fraction of the pins' speed)
+  // whole span: from where they stand (where its last step left them) straight to where their
+  // targets are at the step's end, an equal part per substep. (Over the last fixed step only, the
+  // pinned particles took all the waited motion at the first substep; along this step's motion
+  // extrapolated back, they went where their targets never were when a character started or
+  // stopped walking: 3.1 m/s and 12 % stretch, against 1.5 m/s and 6.9 % never far-stepped)
   const span = Math.round((c.h * n) / state.fixedTimeStep)
-  pinFraction[0] = span > 1 ? 1 - (1 - f) * span : f
+  const rest = span > 1 ? 1 / (n - k) : 1 // (the share of what is left that this substep moves)
+  pinFraction[0] = span > 1 ? 1 : f
   const pos = c.pos
   const K = state.kinematics
   const from = K.stepFrom, to = K.stepTo
@@ -151,9 +155,18 @@ export function placePins(state: ClothWorldState, c: ClothState, k: number, n: n
     const px = pose[0], py = pose[1], pz = pose[2], qx = pose[3], qy = pose[4], qz = pose[5], qw = pose[6]
     // v' = v + w·t + q × t, t = 2·q × v
     const tx = 2 * (qy * lz - qz * ly), ty = 2 * (qz * lx - qx * lz), tz = 2 * (qx * ly - qy * lx)
-    pos[i] = px + lx + qw * tx + (qy * tz - qz * ty)
-    pos[i + 1] = py + ly + qw * ty + (qz * tx - qx * tz)
-    pos[i + 2] = pz + lz + qw * tz + (qx * ty - qy * tx)
+    const x = px + lx + qw * tx + (qy * tz - qz * ty)
+    const y = py + ly + qw * ty + (qz * tx - qx * tz)
+    const z = pz + lz + qw * tz + (qx * ty - qy * tx)
+    if (rest === 1) {
+      pos[i] = x
+      pos[i + 1] = y
+      pos[i + 2] = z
+    } else {
+      pos[i] += (x - pos[i]) * rest
+      pos[i + 1] += (y - pos[i + 1]) * rest
+      pos[i + 2] += (z - pos[i + 2]) * rest
+    }
   }
   if (advance) state.stats.pinUpdates += pins.length
 }
