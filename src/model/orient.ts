@@ -69,7 +69,7 @@ export function orientTriangles(tris: Uint32Array, n: number): number {
 /**
  * The faces of a user's mesh the cloth is made of (build time, after `orientTriangles`): all but
  * the copies of a face held twice (once per side) and the zero-area triangles whose three vertices
- * lie on one piece of the triangles with area. Both had been cloth: a double-sided sheet weighed twice its density ×
+ * lie on one piece of the triangles with area and that would be a third face on an edge. Both had been cloth: a double-sided sheet weighed twice its density ×
  * area, and with four triangles on each edge lost every bending hinge and took its shear as
  * stretch; a sliver an exporter left along a row put a third triangle on two edges, which a tear
  * then could not part (drawn metres long across the opening, it joined the falling piece to the
@@ -98,8 +98,11 @@ export function simulatedFaces(tris: Uint32Array, rest: Float64Array, n: number)
   const keep = new Uint8Array(count)
   for (let t = 0; t < count; t++) {
     const a = tris[3 * t], b = tris[3 * t + 1], c = tris[3 * t + 2]
+    // (a flat triangle that closes a T-junction, each of its edges on one face of area at most,
+    // stays: dropped, the seam it covered opened as a hole in the drawn mesh)
     const spare = flat[t] === 1 && held[a] > 0 && held[b] > 0 && held[c] > 0 && root(piece, a) === root(piece, b) &&
-      root(piece, a) === root(piece, c)
+      root(piece, a) === root(piece, c) && (onFaces(tris, start, around, first, flat, a, b) > 1 ||
+        onFaces(tris, start, around, first, flat, b, c) > 1 || onFaces(tris, start, around, first, flat, a, c) > 1)
     keep[t] = first[t] < 0 && !spare ? 1 : 0
     kept += keep[t]
   }
@@ -108,6 +111,24 @@ export function simulatedFaces(tris: Uint32Array, rest: Float64Array, n: number)
   let w = 0
   for (let t = 0; t < count; t++) if (keep[t] === 1) { for (let k = 0; k < 3; k++) out[w++] = tris[3 * t + k] }
   return out
+}
+
+/** How many faces with area (not later copies) have the edge a–b. */
+function onFaces(
+  tris: Uint32Array,
+  start: Int32Array,
+  around: Int32Array,
+  first: Int32Array,
+  flat: Uint8Array,
+  a: number,
+  b: number,
+): number {
+  let faces = 0
+  for (let q = start[a]; q < start[a + 1]; q++) {
+    const u = around[q]
+    if (first[u] < 0 && flat[u] === 0 && has(tris, u, b)) faces++
+  }
+  return faces
 }
 
 /** The root of v's set (path halving). */
