@@ -110,6 +110,7 @@ function runSubsteps(world: object): void {
   const n = state.substepCount
   const cloths = state.cloths
   const group = state.collision.selfCloths
+  const tornFrom = state.tearing.pendingCount // (the step's events follow)
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     if (c.collision.self !== null) continue // (with its group, below)
@@ -134,7 +135,7 @@ function runSubsteps(world: object): void {
       for (let q = 0; q < group.length; q++) tearOfCloth(state, group[q])
       for (let q = 0; q < group.length; q++) writebackOfCloth(state, group[q])
     }
-    if (tornBefore > 0 && state.tearing.pendingCount > tornBefore) orderTearEvents(state)
+    if (tornBefore > tornFrom && state.tearing.pendingCount > tornBefore) orderTearEvents(state, tornFrom)
   }
   if (n > 0) state.substep = n - 1 // (where the loop by phases leaves it)
 }

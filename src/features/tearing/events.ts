@@ -114,23 +114,42 @@ export function dispatchTearEvents(state: ClothWorldState): void {
 
 /** One event, while `orderTearEvents` moves it. */
 const moving = new Float64Array(EV)
+/** Each pending event's cloth's place in the world's cloth list (grown on the rare step with more events). */
+let places = new Int32Array(64)
 
 /**
- * Puts the step's tear events (`pending`) in the order of their cloths' creation, each cloth's in
- * the order they happened (a stable insertion sort, allocation-free): the pipeline steps the
- * self-colliding cloths after the others, and listeners see events cloth by cloth in creation
- * order in every mode (the workers' are merged so).
+ * Puts the step's tear events (`pending` from `from` on) in the order of their cloths' creation, each cloth's in
+ * the order they happened (a stable insertion sort, allocation-free but for a rare growth): the
+ * pipeline steps the self-colliding cloths after the others, and listeners see events cloth by
+ * cloth in creation order in every mode (the workers' are merged so). The order is the world's
+ * cloth list, in creation order on the main thread and on a worker alike (a worker has no
+ * `Cloth` store to read each cloth's `seq` from: with one worker, the events went unsorted).
  */
-export function orderTearEvents(state: ClothWorldState): void {
-  const tw = state.tearing, p = tw.pending
-  const Cloth = state.components.Cloth.state
-  for (let i = 1; i < tw.pendingCount; i++) {
-    const seq = Cloth[p[i * EV]]?.seq ?? -1
+export function orderTearEvents(state: ClothWorldState, from: number): void {
+  const tw = state.tearing, p = tw.pending, n = tw.pendingCount - from
+  const cloths = state.cloths
+  if (places.length < n) places = new Int32Array(2 * n)
+  for (let i = 0; i < n; i++) {
+    const eid = p[(from + i) * EV]
+    let at = -1
+    for (let k = 0; k < cloths.length; k++) {
+      if (cloths[k].eid === eid) {
+        at = k
+        break
+      }
+    }
+    places[i] = at
+  }
+  for (let i = 1; i < n; i++) {
+    const key = places[i]
     let j = i
-    while (j > 0 && (Cloth[p[(j - 1) * EV]]?.seq ?? -1) > seq) j--
+    while (j > 0 && places[j - 1] > key) j--
     if (j === i) continue
-    for (let k = 0; k < EV; k++) moving[k] = p[i * EV + k]
-    p.copyWithin((j + 1) * EV, j * EV, i * EV)
-    for (let k = 0; k < EV; k++) p[j * EV + k] = moving[k]
+    const o = from * EV
+    for (let k = 0; k < EV; k++) moving[k] = p[o + i * EV + k]
+    p.copyWithin(o + (j + 1) * EV, o + j * EV, o + i * EV)
+    places.copyWithin(j + 1, j, i)
+    for (let k = 0; k < EV; k++) p[o + j * EV + k] = moving[k]
+    places[j] = key
   }
 }
