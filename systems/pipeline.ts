@@ -181,7 +181,6 @@ export function finishFixedStep(world: object): void {
     }
     f.stepping = false // (the workers ran the guard)
     deliverResets(state) // (the step's resets, from the workers or from its guard here)
-    state.stats.substeps += state.substepCount
     clothEvents(world)
   } finally {
     f.delivering = false
