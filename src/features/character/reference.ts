@@ -247,12 +247,7 @@ function bonePosesAtEnd(state: ClothWorldState, skin: ClothSkin, out: Float64Arr
       continue
     }
     for (let j = 0; j < 10; j++) out[o + j] = skin.pose[o + j]
-    if (w === null) continue
-    for (let j = 0; j < 3; j++) carry[4 + j] = out[o + j] - w[W_FROM + j]
-    rotateVecAt(carry, 0, carry, 4, carry, 4)
-    for (let j = 0; j < 3; j++) out[o + j] = w[W_TO + j] + carry[4 + j]
-    multiplyQuatAt(carry, 0, out, o + 3, out, o + 3)
-    normalizeQuatAt(out, o + 3)
+    if (w !== null) carryPose(out, o, w, W_FROM, w, W_TO, carry, 0)
   }
 }
 
@@ -293,7 +288,7 @@ export function carryPose(
   normalizeQuatAt(pose, o + 3)
 }
 
-/** Scratch of `bonePosesAtEnd`: the frame's turn over the step (quaternion), a vector. */
+/** Scratch of `bonePosesAtEnd` and `carryPose`: the frame's turn over the step (quaternion), a vector. */
 const carry = new Float64Array(7)
 
 /**
