@@ -375,6 +375,20 @@ describe('colliders', () => {
   })
 })
 
+/** The free particle of `cloth` nearest the surface of the 10 cm ball `ball` (its signed distance, m). */
+function deepest(world: object, cloth: number, ball: number): number {
+  const c = getClothState(world, cloth)
+  let worst = Infinity
+  for (let i = 0; i < c.count; i++) {
+    if (c.invMass[i] > 0)
+      worst = Math.min(
+        worst,
+        signedDistance(world, ball, { kind: 'sphere', radius: 0.1 }, c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2]),
+      )
+  }
+  return worst
+}
+
 describe('a cloth yanked by its pins or a hand from rest toward a collider', () => {
   // The colliders a cloth is tested against are those its bounds reach, grown by how far it can get
   // in the step: its particles' speed (0 at rest) and gravity, and not the pins' motion, so a sheet
@@ -395,16 +409,7 @@ describe('a cloth yanked by its pins or a hand from rest toward a collider', () 
     setTransform(world, rail, [0, 0, jump])
     stepCloth(world, 1 / 60)
     expect(getClothStats(world).colliderTests).toBeGreaterThan(0)
-    const c = getClothState(world, cloth)
-    let worst = Infinity
-    for (let i = 0; i < c.count; i++) {
-      if (c.invMass[i] > 0)
-        worst = Math.min(
-          worst,
-          signedDistance(world, ball, { kind: 'sphere', radius: 0.1 }, c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2]),
-        )
-    }
-    expect(worst).toBeGreaterThan(0.9 * 0.005) // the cloth's thickness, 5 mm
+    expect(deepest(world, cloth, ball)).toBeGreaterThan(0.9 * 0.005) // the cloth's thickness, 5 mm
   })
 
   // the same yank by a hand: a grab's target moved 0.2–0.3 m in one frame was not counted either
@@ -428,14 +433,6 @@ describe('a cloth yanked by its pins or a hand from rest toward a collider', () 
     moveGrab(world, hand, [p[0], p[1], p[2] + jump])
     stepCloth(world, 1 / 60)
     expect(getClothStats(world).colliderTests).toBeGreaterThan(0)
-    let worst = Infinity
-    for (let i = 0; i < c.count; i++) {
-      if (c.invMass[i] > 0)
-        worst = Math.min(
-          worst,
-          signedDistance(world, ball, { kind: 'sphere', radius: 0.1 }, c.pos[3 * i], c.pos[3 * i + 1], c.pos[3 * i + 2]),
-        )
-    }
-    expect(worst).toBeGreaterThan(0.9 * 0.005)
+    expect(deepest(world, cloth, ball)).toBeGreaterThan(0.9 * 0.005)
   })
 })

@@ -251,25 +251,6 @@ function bonePosesAtEnd(state: ClothWorldState, skin: ClothSkin, out: Float64Arr
   }
 }
 
-/**
- * After a gap (the cloth sat steps out, asleep or frozen): each removed bone's kept pose (in
- * `skin.pose`) carried by its frame's motion over the gap, from the frame's pose `from[fo..]`
- * before it to `to[to0..]` now, with `turn[tu..tu+3]` the frame's turn between them (as
- * `bonePosesAtEnd` carries it step by step; left where the frame was at the freeze, the part of a
- * cape weighted on it was held there: 2720 % stretch for good after the thaw).
- */
-export function carryRemovedBones(
-  skin: ClothSkin,
-  from: Float64Array,
-  fo: number,
-  to: Float64Array,
-  to0: number,
-  turn: Float64Array,
-  tu: number,
-): void {
-  for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] < 0) carryPose(skin.pose, 10 * b, from, fo, to, to0, turn, tu)
-}
-
 /** The pose at pose[o..o+6] carried rigidly with a frame from its pose `from[fo..]` to `to[to0..]`, `turn[tu..tu+3]` the turn between them. */
 export function carryPose(
   pose: Float64Array,

@@ -14,7 +14,7 @@ import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
-import { blendReference, carryRemovedBones, followBones, referenceSubstep, trackedStartPose, updateReference } from './reference'
+import { blendReference, carryPose, followBones, referenceSubstep, trackedStartPose, updateReference } from './reference'
 import {
   M_GAP,
   M_POSE,
@@ -193,7 +193,14 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
         trackedStartPose(state, ch.frameSlot, gapPose, 0)
         relativeRotationAt(gapPose, 3, m, M_POSE + 3, gapPose, 10)
         turnVelocities(m, gapPose, 10)
-        if (ch.skin !== null) carryRemovedBones(ch.skin, m, M_POSE, gapPose, 0, gapPose, 10)
+        // a removed bone's kept pose rides the frame over the gap, as it does step by step (left
+        // where the frame was at the freeze, the part weighted on it was held there: 2720 % for good)
+        const skin = ch.skin
+        if (skin !== null) {
+          for (let b = 0; b < skin.slots.length; b++)
+            if (skin.slots[b] < 0)
+              carryPose(skin.pose, 10 * b, m, M_POSE, gapPose, 0, gapPose, 10)
+        }
       }
       trackedStartPose(state, ch.frameSlot, m, M_POSE)
     }
