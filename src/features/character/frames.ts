@@ -27,16 +27,36 @@ export function useDefaultFrame(state: ClothWorldState, c: ClothState, ch: Cloth
 
 /**
  * Called when a pin is added (before it joins the cloth's list): a character cloth whose frame is
- * its default and that had no pin with a target takes the new pin's target as its frame, so a pin
- * added after the character settings gives what pinning first gives.
+ * its default and that had no pin with a target takes the new pin's target as its frame; a rigid
+ * reference whose frame the new pin holds it to is fitted to its pins on that frame, the new one
+ * with them. So pins added or moved after the character settings give what pinning first gives:
+ * left as it was, the reference of a cape equipped from 5 m away stayed where the cape was made
+ * (11,249 % stretch for good), and a collar re-pinned 10 cm higher stayed 10 cm off (215 %).
  */
 export function adoptPinFrame(state: ClothWorldState, pin: number): void {
   const P = state.components.Pin
   const c = state.components.Cloth.state[P.cloth[pin]]
   const ch = c?.character
-  if (!ch || ch.settings[S_FRAME_EXPLICIT] !== 0 || P.target[pin] === 0) return
-  for (const other of c.pins.list) if (P.target[other] !== 0) return
-  setFrame(state, c, ch, P.target[pin])
+  const eid = P.target[pin]
+  if (!ch || eid === 0) return
+  // (the observer runs before pinParticle lists the pin: it is listed here for the fit, and unlisted after)
+  const list = c.pins.list
+  list.push(pin)
+  let adopt = ch.settings[S_FRAME_EXPLICIT] === 0
+  for (let q = 0; q < list.length - 1; q++) if (P.target[list[q]] !== 0) adopt = false
+  if (adopt && eid !== ch.frame) setFrame(state, c, ch, eid)
+  else if (eid === ch.frame && ch.frameSlot >= 0 && ch.skin === null) fitToPins(state, c, ch, eid)
+  list.pop()
+}
+
+/** A rigid reference bound anew to the cloth as created, fitted to its pins on its frame `eid` (see `attachPose`). */
+function fitToPins(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number): void {
+  restAsCreated(c, ch)
+  const m = ch.motion
+  trackedPose(state, ch.frameSlot, m, M_BIND)
+  attachPose(state, c, eid, m, M_BIND)
+  m[M_REF_VALID] = 0
+  bindRigid(c, ch)
 }
 
 /**
