@@ -28,19 +28,46 @@ function expected(p: vec3, q: quat, offset: vec3): vec3 {
 }
 
 describe('pins', () => {
-  it('a target whose host store holds a non-positive scale pins as unscaled, where the particle was pinned', () => {
+  it('a target whose host store holds a mirror or zero scale pins where the particle was pinned', () => {
     const world = makeWorld()
     const { Transform } = getClothComponents(world)
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 8 })
     const c = getClothState(world, cloth)
     const target = addEntity(world)
     setTransform(world, target, [0.2, 0.5, 0])
-    Transform.sx[target] = -2 // a host writing its own stores: a mirror scale is ignored (treated as 1)
+    Transform.sx[target] = -2 // a host writing its own stores: a mirror scale counts as its size, 0 as 1 (no last one)
     Transform.sy[target] = 0
     const at = [c.pos[0], c.pos[1], c.pos[2]]
     pinParticle(world, cloth, 0, target, undefined, { blendTime: 0 })
     for (let f = 0; f < 10; f++) stepCloth(world, 1 / 60)
     for (let k = 0; k < 3; k++) expect(c.pos[k]).toBeCloseTo(at[k], 12)
+  })
+
+  it('a scaled target mirrored or hidden (scale 0) for a while keeps its pins where they were; NaN or ±∞ is refused, naming it', () => {
+    // a game mirroring its character (scale −1.3) or hiding it (0): taken as 1, a 1.3× hero's
+    // pins jumped by 30 % of their offsets and back, popping its cape at 31 m/s
+    const world = makeWorld()
+    const { Transform } = getClothComponents(world)
+    const cloth = createCloth(world, { width: 1, height: 1, resolution: 8 })
+    const c = getClothState(world, cloth)
+    const hero = addEntity(world)
+    setTransform(world, hero, [0.2, -0.5, 0.1], undefined, [1.3, 1.3, 1.3])
+    pinParticle(world, cloth, 0, hero, undefined, { blendTime: 0 })
+    const at = [c.pos[0], c.pos[1], c.pos[2]]
+    for (const s of [[-1.3, 1.3, 1.3], [0, 0, 0], [-1.3, 0, 1.3], [1.3, 1.3, 1.3]]) {
+      Transform.sx[hero] = s[0]
+      Transform.sy[hero] = s[1]
+      Transform.sz[hero] = s[2]
+      for (let f = 0; f < 5; f++) stepCloth(world, 1 / 60)
+      for (let k = 0; k < 3; k++) expect(c.pos[k], `scale ${s}`).toBeCloseTo(at[k], 12)
+    }
+    for (const bad of [NaN, Infinity, -Infinity]) {
+      Transform.sy[hero] = bad
+      expect(() => stepCloth(world, 1 / 60)).toThrow(`transform of entity ${hero}`)
+      Transform.sy[hero] = 1.3
+      stepCloth(world, 1 / 60)
+      for (let k = 0; k < 3; k++) expect(c.pos[k]).toBeCloseTo(at[k], 12)
+    }
   })
 
   it('a world pin holds its particle exactly, step after step', () => {

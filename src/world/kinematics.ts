@@ -189,24 +189,35 @@ export function readPoseInto(state: ClothWorldState, eid: number, out: Float64Ar
 }
 
 /**
- * Reads an entity's scale into out[o..o+2]. Per axis: 1 where the source has no scale, and where
- * the value is not finite and > 0 (a host scale of 0 for a hidden object counts as 1); a finite
- * scale above MAX_SCALE is rejected, as a position beyond MAX_COORDINATE is (it would carry
- * offsets out of the range where squared lengths stay finite).
+ * Reads an entity's scale into out[o..o+2]. Per axis: 1 where the source has no scale; a negative
+ * scale (a mirrored character) counts as its size |s|; a scale of 0 (a hidden object) keeps the
+ * axis's last value with `keep` (the entity's last sample: a cape on a character of scale 1.3
+ * hidden at 0 kept its size, where taking 0 as 1 popped it at 31 m/s) and counts as 1 without.
+ * NaN or ±∞ (a bug in the game's code) is refused with a ClothError naming the entity, as such a
+ * position is; so is a scale above MAX_SCALE (it would carry offsets out of the range where
+ * squared lengths stay finite).
  */
-export function readScaleInto(state: ClothWorldState, eid: number, out: Float64Array, o: number): void {
+export function readScaleInto(state: ClothWorldState, eid: number, out: Float64Array, o: number, keep = false): void {
   const t = state.transforms
-  const sx = t.sx ? t.sx[eid] : 1, sy = t.sy ? t.sy[eid] : 1, sz = t.sz ? t.sz[eid] : 1
-  out[o] = sx > 0 && sx < Infinity ? sx : 1
-  out[o + 1] = sy > 0 && sy < Infinity ? sy : 1
-  out[o + 2] = sz > 0 && sz < Infinity ? sz : 1
-  if (out[o] > MAX_SCALE || out[o + 1] > MAX_SCALE || out[o + 2] > MAX_SCALE) {
+  if (!t.sx) {
+    out[o] = out[o + 1] = out[o + 2] = 1
+    return
+  }
+  const sx = t.sx[eid], sy = t.sy![eid], sz = t.sz![eid]
+  const ax = Math.abs(sx), ay = Math.abs(sy), az = Math.abs(sz)
+  if (!(ax <= MAX_SCALE && ay <= MAX_SCALE && az <= MAX_SCALE)) {
     throw new ClothError(
       `transform of entity ${eid}`,
       [sx, sy, sz],
-      `must have a scale of at most ${MAX_SCALE} (one that is not finite and > 0 counts as 1)`,
+      `must have a finite scale of at most ${MAX_SCALE} in size (a negative one counts as its size, 0 as the last one)`,
     )
   }
+  if (ax > 0) out[o] = ax
+  else if (!keep) out[o] = 1
+  if (ay > 0) out[o + 1] = ay
+  else if (!keep) out[o + 1] = 1
+  if (az > 0) out[o + 2] = az
+  else if (!keep) out[o + 2] = 1
 }
 
 /**
@@ -253,7 +264,7 @@ export function sampleFrame(state: ClothWorldState): void {
     k.scaleSampleFrom[so] = k.scaleSampleTo[so]
     k.scaleSampleFrom[so + 1] = k.scaleSampleTo[so + 1]
     k.scaleSampleFrom[so + 2] = k.scaleSampleTo[so + 2]
-    readScaleInto(state, eid, k.scaleSampleTo, so)
+    readScaleInto(state, eid, k.scaleSampleTo, so, true)
     const o = 7 * slot
     // where the last step's velocity would have carried the entity by now
     const ex = k.sampleTo[o] + (k.stepTo[o] - k.stepFrom[o]) * ratio

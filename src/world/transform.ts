@@ -14,9 +14,10 @@ type Writable = { [i: number]: number }
  * be finite. With host transform stores (`installClothPlugin({ transforms })`), writes into those
  * (adding the host's component, with an identity transform, to an entity that lacks it).
  *
- * Hosts may write the stores directly instead. A scale there that is not finite and above 0 (a
- * mirror scale) counts as 1 for pin and collider offsets; one above 1e6 is refused by the next
- * step. A change of scale is interpolated across the step like motion, and wakes what it moves.
+ * Hosts may write the stores directly instead. A negative scale there (a mirror scale) counts as
+ * its size for pin and collider offsets and character frames, and a scale of 0 (a hidden object)
+ * as the entity's last scale (1 when it has none); NaN, ±∞ or a scale above 1e6 is refused by the
+ * next step. A change of scale is interpolated across the step like motion, and wakes what it moves.
  */
 export function setTransform(
   world: object,
