@@ -401,6 +401,12 @@ export function constrainAndUpdateVelocities(
   held[0] = heldCount
 }
 
+/** Whether any of the first `count` particles has a max distance (finite) or a backstop (radius > 0). */
+export function anyLimit(lim: Float32Array, count: number): boolean {
+  for (let l = 0; l < LIMITS * count; l += LIMITS) if (lim[l + L_MAX] < Infinity || lim[l + L_RADIUS] > 0) return true
+  return false
+}
+
 /** Gives the particles `constrainAndUpdateVelocities` held (`held`) their inverse masses back in `invMass3`, and empties the list. */
 export function releaseLimitHolds(invMass: Float64Array, invMass3: Float64Array, held: Int32Array): void {
   for (let q = 1; q <= held[0]; q++) {

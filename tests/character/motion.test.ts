@@ -20,7 +20,7 @@ import {
   setTransform,
   stepCloth,
 } from '../../src/index'
-import { allFinite, makeWorld } from '../helpers'
+import { allFinite, hashBytes, makeWorld } from '../helpers'
 import {
   DT,
   capeOnCharacter,
@@ -29,6 +29,8 @@ import {
   expectClothErrors,
   paintRows,
   positionsNow,
+  RUN_COLS,
+  RUN_ROWS,
   runningCape,
   sprintTurnStopJump,
   yawQuat,
@@ -263,6 +265,27 @@ describe('limits changed mid-run', () => {
       expect(after).toBeGreaterThan(4 * before)
       expect(after).toBeLessThan(60)
     }
+  })
+})
+
+describe('limits that limit nothing', () => {
+  it('max distance Infinity everywhere, no backstop, no drive: the plain velocity update runs (the same bytes), until a limit is set', () => {
+    // (it ran the constrained writeback over every particle for the same bytes: 1.11× the step)
+    const free = runningCape(null), unlimited = runningCape(Array(RUN_COLS * RUN_ROWS).fill(Infinity))
+    const start = getClothState(unlimited.world, unlimited.cape).character!.start
+    start.fill(NaN) // where the limits run, the predict records each substep's start here
+    for (let f = 0; f < 60; f++) {
+      for (const r of [free, unlimited]) {
+        setTransform(r.world, r.hero, [0.05 * f, 0, 0], yawQuat(0.03 * f))
+        stepCloth(r.world, DT)
+      }
+    }
+    expect(hashBytes(getClothState(unlimited.world, unlimited.cape).pos)).toBe(hashBytes(getClothState(free.world, free.cape).pos))
+    expect(start.every((v) => Number.isNaN(v))).toBe(true)
+    // one limit anywhere: the limits run again
+    setClothMotionConstraints(unlimited.world, unlimited.cape, { maxDistance: [0.5, ...Array(RUN_COLS * RUN_ROWS - 1).fill(Infinity)] })
+    stepCloth(unlimited.world, DT)
+    expect(start.some((v) => Number.isNaN(v))).toBe(false)
   })
 })
 

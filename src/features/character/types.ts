@@ -231,7 +231,12 @@ export const W_BLEND = W_RT + 9
  * (see `writebackCharacter`). Set by the sync phase, cleared at the step's last substep.
  */
 export const W_RESUME = W_BLEND + 1
-export const WORK = W_RESUME + 1
+/**
+ * 1 when a particle has a max distance or a backstop (set by the sync phase of a cloth with motion
+ * constraints): with neither and no drive, the writeback is the plain velocity update.
+ */
+export const W_LIMITED = W_RESUME + 1
+export const WORK = W_LIMITED + 1
 /** `work[W_BLEND]`: the end of last step becomes the start, then the end is blended. */
 export const BLEND_END = 1
 /** `work[W_BLEND]`: start and end are blended (the reference was not continuous). */
