@@ -269,7 +269,8 @@ describe('character cloth reference pose: pins added or moved after the settings
     }
     const pos = getClothState(world, cape).pos, ref = getClothReference(world, cape)!
     let off = 0
-    for (let i = 0; i < COLS; i++) off = Math.max(off, Math.hypot(ref[3 * i] - pos[3 * i], ref[3 * i + 1] - pos[3 * i + 1], ref[3 * i + 2] - pos[3 * i + 2]))
+    for (let i = 0; i < COLS; i++)
+      off = Math.max(off, Math.hypot(ref[3 * i] - pos[3 * i], ref[3 * i + 1] - pos[3 * i + 1], ref[3 * i + 2] - pos[3 * i + 2]))
     return { stretch, off }
   }
 
@@ -278,14 +279,29 @@ describe('character cloth reference pose: pins added or moved after the settings
       const world = makeWorld({ sleep: false })
       const hero = addEntity(world)
       setTransform(world, hero, [5, 0, 0], yaw(Math.PI / 2))
-      const cape = createCloth(world, { width: 0.55, height: 1.05, resolution: [COLS, ROWS], position: [0, 0.5, 0], rotation: [0, 1, 0, 0], material: 'wool' })
+      const cape = createCloth(world, {
+        width: 0.55,
+        height: 1.05,
+        resolution: [COLS, ROWS],
+        position: [0, 0.5, 0],
+        rotation: [0, 1, 0, 0],
+        material: 'wool',
+      })
       const at = collar(0)
-      const pins = () => { for (let i = 0; i < COLS; i++) pinParticle(world, cape, i, hero, at[i], { blendTime: 0 }) }
+      const pins = () => {
+        for (let i = 0; i < COLS; i++) pinParticle(world, cape, i, hero, at[i], { blendTime: 0 })
+      }
       const settings = () => {
         setClothInertia(world, cape, order === 'settings first, default frame' ? INERTIA : { frame: hero, ...INERTIA })
         setClothMotionConstraints(world, cape, { maxDistance, backstop: { distance: 0.02, radius: 0.5 } })
       }
-      if (order === 'pins first') { pins(); settings() } else { settings(); pins() }
+      if (order === 'pins first') {
+        pins()
+        settings()
+      } else {
+        settings()
+        pins()
+      }
       return settle(world, cape)
     }
     const first = equip('pins first')
@@ -302,7 +318,14 @@ describe('character cloth reference pose: pins added or moved after the settings
       const world = makeWorld({ sleep: false })
       const hero = addEntity(world)
       setTransform(world, hero, [0, 0, 0])
-      const cape = createCloth(world, { width: 0.55, height: 1.05, resolution: [COLS, ROWS], position: [0, 1.47, -0.2], rotation: [0, 1, 0, 0], material: 'wool' })
+      const cape = createCloth(world, {
+        width: 0.55,
+        height: 1.05,
+        resolution: [COLS, ROWS],
+        position: [0, 1.47, -0.2],
+        rotation: [0, 1, 0, 0],
+        material: 'wool',
+      })
       const pins = Array.from({ length: COLS }, (_, i) => pinParticle(world, cape, i, hero, undefined, { blendTime: 0 }))
       setClothInertia(world, cape, explicit ? { frame: hero, ...INERTIA } : INERTIA)
       setClothMotionConstraints(world, cape, { maxDistance, backstop: { distance: 0.02, radius: 0.5 } })
