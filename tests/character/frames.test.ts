@@ -22,7 +22,7 @@ import {
   unpin,
 } from '../../src/index'
 import { hashBytes, makeWorld } from '../helpers'
-import { capeBehind, carriedRest, DT, positionsNow, yawQuat } from './scenes'
+import { capeBehind, carriedRest, DT, positionsNow, woolCape, yawQuat } from './scenes'
 
 function maxDiff(a: ArrayLike<number>, b: ArrayLike<number>): number {
   let w = 0
@@ -252,7 +252,6 @@ describe('character cloth reference pose: frames and setup orders', () => {
 
 describe('character cloth reference pose: pins added or moved after the settings', () => {
   const COLS = 14, ROWS = 24
-  const yaw = (a: number): [number, number, number, number] => [0, Math.sin(a / 2), 0, Math.cos(a / 2)]
   const maxDistance = Array.from({ length: COLS * ROWS }, (_, i) => {
     const u = Math.floor(i / COLS) / (ROWS - 1)
     return u === 1 ? Infinity : 0.9 * u * u
@@ -278,7 +277,7 @@ describe('character cloth reference pose: pins added or moved after the settings
     const equip = (order: 'pins first' | 'settings first' | 'settings first, default frame') => {
       const world = makeWorld({ sleep: false })
       const hero = addEntity(world)
-      setTransform(world, hero, [5, 0, 0], yaw(Math.PI / 2))
+      setTransform(world, hero, [5, 0, 0], yawQuat(Math.PI / 2))
       const cape = createCloth(world, {
         width: 0.55,
         height: 1.05,
@@ -318,14 +317,7 @@ describe('character cloth reference pose: pins added or moved after the settings
       const world = makeWorld({ sleep: false })
       const hero = addEntity(world)
       setTransform(world, hero, [0, 0, 0])
-      const cape = createCloth(world, {
-        width: 0.55,
-        height: 1.05,
-        resolution: [COLS, ROWS],
-        position: [0, 1.47, -0.2],
-        rotation: [0, 1, 0, 0],
-        material: 'wool',
-      })
+      const cape = woolCape(world, COLS, ROWS)
       const pins = Array.from({ length: COLS }, (_, i) => pinParticle(world, cape, i, hero, undefined, { blendTime: 0 }))
       setClothInertia(world, cape, explicit ? { frame: hero, ...INERTIA } : INERTIA)
       setClothMotionConstraints(world, cape, { maxDistance, backstop: { distance: 0.02, radius: 0.5 } })
