@@ -24,6 +24,7 @@ import {
   setTransform,
   stepCloth,
 } from '../../src/index'
+import { getClothWorld } from '../../src/world/access'
 import { hashBytes, lowestY, makeWorld } from '../helpers'
 import { clearance, flatSheet, ground, maxSpeed, prismPoints, signedDistance, type Shape } from './scenes'
 
@@ -434,5 +435,40 @@ describe('a cloth yanked by its pins or a hand from rest toward a collider', () 
     stepCloth(world, 1 / 60)
     expect(getClothStats(world).colliderTests).toBeGreaterThan(0)
     expect(deepest(world, cloth, ball)).toBeGreaterThan(0.9 * 0.005)
+  })
+})
+
+describe('colliders of a level that unloads', () => {
+  it('removed colliders give their tracking slots back: the per-step loops shrink to what is left, and the cloth steps as before', () => {
+    const world = makeWorld()
+    const sheet = flatSheet(world, 0, 1, 0, 1, 8)
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 3, 0])
+    addSphereCollider(world, hero, { radius: 0.1 })
+    const k = getClothWorld(world).kinematics
+    const before = k.count
+    const props: number[] = []
+    for (let i = 0; i < 2000; i++) {
+      const e = addEntity(world)
+      setTransform(world, e, [100 + i, 0, 0])
+      addSphereCollider(world, e, { radius: 0.5 })
+      props.push(e)
+    }
+    stepCloth(world, 1 / 60)
+    expect(k.count).toBe(before + 2000)
+    // unloaded out of order, the hero's slot below them staying
+    for (let i = 0; i < props.length; i += 2) removeEntity(world, props[i])
+    for (let i = 1; i < props.length; i += 2) removeEntity(world, props[i])
+    expect(k.count, 'slots walked per step after the unload').toBe(before)
+    expect(k.free.every((slot) => slot < k.count)).toBe(true)
+    // a new collider takes a slot again, and the hero is still followed
+    const late = addEntity(world)
+    setTransform(world, late, [50, 0, 0])
+    addSphereCollider(world, late, { radius: 0.5 })
+    expect(k.count).toBe(before + 1)
+    setTransform(world, hero, [0, 2, 0])
+    stepCloth(world, 1 / 60)
+    expect(k.stepTo[7 * k.slotOf[hero] + 1]).toBe(2)
+    expect(getClothState(world, sheet).pos.every(Number.isFinite)).toBe(true)
   })
 })
