@@ -50,19 +50,19 @@ export interface Run {
   hash: () => string
 }
 
-/** A world with `threads` workers (0: none), verify mode on, every step handed to the workers. */
-/** A tearable 1 m sheet held at its top corners by two hand entities 1 m apart, at x = 3 (frame tests). */
-export function sheetOnHands(world: object, strain: number) {
+/** A tearable 1 m sheet held at its top corners by two hand entities 1 m apart, at x (default 3). */
+export function sheetOnHands(world: object, strain: number, x = 3) {
   const hands = [addEntity(world as never), addEntity(world as never)]
-  setTransform(world, hands[0], [2.5, 2, 0])
-  setTransform(world, hands[1], [3.5, 2, 0])
-  const sheet = createCloth(world, { width: 1, height: 1, resolution: 8, position: [3, 2, 0] })
+  setTransform(world, hands[0], [x - 0.5, 2, 0])
+  setTransform(world, hands[1], [x + 0.5, 2, 0])
+  const sheet = createCloth(world, { width: 1, height: 1, resolution: 8, position: [x, 2, 0] })
   pinParticle(world, sheet, 0, hands[0])
   pinParticle(world, sheet, 7, hands[1])
   makeTearable(world, sheet, { strain, maxTearsPerStep: 2 })
   return { hands, sheet }
 }
 
+/** A world with `threads` workers (0: none), verify mode on, every step handed to the workers. */
 export function threadedWorld(threads: number, options: ClothPluginOptions = {}): object {
   const world = installClothPlugin(createWorld(), { threads, workerUrl: workerUrl(), threadMinStepMs: 0, ...options })
   const th = getClothWorld(world).threads

@@ -45,17 +45,21 @@ export function adoptPinFrame(state: ClothWorldState, pin: number): void {
   let adopt = ch.settings[S_FRAME_EXPLICIT] === 0
   for (let q = 0; q < list.length - 1; q++) if (P.target[list[q]] !== 0) adopt = false
   if (adopt && eid !== ch.frame) setFrame(state, c, ch, eid)
-  else if (eid === ch.frame && ch.frameSlot >= 0 && ch.skin === null) fitToPins(state, c, ch, eid)
+  else if (eid === ch.frame && ch.frameSlot >= 0 && ch.skin === null) {
+    trackedPose(state, ch.frameSlot, ch.motion, M_BIND)
+    fitToPins(state, c, ch, eid)
+  }
   list.pop()
 }
 
-/** A rigid reference bound anew to the cloth as created, fitted to its pins on its frame `eid` (see `attachPose`). */
+/**
+ * A rigid reference bound anew to the cloth as created, fitted to its pins on its frame `eid`
+ * (`attachPose`, from the frame's pose now at motion[M_BIND..]).
+ */
 function fitToPins(state: ClothWorldState, c: ClothState, ch: ClothCharacter, eid: number): void {
   restAsCreated(c, ch)
-  const m = ch.motion
-  trackedPose(state, ch.frameSlot, m, M_BIND)
-  attachPose(state, c, eid, m, M_BIND)
-  m[M_REF_VALID] = 0
+  attachPose(state, c, eid, ch.motion, M_BIND)
+  ch.motion[M_REF_VALID] = 0
   bindRigid(c, ch)
 }
 
@@ -87,8 +91,7 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
   // setting does: kept where it stood, a reference that drifted meanwhile (the world as the frame
   // for a moment while the character walked) stayed 5 cm off the pins for good (16 % stretch)
   const onPins = rebind && ch.skin === null && eid !== 0 && pinnedTo(state, c, eid)
-  if (onPins) restAsCreated(c, ch)
-  else if (ch.skin === null && rebind) rebindRest(state, c, ch)
+  if (!onPins && ch.skin === null && rebind) rebindRest(state, c, ch)
   const oldFrame = ch.frame, oldSlot = ch.frameSlot
   const slot = eid !== 0 ? trackEntity(state, eid) : -1
   if (slot >= 0) backdate(state, slot, eid, oldSlot, oldFrame)
@@ -105,10 +108,13 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
   if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
   // (the world, or a frame gone: the last pose stays)
   m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
-  if ((!rebind || onPins) && ch.skin === null) attachPose(state, c, eid, m, M_BIND)
   m[M_PRIMED] = 0
-  m[M_REF_VALID] = 0
-  if (ch.skin === null) bindRigid(c, ch)
+  if (onPins) fitToPins(state, c, ch, eid)
+  else {
+    if (!rebind && ch.skin === null) attachPose(state, c, eid, m, M_BIND)
+    m[M_REF_VALID] = 0
+    if (ch.skin === null) bindRigid(c, ch)
+  }
 }
 
 /** The character's rest shape back to the cloth as created, with its normals. */

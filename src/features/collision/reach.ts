@@ -108,11 +108,17 @@ function boundsReach(sw: Float64Array, o: number, plane: boolean, b: Float64Arra
     const reach = r + PLANE_SLACK
     return d0 <= reach || d1 <= reach
   }
-  return !(
-    sw[o] > b[3] + r || sw[o + 3] < b[0] - r ||
-    sw[o + 1] > b[4] + r || sw[o + 4] < b[1] - r ||
+  return !boxClear(sw, o, b, r)
+}
+
+/**
+ * Whether the box sw[o..o + 6) (min xyz, max xyz) lies more than r from the box `b`: the test of a
+ * solid collider's swept bounds (`colliderReaches`), small enough to be inlined where it runs per
+ * pair (the sleep phase's wake test).
+ */
+export function boxClear(sw: Float64Array, o: number, b: Float64Array, r: number): boolean {
+  return sw[o] > b[3] + r || sw[o + 3] < b[0] - r || sw[o + 1] > b[4] + r || sw[o + 4] < b[1] - r ||
     sw[o + 2] > b[5] + r || sw[o + 5] < b[2] - r
-  )
 }
 
 /** Whether cloth `cc` and collider `eid` may touch (each one's layer is in the other's mask). */
