@@ -312,6 +312,39 @@ describe('character cloth reference pose: pins added or moved after the settings
     }
   })
 
+  it('a collar re-pinned with a glide onto a second character 0.8 m away: the reference follows the glide (it took the end offsets at once: 1629 % while the glide lasted)', () => {
+    const run = (blendTime: number) => {
+      const world = makeWorld({ sleep: false })
+      const a = addEntity(world), b = addEntity(world)
+      setTransform(world, a, [0, 0, 0])
+      setTransform(world, b, [0.8, 0, 0])
+      const cape = woolCape(world, COLS, ROWS)
+      const pins = Array.from({ length: COLS }, (_, i) => pinParticle(world, cape, i, a, undefined, { blendTime: 0 }))
+      setClothInertia(world, cape, INERTIA)
+      setClothMotionConstraints(world, cape, { maxDistance, backstop: { distance: 0.02, radius: 0.5 } })
+      settle(world, cape)
+      for (const pin of pins) unpin(world, pin)
+      const at = collar(0)
+      for (let i = 0; i < COLS; i++) pinParticle(world, cape, i, b, at[i], { blendTime })
+      // over the glide and 0.25 s after: the worst stretch, and how far the collar's reference lies from the collar
+      let stretch = 0, off = 0
+      for (let f = 0; f < 30; f++) {
+        stepCloth(world, DT)
+        stretch = Math.max(stretch, getClothStretch(world, cape).max)
+        const pos = getClothState(world, cape).pos, ref = getClothReference(world, cape)!
+        for (let i = 0; i < COLS; i++)
+          off = Math.max(off, Math.hypot(ref[3 * i] - pos[3 * i], ref[3 * i + 1] - pos[3 * i + 1], ref[3 * i + 2] - pos[3 * i + 2]))
+      }
+      return { stretch, off, end: settle(world, cape) }
+    }
+    const glide = run(0.25), snap = run(0)
+    expect(glide.off).toBeLessThan(1e-3)
+    // a glide is gentler than a snap, and settles as it does
+    expect(glide.stretch).toBeLessThan(Math.min(0.5, snap.stretch))
+    expect(glide.end.off).toBeLessThan(1e-3)
+    expect(glide.end.stretch).toBeLessThan(snap.end.stretch * 1.5 + 0.02)
+  })
+
   it('a collar re-pinned 10 cm higher on its frame: the reference follows the pins (it stayed 10 cm off: 215 % for good)', () => {
     for (const explicit of [true, false]) {
       const world = makeWorld({ sleep: false })

@@ -154,9 +154,10 @@ function attachPose(state: ClothWorldState, c: ClothState, eid: number, out: Flo
     }
     // where the rest shape puts the pin's particle at that pose, against where the pin holds it
     const i = 3 * P.particle[pin]
-    fit[0] = out[o + 7] * P.ox[pin]
-    fit[1] = out[o + 8] * P.oy[pin]
-    fit[2] = out[o + 9] * P.oz[pin]
+    pinOffset(P, pin, fit, 0)
+    fit[0] *= out[o + 7]
+    fit[1] *= out[o + 8]
+    fit[2] *= out[o + 9]
     rotateVecAt(out, o + 3, fit, 0, fit, 0)
     off = Math.max(
       off,
@@ -167,8 +168,50 @@ function attachPose(state: ClothWorldState, c: ClothState, eid: number, out: Flo
   fitRigid(state, c, eid, out, o)
 }
 
-/** Scratch of `attachPose` and `fitRigid`: a vector (0..2), centroids (3..8), S (9..17), N (18..33), a quaternion (34..37). */
-const fit = new Float64Array(38)
+/** Scratch of `attachPose` and `fitRigid`: a vector (0..2), centroids (3..8), S (9..17), N (18..33), an offset (34..36). */
+const fit = new Float64Array(37)
+
+/**
+ * How far ahead (seconds) of its glide's state now a pin's offset is taken by `pinOffset`; −1:
+ * its end offset (where the glide ends).
+ */
+const glideAhead = new Float64Array([-1])
+
+/** The pin's offset in its target's frame into out[o..o+2]: its end offset, or where its glide (`blendTime`) will be `glideAhead` from now. */
+function pinOffset(P: ClothWorldState['components']['Pin'], pin: number, out: Float64Array, o: number): void {
+  let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
+  const left = P.blendLeft[pin] - glideAhead[0]
+  if (glideAhead[0] >= 0 && left > 0) {
+    // (as placePins glides it: smoothstep from blendFrom)
+    const u = 1 - left / P.blendTime[pin], s = u * u * (3 - 2 * u), b = 3 * pin
+    lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * s
+    ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * s
+    lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * s
+  }
+  out[o] = lx
+  out[o + 1] = ly
+  out[o + 2] = lz
+}
+
+/**
+ * Sync phase, before the step's reference: a rigid reference whose frame holds pins that glide
+ * (`blendTime`: re-pinned with offsets, or a budget's thaw) is fitted to where they will hold their
+ * particles at the step's end, as the settings fit it to pins (`fitToPins`), so the limits follow
+ * the glide. (Fitted to the pins' end offsets at once, a constrained cape re-pinned onto a second
+ * character 0.8 m away was held there while its collar glided: 1629 % stretch, 64 m/s.) Its last
+ * step fits the end offsets themselves, what a pin that snaps gives.
+ */
+export function followPinGlides(state: ClothWorldState, c: ClothState, ch: ClothCharacter): void {
+  if (ch.skin !== null || ch.frameSlot < 0) return
+  const P = state.components.Pin
+  const pins = c.pins.list
+  let gliding = false
+  for (let q = 0; q < pins.length && !gliding; q++) gliding = P.target[pins[q]] === ch.frame && P.blendLeft[pins[q]] > 0
+  if (!gliding) return
+  glideAhead[0] = c.h * c.substeps
+  fitToPins(state, c, ch, ch.frame)
+  glideAhead[0] = -1
+}
 
 /**
  * The rigid motion (rotation about and position of out[o..o+6], the scale at out[o+7..o+9] kept)
@@ -188,9 +231,10 @@ function fitRigid(state: ClothWorldState, c: ClothState, eid: number, out: Float
   for (const pin of c.pins.list) {
     if (P.target[pin] !== eid) continue
     const i = 3 * P.particle[pin]
-    f[3] += s0 * P.ox[pin]
-    f[4] += s1 * P.oy[pin]
-    f[5] += s2 * P.oz[pin]
+    pinOffset(P, pin, f, 34)
+    f[3] += s0 * f[34]
+    f[4] += s1 * f[35]
+    f[5] += s2 * f[36]
     for (let a = 0; a < 3; a++) f[6 + a] += rest[i + a]
     n++
   }
@@ -198,7 +242,8 @@ function fitRigid(state: ClothWorldState, c: ClothState, eid: number, out: Float
   for (const pin of c.pins.list) {
     if (P.target[pin] !== eid) continue
     const i = 3 * P.particle[pin]
-    const ax = s0 * P.ox[pin] - f[3], ay = s1 * P.oy[pin] - f[4], az = s2 * P.oz[pin] - f[5]
+    pinOffset(P, pin, f, 34)
+    const ax = s0 * f[34] - f[3], ay = s1 * f[35] - f[4], az = s2 * f[36] - f[5]
     const bx = rest[i] - f[6], by = rest[i + 1] - f[7], bz = rest[i + 2] - f[8]
     f[9] += ax * bx
     f[10] += ax * by
@@ -211,25 +256,30 @@ function fitRigid(state: ClothWorldState, c: ClothState, eid: number, out: Float
     f[17] += az * bz
   }
   const xx = f[9], xy = f[10], xz = f[11], yx = f[12], yy = f[13], yz = f[14], zx = f[15], zy = f[16], zz = f[17]
-  // N (symmetric, row-major), in quaternion order w, x, y, z
-  // dprint-ignore
-  const N = [
-    xx + yy + zz, yz - zy, zx - xz, xy - yx,
-    yz - zy, xx - yy - zz, xy + yx, zx + xz,
-    zx - xz, xy + yx, -xx + yy - zz, yz + zy,
-    xy - yx, zx + xz, yz + zy, -xx - yy + zz,
-  ]
+  // N (symmetric, row-major), in quaternion order w, x, y, z, at f[18..33] (no array per fit: a
+  // glide refits every step)
+  const N = 18
+  f[N] = xx + yy + zz
+  f[N + 1] = f[N + 4] = yz - zy
+  f[N + 2] = f[N + 8] = zx - xz
+  f[N + 3] = f[N + 12] = xy - yx
+  f[N + 5] = xx - yy - zz
+  f[N + 6] = f[N + 9] = xy + yx
+  f[N + 7] = f[N + 13] = zx + xz
+  f[N + 10] = -xx + yy - zz
+  f[N + 11] = f[N + 14] = yz + zy
+  f[N + 15] = -xx - yy + zz
   let norm = 0
-  for (const v of N) norm += v * v
+  for (let a = N; a < N + 16; a++) norm += f[a] * f[a]
   norm = Math.sqrt(norm)
   // from the pose's rotation (w, x, y, z); shifted by ‖N‖ so the largest eigenvalue dominates
   let qw = out[o + 6], qx = out[o + 3], qy = out[o + 4], qz = out[o + 5]
   if (norm > 1e-12) {
     for (let it = 0; it < 200; it++) {
-      const w = (N[0] + norm) * qw + N[1] * qx + N[2] * qy + N[3] * qz
-      const x = N[4] * qw + (N[5] + norm) * qx + N[6] * qy + N[7] * qz
-      const y = N[8] * qw + N[9] * qx + (N[10] + norm) * qy + N[11] * qz
-      const z = N[12] * qw + N[13] * qx + N[14] * qy + (N[15] + norm) * qz
+      const w = (f[N] + norm) * qw + f[N + 1] * qx + f[N + 2] * qy + f[N + 3] * qz
+      const x = f[N + 4] * qw + (f[N + 5] + norm) * qx + f[N + 6] * qy + f[N + 7] * qz
+      const y = f[N + 8] * qw + f[N + 9] * qx + (f[N + 10] + norm) * qy + f[N + 11] * qz
+      const z = f[N + 12] * qw + f[N + 13] * qx + f[N + 14] * qy + (f[N + 15] + norm) * qz
       const l = Math.hypot(w, x, y, z)
       qw = w / l
       qx = x / l

@@ -316,7 +316,7 @@ export function lastReference(c: ClothState, ch: ClothCharacter, out: Float64Arr
 
 /**
  * Area-weighted vertex normals of the rest positions (unnormalised triangle normals summed, then
- * normalised; +z when degenerate), into `out` (configuration time).
+ * normalised; +z when degenerate), into `out` (configuration time, and each step of a pin's glide).
  */
 export function restNormals(c: ClothState, rest: Float64Array, out: Float64Array): void {
   const t = c.topology
@@ -327,11 +327,15 @@ export function restNormals(c: ClothState, rest: Float64Array, out: Float64Array
     const ux = rest[b] - rest[a], uy = rest[b + 1] - rest[a + 1], uz = rest[b + 2] - rest[a + 2]
     const vx = rest[d] - rest[a], vy = rest[d + 1] - rest[a + 1], vz = rest[d + 2] - rest[a + 2]
     const nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx
-    for (const p of [a, b, d]) {
-      out[p] += nx
-      out[p + 1] += ny
-      out[p + 2] += nz
-    }
+    out[a] += nx
+    out[a + 1] += ny
+    out[a + 2] += nz
+    out[b] += nx
+    out[b + 1] += ny
+    out[b + 2] += nz
+    out[d] += nx
+    out[d + 1] += ny
+    out[d + 2] += nz
   }
   for (let j = 0; j < 3 * c.count; j += 3) {
     const l = Math.hypot(out[j], out[j + 1], out[j + 2])

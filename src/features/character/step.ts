@@ -15,6 +15,7 @@ import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
+import { followPinGlides } from './frames'
 import { blendReference, carryPose, followBones, referenceSubstep, trackedStartPose, updateReference } from './reference'
 import {
   M_GAP,
@@ -225,6 +226,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
       carryGrabTargetsBy(c, k.jump, 10 * slot)
     }
   }
+  followPinGlides(state, c, ch)
   beginFrameStep(state, c, ch)
   if (ch.constrained || reset) updateReference(state, ch)
   else followBones(state, ch)
