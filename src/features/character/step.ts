@@ -16,7 +16,7 @@ import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
 import { followPinGlides } from './frames'
-import { blendReference, carryPose, followBones, referenceSubstep, trackedStartPose, updateReference } from './reference'
+import { blendReference, carryPose, followBones, referenceSubstep, trackedPose, trackedStartPose, updateReference } from './reference'
 import {
   M_GAP,
   M_POSE,
@@ -34,6 +34,7 @@ import {
   W_TO,
   W_V,
   W_LIMITED,
+  W_SKIN_JUMPED,
   W_RESUME,
   W_W,
   type ClothCharacter,
@@ -183,6 +184,8 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const slot = jumpSlot(ch)
   const jumped = frameStart && slot >= 0 && k.jumped[slot] !== 0
   const teleported = jumped && k.jumped[slot] === 1 // (2: the carried motion of dropped time)
+  const skinJump = m[M_GAP] !== 1 && skinJumped(state, ch, slot)
+  ch.work[W_SKIN_JUMPED] = skinJump ? 1 : 0
   if (frameStart || m[M_GAP] === 1) resyncBones(state, ch, m[M_GAP] === 1)
   const gap = m[M_GAP] === 1
   if (jumped || gap) {
@@ -214,7 +217,8 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   // a jump turned the cloth's velocities (carried along) or replaced them (reset): the frame's too
   // (after a gap, the turn since its last step holds the jump's)
   if (jumped && !gap) turnVelocities(m, k.jump, 10 * slot + 3)
-  const reset = teleported && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT
+  // (onto a skeleton a frame behind or ahead of its frame, a reset put the cape where the frame was not: it is carried)
+  const reset = teleported && ch.settings[S_TELEPORT_MODE] === 1 && pinJump !== JUMP_EXPLICIT && !skinJump
   if (reset) m[M_PRIMED] = 0
   if (jumped && pinJump === JUMP_NONE) {
     if (!reset) {
@@ -242,6 +246,57 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
 
 /** The frame's pose at the step's start after a gap (10 values), then its turn since its pose before (4). */
 const gapPose = new Float64Array(14)
+
+/**
+ * Sync phase, before the bones and the frame move on: whether a bone of a skinned cloth moved
+ * against the entity whose jumps are the cloth's teleports (tracked at `slot`) by more than the
+ * teleport distance or angle since the cloth's last step. Game code that poses the skeleton a frame
+ * after (or before) its root gives that for one step around a teleport: the cloth is carried with
+ * its frame while its reference stays with the bones, and its limits dragged it across the gap
+ * (21,961 % stretch after a 10 m jump). The limits rest for such a step; the bones' poses are
+ * followed as usual, so the next step holds the cloth to them where they then are.
+ */
+function skinJumped(state: ClothWorldState, ch: ClothCharacter, slot: number): boolean {
+  const skin = ch.skin
+  if (skin === null || slot < 0) return false
+  const m = ch.motion, s = skinScratch
+  const limit = ch.settings[S_TELEPORT_DISTANCE], angle = ch.settings[S_TELEPORT_ANGLE]
+  // the entity's last pose (the frame's, or the first bone's with the world as frame) and its pose now
+  const first = slot === ch.frameSlot ? -1 : skin.slots.indexOf(slot)
+  for (let j = 0; j < 7; j++) s[j] = first < 0 ? m[M_POSE + j] : skin.pose[10 * first + j]
+  trackedPose(state, slot, s, 7)
+  relativeRotationAt(s, 10, s, 3, s, 17) // its turn since
+  s[3] = -s[3]
+  s[4] = -s[4]
+  s[5] = -s[5]
+  s[10] = -s[10]
+  s[11] = -s[11]
+  s[12] = -s[12]
+  for (let b = 0; b < skin.slots.length; b++) {
+    const bs = skin.slots[b], o = 10 * b
+    if (bs < 0) continue
+    trackedPose(state, bs, s, 21)
+    // the bone's place in the entity's frame, last step and now
+    for (let a = 0; a < 3; a++) {
+      s[31 + a] = skin.pose[o + a] - s[a]
+      s[34 + a] = s[21 + a] - s[7 + a]
+    }
+    rotateVecAt(s, 3, s, 31, s, 31)
+    rotateVecAt(s, 10, s, 34, s, 34)
+    const dx = s[34] - s[31], dy = s[35] - s[32], dz = s[36] - s[33]
+    if (dx * dx + dy * dy + dz * dz > limit * limit) return true
+    if (angle === Infinity) continue
+    // its turn against the entity's: the angle of (its turn)·(the entity's turn)⁻¹
+    relativeRotationAt(s, 24, skin.pose, o + 3, s, 37)
+    relativeRotationAt(s, 37, s, 17, s, 37)
+    const w = Math.abs(s[40])
+    if (2 * Math.acos(w > 1 ? 1 : w) > angle) return true
+  }
+  return false
+}
+
+/** Scratch of `skinJumped`: the entity's poses (0..13), its turn (17..20), a bone's pose (21..30), two offsets (31..36), a turn (37..40). */
+const skinScratch = new Float64Array(41)
 
 /** The frame's velocity history turned by the unit quaternion at q[qo..qo+3]. */
 function turnVelocities(m: Float64Array, q: Float64Array, qo: number): void {
@@ -365,6 +420,7 @@ function swapDetached(c: ClothState, list: Int32Array, keep: boolean): void {
 /** Predict phase, after the predict: held particles onto their reference at the substep's end. */
 export function placeHeld(c: ClothState): void {
   const ch = c.character!
+  if (ch.work[W_SKIN_JUMPED] === 1) return
   placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount)
 }
 
@@ -376,6 +432,7 @@ const RESUME_SINCE = 1 << 20
  * last (every substep with a drive), and never when no particle has a limit or a drive.
  */
 function limitsRun(c: ClothState, ch: ClothCharacter, k: number): boolean {
+  if (ch.work[W_SKIN_JUMPED] === 1) return false
   if (ch.drive !== null) return true
   if (ch.work[W_LIMITED] === 0) return false
   const every = ch.settings[S_EVERY]
@@ -427,7 +484,7 @@ export function writebackCharacter(c: ClothState): void {
  */
 export function placeHeldAfterReset(c: ClothState): void {
   const ch = c.character!
-  if (ch.heldCount === 0) return
+  if (ch.heldCount === 0 || ch.work[W_SKIN_JUMPED] === 1) return
   referenceSubstep(c, ch, c.substeps - 1, c.substeps)
   placeOnReference(c.pos, ch.heldList, ch.heldCount, ch.ref, ch.refParams, c.params, c.pinCount)
   for (let q = 0; q < ch.heldCount; q++) {

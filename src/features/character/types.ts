@@ -236,7 +236,12 @@ export const W_RESUME = W_BLEND + 1
  * constraints): with neither and no drive, the writeback is the plain velocity update.
  */
 export const W_LIMITED = W_RESUME + 1
-export const WORK = W_LIMITED + 1
+/**
+ * 1 through a step in which a skinned cloth's bones jumped against its frame (see `skinJumped` in
+ * step.ts): its motion constraints, drive and held particles rest for the step. Set by the sync phase.
+ */
+export const W_SKIN_JUMPED = W_LIMITED + 1
+export const WORK = W_SKIN_JUMPED + 1
 /** `work[W_BLEND]`: the end of last step becomes the start, then the end is blended. */
 export const BLEND_END = 1
 /** `work[W_BLEND]`: start and end are blended (the reference was not continuous). */
