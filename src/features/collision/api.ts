@@ -25,6 +25,15 @@ export function createCollisionWorld(capacity: number): CollisionWorld<ClothStat
     fractions: new Float64Array(2),
     measure: new Float64Array(12),
     selfParams: new Float64Array(SELF_PARAM_COUNT),
+    sweep: {
+      count: 0,
+      lo: new Float64Array(0),
+      hi: new Float64Array(0),
+      order: new Int32Array(0),
+      head: new Int32Array(1),
+      pairs: new Int32Array(0),
+      list: new Int32Array(0),
+    },
   }
 }
 

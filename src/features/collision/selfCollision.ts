@@ -1,6 +1,6 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import { clothLayersMatch } from './reach'
-import { B_MAX_DEV, B_MEAN_V, type SelfCollisionState } from './types'
+import { B_MAX_DEV, B_MEAN_V, type CollisionWorld, type SelfCollisionState, type SelfSweep } from './types'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkKeys, checkNonNegative, checkPositive, keysOf } from '../../core/errors'
 import {
   S_DIST,
@@ -19,6 +19,7 @@ import {
   gatherPairs,
   solvePairs,
 } from '../../kernels/selfCollide'
+import { pairsByFirst, sweepPairs } from '../../kernels/sweep'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import type { ClothState, ClothWorldState } from '../../world/state'
@@ -204,13 +205,16 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
     v[3] = travel
     rebuildSelfPairs(c, st, sp)
   }
+  const sw = overlapsAlongX(cw)
   for (let a = 0; a < group.length; a++) {
     const A = group[a]
     const ca = A.collision!
     const st = ca.self!
     st.crossCount = 0
     st.blockCount = 0
-    for (let b = a + 1; b < group.length; b++) {
+    // (the partners whose extents along x overlap, ascending: the pairs and their order of a loop over all b > a)
+    for (let p = sw.head[a]; p < sw.head[a + 1]; p++) {
+      const b = sw.list[p]
       const B = group[b]
       if (A.idle && B.idle) continue
       const cb = B.collision!
@@ -252,6 +256,46 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
       st.blocks[o + 2] = st.crossCount - first
     }
   }
+}
+
+/**
+ * The pairs of self-colliding cloths whose boxes overlap along x within the largest collision
+ * distance, by first cloth (`SelfSweep.head`, `list`). With a loop over all pairs, 400 small
+ * cloths hanging apart spent 5.8 ms a step on 80,000 box tests (2.0× the step without
+ * self-collision). Allocates only when the group or its pairs outgrow the scratch.
+ */
+function overlapsAlongX(cw: CollisionWorld<ClothState>): SelfSweep {
+  const group = cw.selfCloths, sw = cw.sweep
+  const n = group.length
+  if (sw.count !== n) {
+    // the group changed: its order starts afresh (the sort's result does not depend on it)
+    if (sw.order.length < n) {
+      sw.lo = new Float64Array(2 * n)
+      sw.hi = new Float64Array(2 * n)
+      sw.order = new Int32Array(2 * n)
+      sw.head = new Int32Array(2 * n + 1)
+    }
+    for (let a = 0; a < n; a++) sw.order[a] = a
+    sw.count = n
+  }
+  let margin = 0
+  for (let a = 0; a < n; a++) {
+    const c = group[a], b = c.collision.bounds
+    const t = c.collision.self!.thickness
+    if (t > margin) margin = t
+    // (a cloth whose box is not a number overlaps every other, as the box test lets it)
+    const broken = !(b[0] <= b[3])
+    sw.lo[a] = broken ? -Infinity : b[0]
+    sw.hi[a] = broken ? Infinity : b[3]
+  }
+  let m = sweepPairs(sw.lo, sw.hi, sw.order, n, margin, sw.pairs, sw.pairs.length >> 1)
+  if (2 * m > sw.pairs.length) {
+    sw.pairs = new Int32Array(4 * m)
+    sw.list = new Int32Array(2 * m)
+    m = sweepPairs(sw.lo, sw.hi, sw.order, n, margin, sw.pairs, sw.pairs.length >> 1)
+  }
+  pairsByFirst(sw.pairs, m, n, sw.head, sw.list)
+  return sw
 }
 
 /** Builds a cloth's hash from its current positions and gathers its self pairs. */

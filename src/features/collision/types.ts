@@ -25,6 +25,24 @@ export interface CollisionWorld<Cloth = unknown> {
   measure: Float64Array
   /** Parameter block of the particle–particle kernels (see `kernels/selfCollide.ts`). */
   selfParams: Float64Array
+  /** The cloth–cloth broadphase's scratch (see `buildSelfCollisionPairs`). */
+  sweep: SelfSweep
+}
+
+/**
+ * Scratch of the broadphase between self-colliding cloths (`kernels/sweep.ts`), by index in
+ * `selfCloths`: their extents along x, their order along it (a permutation of 0..count−1, kept
+ * between steps), the overlapping pairs and each cloth's partners. Grown when the group or the
+ * pairs outgrow it.
+ */
+export interface SelfSweep {
+  count: number
+  lo: Float64Array
+  hi: Float64Array
+  order: Int32Array
+  head: Int32Array
+  pairs: Int32Array
+  list: Int32Array
 }
 
 /** Collision settings and per-step state of one cloth (`ClothState.collision`). */
