@@ -48,6 +48,12 @@ export interface ColliderStore {
    * for planes the world normal and plane constant at the step's start (4) and end (4).
    */
   swept: Float64Array
+  /**
+   * The body's pose (7) and scale (3) at the step's end when `swept` was last computed, then 1 when
+   * it was computed from a body at rest over its step (stride 11; 0 until then): a collider at rest
+   * at that pose keeps its bounds (see `sweepColliders`).
+   */
+  sweptAt: Float64Array
   /** Convex hull data of SHAPE_HULL colliders. */
   hulls: (ConvexHull | undefined)[]
 }
@@ -68,6 +74,7 @@ export function createColliderStore(capacity: number): ColliderStore {
     layer: newArray(Uint32Array, capacity),
     mask: newArray(Uint32Array, capacity),
     swept: newArray(Float64Array, 8 * capacity),
+    sweptAt: newArray(Float64Array, 11 * capacity),
     hulls: [],
   }
 }

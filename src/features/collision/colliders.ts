@@ -382,6 +382,18 @@ export function sweepColliderBounds(state: ClothWorldState, eid: number): void {
   const so = 7 * C.slot[eid]
   composePose(state, eid, k.stepFrom, so, k.scaleStepFrom, 3 * C.slot[eid], t, 0)
   composePose(state, eid, k.stepTo, so, k.scaleStepTo, 3 * C.slot[eid], t, 7)
+  // what it was computed from (see `sweptAtRest`)
+  const at = C.sweptAt, a = 11 * eid, sc = 3 * C.slot[eid]
+  let still = 1
+  for (let j = 0; j < 7; j++) {
+    at[a + j] = k.stepTo[so + j]
+    if (k.stepFrom[so + j] !== k.stepTo[so + j]) still = 0
+  }
+  for (let j = 0; j < 3; j++) {
+    at[a + 7 + j] = k.scaleStepTo[sc + j]
+    if (k.scaleStepFrom[sc + j] !== k.scaleStepTo[sc + j]) still = 0
+  }
+  at[a + 10] = still
   const sw = C.swept
   const o = 8 * eid
   const b = 4 * eid
@@ -406,6 +418,22 @@ export function sweepColliderBounds(state: ClothWorldState, eid: number): void {
       if (e === 0 || c + rad > sw[o + 3 + a]) sw[o + 3 + a] = c + rad
     }
   }
+}
+
+/**
+ * Whether collider `eid`'s swept bounds were computed from its body at rest at the pose and scale
+ * it has now at the step's end (`Collider.sweptAt`): for a body at rest over this step too, they
+ * are what `sweepColliderBounds` would compute. (The shape and offset change only when the
+ * collider is made, which computes them.)
+ */
+export function sweptAtRest(state: ClothWorldState, eid: number): boolean {
+  const C = state.collision.Collider
+  const k = state.kinematics
+  const at = C.sweptAt, a = 11 * eid, so = 7 * C.slot[eid], sc = 3 * C.slot[eid]
+  if (at[a + 10] !== 1) return false
+  for (let j = 0; j < 7; j++) if (at[a + j] !== k.stepTo[so + j]) return false
+  for (let j = 0; j < 3; j++) if (at[a + 7 + j] !== k.scaleStepTo[sc + j]) return false
+  return true
 }
 
 /**
