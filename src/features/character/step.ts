@@ -10,7 +10,7 @@ import {
   predictInFrame,
   releaseLimitHolds,
 } from '../../kernels/motion'
-import { K_DROPPED, K_SINCE_SAMPLE, readPoseInto } from '../../world/kinematics'
+import { K_DROPPED, K_SINCE_SAMPLE, nearLastSample, readPoseInto } from '../../world/kinematics'
 import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -96,13 +96,18 @@ export function markFrameTeleports(state: ClothWorldState): void {
     const ex = pose[0] - k.sampleTo[o] - (k.stepTo[o] - k.stepFrom[o]) * ratio
     const ey = pose[1] - k.sampleTo[o + 1] - (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
     const ez = pose[2] - k.sampleTo[o + 2] - (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
-    const limit = ch.settings[S_TELEPORT_DISTANCE]
+    const limit = ch.settings[S_TELEPORT_DISTANCE], angle = ch.settings[S_TELEPORT_ANGLE]
     // the rotation too: the last step's turn, scaled to the span, after the last sample
     predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, ratio, turn)
+    // a jump lands beyond the limit both from where the motion would have taken the frame and from
+    // where it was (as `sampleFrame` tests it: stopped dead from above the limit per frame, it was
+    // taken to jump at every frame after). (A turn since the last sample is not tested so: it wraps
+    // round, and a steady turn through a hitch snapped 180° came out at 0.9 rad.)
+    const moved = ex * ex + ey * ey + ez * ez > limit * limit && !nearLastSample(k.sampleTo, o, pose, limit * limit)
     let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
     if (dot < 0) dot = -dot
-    const turned = 2 * Math.acos(dot > 1 ? 1 : dot)
-    if (!c.pins.skipTeleport && !(ex * ex + ey * ey + ez * ez > limit * limit) && !(turned > ch.settings[S_TELEPORT_ANGLE])) continue
+    const turned = 2 * Math.acos(dot > 1 ? 1 : dot) > angle
+    if (!c.pins.skipTeleport && !moved && !turned) continue
     k.forceJump[slot] = 1
     const skin = ch.skin
     if (skin !== null) { for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) k.forceJump[skin.slots[b]] = 1 }
