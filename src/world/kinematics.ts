@@ -1,5 +1,5 @@
 import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../core/errors'
-import { multiplyQuatAt, normalizeQuatAt, relativeRotationAt } from '../core/math'
+import { multiplyQuatAt, normalizeQuatAt, relativeRotationAt, rotateVecAt } from '../core/math'
 import { K_DROPPED, K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
 import { newArray, newArrayLike, type TypedArray } from '../core/shared'
 
@@ -42,6 +42,8 @@ export function createKinematics(): Kinematics {
 
 const pose = new Float64Array(7)
 const scale = new Float64Array(3)
+/** Scratch of `sampleFrame`: a jumping entity's last step velocity, turned by its jump. */
+const turned = new Float64Array(3)
 
 /**
  * Starts tracking `eid` (or adds a reference) and returns its slot. A new slot starts at rest at
@@ -291,17 +293,21 @@ export function sampleFrame(state: ClothWorldState): void {
       k.forceJump[slot] = 0
       k.jumped[slot] = 1
       // rotation jump R = q_new · q_old⁻¹ about the old position, then the translation jump: the
-      // motion beyond the last step's velocity over the simulated span (the dropped time's share
-      // is jumped too; taken from the pose directly, as x − x₀ − v·span with a huge span lost the
-      // jump to rounding)
+      // motion beyond the last step's velocity, turned by R, over the simulated span (the
+      // dropped time's share is jumped too). The history is turned by R, so the entity goes on at
+      // R·v: measured against v unturned, a cart through a portal turning it 90° at 50 m/s went
+      // on along its old heading for a frame, and dragged its banner's pinned row (106 %). (Taken
+      // from the pose directly: x − x₀ − v·span with a huge span lost the jump to rounding.)
       const j = 10 * slot
       k.jump[j] = k.sampleTo[o]
       k.jump[j + 1] = k.sampleTo[o + 1]
       k.jump[j + 2] = k.sampleTo[o + 2]
       relativeRotationAt(pose, 3, k.sampleTo, o + 3, k.jump, j + 3)
-      k.jump[j + 7] = pose[0] - k.sampleTo[o] - (k.stepTo[o] - k.stepFrom[o]) * simRatio
-      k.jump[j + 8] = pose[1] - k.sampleTo[o + 1] - (k.stepTo[o + 1] - k.stepFrom[o + 1]) * simRatio
-      k.jump[j + 9] = pose[2] - k.sampleTo[o + 2] - (k.stepTo[o + 2] - k.stepFrom[o + 2]) * simRatio
+      for (let a = 0; a < 3; a++) turned[a] = k.stepTo[o + a] - k.stepFrom[o + a]
+      rotateVecAt(k.jump, j + 3, turned, 0, turned, 0)
+      k.jump[j + 7] = pose[0] - k.sampleTo[o] - turned[0] * simRatio
+      k.jump[j + 8] = pose[1] - k.sampleTo[o + 1] - turned[1] * simRatio
+      k.jump[j + 9] = pose[2] - k.sampleTo[o + 2] - turned[2] * simRatio
       applyJump(k.jump, j, k.sampleTo, o)
       applyJump(k.jump, j, k.stepTo, o)
       applyJump(k.jump, j, k.stepFrom, o)
