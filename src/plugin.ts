@@ -141,6 +141,7 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
     onRemove(state.transforms.component),
     deferrable(state, (eid: number) => {
       transformLost(state, eid)
+      state.kinematics.losing = eid // (read by the pins' observers: their target is going)
       for (const cloth of state.cloths) {
         const pins = cloth.pins.list
         for (let k = pins.length - 1; k >= 0; k--) {
@@ -148,6 +149,7 @@ function observeLifecycle(world: object, state: ClothWorldState): void {
           if (Pin.target[pin] === eid && entityExists(w, pin)) removeEntity(w, pin)
         }
       }
+      state.kinematics.losing = -1
     }),
   )
   observe(w, onRemove(Pin), deferrable(state, (pin: number) => releasePin(state, pin)))

@@ -16,6 +16,7 @@ export function createKinematics(): Kinematics {
   return {
     slotOf: new Int32Array(64).fill(-1),
     generation: new Uint32Array(64),
+    losing: -1,
     foreign: false,
     eid: new Int32Array(0),
     refs: new Int32Array(0),
@@ -42,8 +43,8 @@ export function createKinematics(): Kinematics {
 
 const pose = new Float64Array(7)
 const scale = new Float64Array(3)
-/** Scratch of `sampleFrame`: a jumping entity's last step velocity, turned by its jump. */
-const turned = new Float64Array(3)
+/** Scratch of `sampleFrame`: a jumping entity's last step velocity, turned by its jump, then the simulated span in steps. */
+const turned = new Float64Array(4)
 
 /**
  * Starts tracking `eid` (or adds a reference) and returns its slot. A new slot starts at rest at
@@ -292,22 +293,9 @@ export function sampleFrame(state: ClothWorldState): void {
     if (k.forceJump[slot] === 1 || (jx * jx + jy * jy + jz * jz > limit2 && !nearLastSample(k.sampleTo, o, pose, limit2))) {
       k.forceJump[slot] = 0
       k.jumped[slot] = 1
-      // rotation jump R = q_new · q_old⁻¹ about the old position, then the translation jump: the
-      // motion beyond the last step's velocity, turned by R, over the simulated span (the
-      // dropped time's share is jumped too). The history is turned by R, so the entity goes on at
-      // R·v: measured against v unturned, a cart through a portal turning it 90° at 50 m/s went
-      // on along its old heading for a frame, and dragged its banner's pinned row (106 %). (Taken
-      // from the pose directly: x − x₀ − v·span with a huge span lost the jump to rounding.)
+      turned[3] = simRatio // (a double passed to a call is boxed)
+      recordJump(k, slot)
       const j = 10 * slot
-      k.jump[j] = k.sampleTo[o]
-      k.jump[j + 1] = k.sampleTo[o + 1]
-      k.jump[j + 2] = k.sampleTo[o + 2]
-      relativeRotationAt(pose, 3, k.sampleTo, o + 3, k.jump, j + 3)
-      for (let a = 0; a < 3; a++) turned[a] = k.stepTo[o + a] - k.stepFrom[o + a]
-      rotateVecAt(k.jump, j + 3, turned, 0, turned, 0)
-      k.jump[j + 7] = pose[0] - k.sampleTo[o] - turned[0] * simRatio
-      k.jump[j + 8] = pose[1] - k.sampleTo[o + 1] - turned[1] * simRatio
-      k.jump[j + 9] = pose[2] - k.sampleTo[o + 2] - turned[2] * simRatio
       applyJump(k.jump, j, k.sampleTo, o)
       applyJump(k.jump, j, k.stepTo, o)
       applyJump(k.jump, j, k.stepFrom, o)
@@ -338,6 +326,28 @@ export function sampleFrame(state: ClothWorldState): void {
       k.sampleTo[o + c] = pose[c]
     }
   }
+}
+
+/**
+ * The jump of tracked slot `slot` to the pose just read (`pose`), into k.jump: rotation
+ * R = q_new · q_old⁻¹ about the old position, then the translation: the motion beyond the last
+ * step's velocity, turned by R, over the simulated span (turned[3] steps; the dropped time's share
+ * is jumped too). The history is turned by R, so the entity goes on at R·v: measured against v
+ * unturned, a cart through a portal turning it 90° at 50 m/s went on along its old heading for a
+ * frame, and dragged its banner's pinned row (106 %). (Taken from the pose directly:
+ * x − x₀ − v·span with a huge span lost the jump to rounding.)
+ */
+function recordJump(k: Kinematics, slot: number): void {
+  const o = 7 * slot, j = 10 * slot, simRatio = turned[3]
+  k.jump[j] = k.sampleTo[o]
+  k.jump[j + 1] = k.sampleTo[o + 1]
+  k.jump[j + 2] = k.sampleTo[o + 2]
+  relativeRotationAt(pose, 3, k.sampleTo, o + 3, k.jump, j + 3)
+  for (let a = 0; a < 3; a++) turned[a] = k.stepTo[o + a] - k.stepFrom[o + a]
+  rotateVecAt(k.jump, j + 3, turned, 0, turned, 0)
+  k.jump[j + 7] = pose[0] - k.sampleTo[o] - turned[0] * simRatio
+  k.jump[j + 8] = pose[1] - k.sampleTo[o + 1] - turned[1] * simRatio
+  k.jump[j + 9] = pose[2] - k.sampleTo[o + 2] - turned[2] * simRatio
 }
 
 /** Whether the position at p[0..2] lies within √limit2 of poses[o..o+2] (the entity's last sample). */

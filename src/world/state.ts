@@ -344,6 +344,8 @@ export interface Kinematics {
    * to tell the pin target it saved from another entity that got the id since.
    */
   generation: Uint32Array
+  /** The entity whose transform is being taken away while its pins go with it (−1 otherwise). */
+  losing: number
   /**
    * True while a snapshot this world did not save is restored: generations are not compared
    * (`generationChanged`); another world's counts, however its ids were used before, say nothing

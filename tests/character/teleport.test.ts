@@ -133,19 +133,21 @@ describe('teleport', () => {
 })
 
 describe('entity lifetimes', () => {
-  it('the frame entity removed and its id recycled: the cloth keeps simulating, its reference stays where the frame left it, the new entity is not followed', () => {
+  it('the frame entity removed and its id recycled: the cloth keeps simulating, let go (its constraints lifted), the new entity is not followed', () => {
     const s = swinging({})
     const c = getClothState(s.world, s.cape)
     setClothMotionConstraints(s.world, s.cape, { maxDistance: Array.from({ length: c.count }, (_, i) => (i < 8 ? 0 : 0.2)) })
     stepCloth(s.world, DT)
     const collar = c.pos.slice(0, 24)
-    removeEntity(s.world, s.hero) // takes the pins with it; the held collar stays on the frozen reference
+    removeEntity(s.world, s.hero) // takes the pins with it, and the constraints: the collar is let go
     const recycled = addEntity(s.world)
     expect(recycled).toBe(s.hero)
     addComponent(s.world, recycled, getClothComponents(s.world).Transform)
     drive(s.world, recycled, (t) => ({ p: [5 + 3 * t, 4, 2], yaw: 2 * t }), 1)
-    for (let j = 0; j < 24; j++) expect(Math.abs(c.pos[j] - collar[j])).toBeLessThan(1e-6)
-    expect(c.character!.frame).toBe(0)
+    // it fell (0.4 m in that second, the cape's drag and its own swing on it), not toward the
+    // recycled id's entity (4 m up); held on the frame's last reference, it stayed to 1e-6 m
+    for (let j = 1; j < 24; j += 3) expect(c.pos[j]).toBeLessThan(collar[j] - 0.2)
+    expect(c.character === null || c.character.frame === 0).toBe(true)
     expect(allFinite(s.world, s.cape)).toBe(true)
     // and a new frame can be given
     setClothInertia(s.world, s.cape, { frame: recycled, linear: 0 })

@@ -144,15 +144,7 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
   const state = getClothWorldForChange(world)
   const c = getCloth(state, cloth)
   if (constraints === null) {
-    const ch = c.character
-    if (ch === null || !ch.constrained) return
-    for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
-    ch.constrained = false
-    ch.drive = null
-    touchLayout()
-    unconstrained(ch.lim)
-    dropIfUnused(state, c)
-    wakeClothState(state, c)
+    liftMotionConstraints(state, c)
     return
   }
   checkObject('constraints', constraints)
@@ -337,6 +329,19 @@ function releaseBones(state: ClothWorldState, c: ClothState, ch: ClothCharacter)
     }
     skin.slots[b] = -1
   }
+}
+
+/** The cloth's motion constraints gone (`setClothMotionConstraints(world, cloth, null)`), its character state with them when nothing else is set. */
+export function liftMotionConstraints(state: ClothWorldState, c: ClothState): void {
+  const ch = c.character
+  if (ch === null || !ch.constrained) return
+  for (let q = ch.heldCount - 1; q >= 0; q--) release(c, ch, ch.heldList[q])
+  ch.constrained = false
+  ch.drive = null
+  touchLayout()
+  unconstrained(ch.lim)
+  dropIfUnused(state, c)
+  wakeClothState(state, c)
 }
 
 /** Holds particle i on its reference (max distance 0): it counts as pinned (inverse mass 0, a tether anchor). */

@@ -3,6 +3,7 @@ import { untrackEntity } from '../../world/kinematics'
 import type { ClothWorldState } from '../../world/state'
 import { deferrable } from '../../world/flight'
 import { releaseAnchor } from '../budget/freeze'
+import { liftMotionConstraints } from './api'
 import { adoptPinFrame, dropPinFrame, useDefaultFrame } from './frames'
 import { M_POSE, M_PRIMED, S_FRAME_EXPLICIT, type ClothCharacter } from './types'
 import { carryPose, trackedPose } from './reference'
@@ -16,7 +17,7 @@ import { relativeRotationAt } from '../../core/math'
  */
 export function installCharacter(world: object, state: ClothWorldState): void {
   observe(world as never, onAdd(state.components.Pin), (pin: number) => adoptPinFrame(state, pin))
-  observe(world as never, onRemove(state.components.Pin), deferrable(state, (pin: number) => dropPinFrame(state, pin)))
+  observe(world as never, onRemove(state.components.Pin), deferrable(state, (pin: number) => pinGone(state, pin)))
   observe(
     world as never,
     onRemove(state.transforms.component),
@@ -36,7 +37,13 @@ export function installCharacter(world: object, state: ClothWorldState): void {
           ch.motion[M_PRIMED] = 0
         }
         const skin = ch.skin
-        if (skin === null) continue
+        if (skin === null) {
+          // a rigid reference left with the world as its frame lets the cloth go, as the frame's
+          // pins do: its motion constraints are lifted (kept, max distance 0 nailed the cape of a
+          // character removed at 5 or 50 m/s where it vanished, in mid-air)
+          if (lostFrame) liftMotionConstraints(state, c)
+          continue
+        }
         for (let b = 0; b < skin.bones.length; b++) {
           if (skin.bones[b] !== eid || skin.slots[b] < 0) continue
           releaseAnchor(state, c, skin.slots[b])
@@ -51,6 +58,20 @@ export function installCharacter(world: object, state: ClothWorldState): void {
       }
     }),
   )
+}
+
+/**
+ * A pin went: the default frame follows the pins (`dropPinFrame`). Pins going with their target
+ * that was the frame leave a rigid reference with the world as its frame: the cloth is let go, its
+ * motion constraints with it, as when an explicit frame goes.
+ */
+function pinGone(state: ClothWorldState, pin: number): void {
+  const P = state.components.Pin
+  const going = P.target[pin] !== 0 && P.target[pin] === state.kinematics.losing
+  dropPinFrame(state, pin)
+  const c = state.components.Cloth.state[P.cloth[pin]]
+  const ch = c?.character
+  if (going && ch && ch.skin === null && ch.frame === 0) liftMotionConstraints(state, c)
 }
 
 /** The frame's pose now (10 values), then its turn (4): scratch of `keepBonePoses`. */
