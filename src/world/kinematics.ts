@@ -255,12 +255,13 @@ export function readScaleInto(state: ClothWorldState, eid: number, out: Float64A
  */
 export function sampleFrame(state: ClothWorldState): void {
   const k = state.kinematics
-  const limit2 = state.teleportDistance * state.teleportDistance
   const dropped = k.framed ? k.time[K_DROPPED] : 0
   const simulated = k.framed ? k.time[K_SINCE_SAMPLE] : state.fixedTimeStep
   // the last step's velocity over the frame's whole span (the teleport test), and over the part
   // the steps simulate (what a teleport leaves to them)
   const ratio = (simulated + dropped) / state.fixedTimeStep, simRatio = simulated / state.fixedTimeStep
+  jumpTest[0] = ratio
+  jumpTest[1] = state.teleportDistance * state.teleportDistance
   const carry = dropped / (simulated + dropped) // (0 when nothing was dropped)
   // every transform is checked before any is taken: a rejected one leaves the sample untouched
   for (let slot = 0; slot < k.count; slot++) {
@@ -281,16 +282,7 @@ export function sampleFrame(state: ClothWorldState): void {
     k.scaleSampleFrom[so + 2] = k.scaleSampleTo[so + 2]
     readScaleInto(state, eid, k.scaleSampleTo, so, true)
     const o = 7 * slot
-    // where the last step's velocity would have carried the entity by now
-    const ex = k.sampleTo[o] + (k.stepTo[o] - k.stepFrom[o]) * ratio
-    const ey = k.sampleTo[o + 1] + (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
-    const ez = k.sampleTo[o + 2] + (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
-    const jx = pose[0] - ex, jy = pose[1] - ey, jz = pose[2] - ez
-    // a jump lands farther than the limit both from where the velocity would have carried the
-    // entity and from where it was: an entity stopping dead from a speed above the limit per
-    // frame was otherwise taken to jump back at every frame after, its velocity kept for good
-    // (a cape behind a character stopped from 130 m/s streamed out at 200 m/s, 397 % stretch)
-    if (k.forceJump[slot] === 1 || (jx * jx + jy * jy + jz * jz > limit2 && !nearLastSample(k.sampleTo, o, pose, limit2))) {
+    if (k.forceJump[slot] === 1 || landsBeyond(k, o, pose, jumpTest)) {
       k.forceJump[slot] = 0
       k.jumped[slot] = 1
       turned[3] = simRatio // (a double passed to a call is boxed)
@@ -350,11 +342,26 @@ function recordJump(k: Kinematics, slot: number): void {
   k.jump[j + 9] = pose[2] - k.sampleTo[o + 2] - turned[2] * simRatio
 }
 
-/** Whether the position at p[0..2] lies within √limit2 of poses[o..o+2] (the entity's last sample). */
-export function nearLastSample(poses: Float64Array, o: number, p: Float64Array, limit2: number): boolean {
-  const dx = p[0] - poses[o], dy = p[1] - poses[o + 1], dz = p[2] - poses[o + 2]
-  return dx * dx + dy * dy + dz * dz <= limit2
+/**
+ * Whether the position p[0..2] of the entity tracked at 7 × slot = o is a jump: farther than
+ * √t[1] both from where its last step's velocity would have carried it from its last sample over
+ * t[0] steps, and from that sample itself. (Without the second, an entity stopping dead from a
+ * speed above the limit per frame was taken to jump back at every frame after, its velocity kept
+ * for good: a cape behind a character stopped from 130 m/s streamed out at 200 m/s, 397 %
+ * stretch.) Used by `sampleFrame` (the world's distance) and per cloth (its own distance).
+ */
+export function landsBeyond(k: Kinematics, o: number, p: Float64Array, t: Float64Array): boolean {
+  const ratio = t[0], limit2 = t[1]
+  const jx = p[0] - k.sampleTo[o] - (k.stepTo[o] - k.stepFrom[o]) * ratio
+  const jy = p[1] - k.sampleTo[o + 1] - (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
+  const jz = p[2] - k.sampleTo[o + 2] - (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
+  if (!(jx * jx + jy * jy + jz * jz > limit2)) return false
+  const dx = p[0] - k.sampleTo[o], dy = p[1] - k.sampleTo[o + 1], dz = p[2] - k.sampleTo[o + 2]
+  return dx * dx + dy * dy + dz * dz > limit2
 }
+
+/** `landsBeyond`'s span (steps) and squared distance, in an array: doubles passed to a call are boxed. */
+export const jumpTest = new Float64Array(2)
 
 /** A jump that carries the dropped time's share of the motion (`Kinematics.jumped`); 1 is a teleport. */
 export const K_CARRIED = 2

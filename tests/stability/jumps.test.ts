@@ -38,14 +38,14 @@ function deadStop(speed: number, world: object, teleport?: number, dt = (_f: num
 }
 
 describe('a dead stop is no jump', () => {
-  it('from 130 m/s (2.2 m a frame, over the 2 m teleport distance): no teleport after it, the cape hangs still', () => {
+  it('from 130 m/s (2.2 m a frame, over the 2 m teleport distance): no teleport after it, the cape swings under its pins instead of streaming out', () => {
     const r = deadStop(130, makeWorld({ sleep: false }))
     expect(r.teleports).toBe(0)
     expect(r.speedEnd).toBeLessThan(3) // (still swinging from the stop; streaming, it was 200 m/s)
     expect(r.stretchEnd).toBeLessThan(0.05)
   })
 
-  it("with a cloth's own teleport distance of 5 cm, after a 4 m/s run", () => {
+  it("with a cloth's own teleport distance of 5 cm, after a 4 m/s run: no teleport, no streaming", () => {
     const r = deadStop(4, makeWorld({ sleep: false }), 0.05)
     expect(r.teleports).toBe(0)
     expect(r.speedEnd).toBeLessThan(3) // (still swinging from the stop; streaming, it was 200 m/s)

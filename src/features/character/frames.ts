@@ -2,6 +2,7 @@ import { multiplyQuatAt, normalizeQuatAt, rotateVecAt } from '../../core/math'
 import { applyJump, readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { adoptAnchor, releaseAnchor } from '../budget/freeze'
+import { pinOffsetAhead } from '../pins/step'
 import { bindRigid, currentReference, restNormals, trackedPose } from './reference'
 import { M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_FRAME_EXPLICIT, type ClothCharacter } from './types'
 
@@ -154,7 +155,7 @@ function attachPose(state: ClothWorldState, c: ClothState, eid: number, out: Flo
     }
     // where the rest shape puts the pin's particle at that pose, against where the pin holds it
     const i = 3 * P.particle[pin]
-    pinOffset(P, pin, fit, 0)
+    pinOffsetAhead(P, pin, glideAhead, fit, 0)
     fit[0] *= out[o + 7]
     fit[1] *= out[o + 8]
     fit[2] *= out[o + 9]
@@ -171,27 +172,8 @@ function attachPose(state: ClothWorldState, c: ClothState, eid: number, out: Flo
 /** Scratch of `attachPose` and `fitRigid`: a vector (0..2), centroids (3..8), S (9..17), N (18..33), an offset (34..36). */
 const fit = new Float64Array(37)
 
-/**
- * How far ahead (seconds) of its glide's state now a pin's offset is taken by `pinOffset`; −1:
- * its end offset (where the glide ends).
- */
+/** How far ahead (seconds) of their glides' state now the fit takes the pins' offsets (`pinOffsetAhead`); −1: their end offsets. */
 const glideAhead = new Float64Array([-1])
-
-/** The pin's offset in its target's frame into out[o..o+2]: its end offset, or where its glide (`blendTime`) will be `glideAhead` from now. */
-function pinOffset(P: ClothWorldState['components']['Pin'], pin: number, out: Float64Array, o: number): void {
-  let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
-  const left = P.blendLeft[pin] - glideAhead[0]
-  if (glideAhead[0] >= 0 && left > 0) {
-    // (as placePins glides it: smoothstep from blendFrom)
-    const u = 1 - left / P.blendTime[pin], s = u * u * (3 - 2 * u), b = 3 * pin
-    lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * s
-    ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * s
-    lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * s
-  }
-  out[o] = lx
-  out[o + 1] = ly
-  out[o + 2] = lz
-}
 
 /**
  * Sync phase, before the step's reference: a rigid reference whose frame holds pins that glide
@@ -231,7 +213,7 @@ function fitRigid(state: ClothWorldState, c: ClothState, eid: number, out: Float
   for (const pin of c.pins.list) {
     if (P.target[pin] !== eid) continue
     const i = 3 * P.particle[pin]
-    pinOffset(P, pin, f, 34)
+    pinOffsetAhead(P, pin, glideAhead, f, 34)
     f[3] += s0 * f[34]
     f[4] += s1 * f[35]
     f[5] += s2 * f[36]
@@ -242,7 +224,7 @@ function fitRigid(state: ClothWorldState, c: ClothState, eid: number, out: Float
   for (const pin of c.pins.list) {
     if (P.target[pin] !== eid) continue
     const i = 3 * P.particle[pin]
-    pinOffset(P, pin, f, 34)
+    pinOffsetAhead(P, pin, glideAhead, f, 34)
     const ax = s0 * f[34] - f[3], ay = s1 * f[35] - f[4], az = s2 * f[36] - f[5]
     const bx = rest[i] - f[6], by = rest[i + 1] - f[7], bz = rest[i + 2] - f[8]
     f[9] += ax * bx

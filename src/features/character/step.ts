@@ -10,7 +10,7 @@ import {
   predictInFrame,
   releaseLimitHolds,
 } from '../../kernels/motion'
-import { K_DROPPED, K_SINCE_SAMPLE, nearLastSample, readPoseInto } from '../../world/kinematics'
+import { K_DROPPED, K_SINCE_SAMPLE, jumpTest, landsBeyond, readPoseInto } from '../../world/kinematics'
 import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -93,17 +93,15 @@ export function markFrameTeleports(state: ClothWorldState): void {
     const slot = jumpSlot(ch), o = 7 * slot
     if (slot < 0) continue
     readPoseInto(state, slot === ch.frameSlot ? ch.frame : boneAt(ch, slot), pose)
-    const ex = pose[0] - k.sampleTo[o] - (k.stepTo[o] - k.stepFrom[o]) * ratio
-    const ey = pose[1] - k.sampleTo[o + 1] - (k.stepTo[o + 1] - k.stepFrom[o + 1]) * ratio
-    const ez = pose[2] - k.sampleTo[o + 2] - (k.stepTo[o + 2] - k.stepFrom[o + 2]) * ratio
-    const limit = ch.settings[S_TELEPORT_DISTANCE], angle = ch.settings[S_TELEPORT_ANGLE]
-    // the rotation too: the last step's turn, scaled to the span, after the last sample
+    // the cloth's own distance, tested as `sampleFrame` tests the world's
+    jumpTest[0] = ratio
+    jumpTest[1] = ch.settings[S_TELEPORT_DISTANCE] * ch.settings[S_TELEPORT_DISTANCE]
+    const moved = landsBeyond(k, o, pose, jumpTest)
+    // the rotation too: the last step's turn, scaled to the span, after the last sample (not also
+    // against the last sample, as the distance is: a turn wraps round, and a steady turn through a
+    // hitch snapped 180° came out at 0.9 rad)
+    const angle = ch.settings[S_TELEPORT_ANGLE]
     predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, ratio, turn)
-    // a jump lands beyond the limit both from where the motion would have taken the frame and from
-    // where it was (as `sampleFrame` tests it: stopped dead from above the limit per frame, it was
-    // taken to jump at every frame after). (A turn since the last sample is not tested so: it wraps
-    // round, and a steady turn through a hitch snapped 180° came out at 0.9 rad.)
-    const moved = ex * ex + ey * ey + ez * ez > limit * limit && !nearLastSample(k.sampleTo, o, pose, limit * limit)
     let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
     if (dot < 0) dot = -dot
     const turned = 2 * Math.acos(dot > 1 ? 1 : dot) > angle

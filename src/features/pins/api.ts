@@ -18,6 +18,7 @@ import { trackEntity, untrackEntity } from '../../world/kinematics'
 import { carryFrozen, listLoosePieces } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
+import { pinOffsetAhead } from './step'
 import { wakeClothState } from '../../world/wake'
 import { touchLayout } from '../../core/shared'
 
@@ -33,6 +34,8 @@ export interface PinOptions {
 const PIN_KEYS = keysOf<PinOptions>({ blendTime: true })
 
 const tmp = new Float64Array(16)
+/** `pinOffsetAhead`'s time ahead: the glides' state now. */
+const NOW = new Float64Array(1)
 const _IDENTITY = [0, 0, 0, 1]
 
 /**
@@ -216,15 +219,9 @@ export function glideThawingPins(state: ClothWorldState, c: ClothState, poses: F
     const i = 3 * P.particle[pin]
     toLocal(state, slot, poses, 7 * slot, c.pos[i], c.pos[i + 1], c.pos[i + 2], tmp, 0, scales)
     // where the pin holds it now, in the target's frame (mid-glide: where the glide has got to)
-    let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
-    if (P.blendLeft[pin] > 0) {
-      const u = 1 - P.blendLeft[pin] / P.blendTime[pin], s = u * u * (3 - 2 * u), b = 3 * pin
-      lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * s
-      ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * s
-      lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * s
-    }
+    pinOffsetAhead(P, pin, NOW, tmp, 3)
     const so = 3 * slot
-    const off = Math.hypot((tmp[0] - lx) * scales[so], (tmp[1] - ly) * scales[so + 1], (tmp[2] - lz) * scales[so + 2])
+    const off = Math.hypot((tmp[0] - tmp[3]) * scales[so], (tmp[1] - tmp[4]) * scales[so + 1], (tmp[2] - tmp[5]) * scales[so + 2])
     if (!(off > 1e-4)) continue
     P.blendFrom[3 * pin] = tmp[0]
     P.blendFrom[3 * pin + 1] = tmp[1]

@@ -9,6 +9,31 @@ const pose = new Float64Array(7)
 const scale = new Float64Array(3)
 
 /**
+ * A pin's offset in its target's frame into out[o..o+2], `ahead[0]` seconds after its glide's state
+ * now (`blendTime`: smoothstep from `blendFrom` to its offset, as `placePins` glides it); −1: its
+ * end offset. (Seconds in an array: a double passed to a call is boxed.)
+ */
+export function pinOffsetAhead(
+  P: ClothWorldState['components']['Pin'],
+  pin: number,
+  ahead: Float64Array,
+  out: Float64Array,
+  o: number,
+): void {
+  let lx = P.ox[pin], ly = P.oy[pin], lz = P.oz[pin]
+  const left = P.blendLeft[pin] - ahead[0]
+  if (ahead[0] >= 0 && left > 0) {
+    const u = 1 - left / P.blendTime[pin], s = u * u * (3 - 2 * u), b = 3 * pin
+    lx = P.blendFrom[b] + (lx - P.blendFrom[b]) * s
+    ly = P.blendFrom[b + 1] + (ly - P.blendFrom[b + 1]) * s
+    lz = P.blendFrom[b + 2] + (lz - P.blendFrom[b + 2]) * s
+  }
+  out[o] = lx
+  out[o + 1] = ly
+  out[o + 2] = lz
+}
+
+/**
  * Whether every anchor of the cloth's tethers follows one and the same thing, so that they keep
  * their rest distances from each other: all its pins on one target (or all on the world), and the
  * particles its motion constraints hold (max distance 0) on the same frame without a skin.
