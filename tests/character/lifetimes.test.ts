@@ -11,6 +11,7 @@ import {
   getClothState,
   getClothStretch,
   installClothPlugin,
+  pinParticle,
   pinRow,
   setClothBudget,
   setClothInertia,
@@ -333,4 +334,38 @@ describe('a constrained cape whose character is removed while it runs', () => {
       }
     })
   }
+})
+
+describe('an awning with world-space limits (frame null) pinned to two poles, one removed', () => {
+  // Its frame is the world by choice: the pole that went was never its frame, so its limits stay
+  // (they were lifted with the pole, and the awning fell 2.08 m in 1 s).
+  it('keeps its motion constraints: every particle within its max distance of where it lay', () => {
+    const world = installClothPlugin(createWorld(), { sleep: false })
+    const poleA = addEntity(world), poleB = addEntity(world)
+    setTransform(world, poleA, [-0.5, 2, 0])
+    setTransform(world, poleB, [0.5, 2, 0])
+    const cloth = createCloth(world, {
+      width: 1,
+      height: 1,
+      resolution: 8,
+      position: [0, 2, 0],
+      rotation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+    })
+    const c = getClothState(world, cloth)
+    const rest = c.pos.slice(0, 3 * c.count)
+    for (let i = 0; i < 8; i++) pinParticle(world, cloth, i, i < 4 ? poleA : poleB)
+    setClothInertia(world, cloth, { frame: null })
+    setClothMotionConstraints(world, cloth, { maxDistance: 0.05 })
+    for (let f = 0; f < 30; f++) stepCloth(world, DT)
+    removeEntity(world, poleA)
+    expect(getClothReference(world, cloth)).not.toBeNull()
+    for (let f = 0; f < 60; f++) stepCloth(world, DT)
+    let worst = 0
+    for (let i = 0; i < c.count; i++)
+      worst = Math.max(
+        worst,
+        Math.hypot(c.pos[3 * i] - rest[3 * i], c.pos[3 * i + 1] - rest[3 * i + 1], c.pos[3 * i + 2] - rest[3 * i + 2]),
+      )
+    expect(worst).toBeLessThan(0.05 + 2e-3)
+  })
 })

@@ -6,7 +6,17 @@
 // x − x₀ − v·span lost it to rounding: every frame after was a jump, 2,654 % stretch).
 import { addEntity } from 'bitecs'
 import { describe, expect, it } from 'vitest'
-import { getClothState, getClothStats, getClothStretch, pinRow, setClothInertia, setTransform, stepCloth } from '../../src/index'
+import {
+  addSphereCollider,
+  createCloth,
+  getClothState,
+  getClothStats,
+  getClothStretch,
+  pinRow,
+  setClothInertia,
+  setTransform,
+  stepCloth,
+} from '../../src/index'
 import { capeBehind, yawQuat } from '../character/scenes'
 import { makeWorld } from '../helpers'
 
@@ -98,4 +108,84 @@ describe('a jump that turns its entity', () => {
       expect(Math.abs(turned.pinned[2])).toBeLessThan(1e-6)
     })
   }
+})
+
+describe('a start at full speed', () => {
+  // An entity standing still that moves on at more than the teleport distance per frame: its first
+  // frame is a jump (nothing tells it from a teleport), the frames after repeat that leap and are
+  // motion at that speed. Measured against the velocity the jump kept (0), every frame was a jump:
+  // a cape on a 150 m/s dash was carried rigidly throughout (hem at 0 m/s), a ball thrown at
+  // 150 m/s passed through a sheet unswept.
+  /** A cape on a hero standing 30 frames, dashing along +z at `speed` (reached over `ramp` frames) for 30, then stopping dead. */
+  const dash = (speed: number, ramp: number, teleport?: number) => {
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0], yawQuat(Math.PI))
+    const cape = capeBehind(world, [8, 12], 2)
+    pinRow(world, cape, 0, hero)
+    if (teleport !== undefined) setClothInertia(world, cape, { teleport: { distance: teleport } })
+    const c = getClothState(world, cape)
+    const hem = c.count - 4
+    let z = 0, teleports = 0, hemVz = 0
+    for (let f = 1; f <= 60; f++) {
+      if (f > 30) z += speed * Math.min((f - 30) / ramp, 1) * DT
+      setTransform(world, hero, [0, 1.6, z], yawQuat(Math.PI))
+      const t0 = getClothStats(world).teleports
+      stepCloth(world, DT)
+      if (f > 30) teleports += getClothStats(world).teleports - t0
+    }
+    hemVz = c.vel[3 * hem + 2]
+    return { teleports, hemVz }
+  }
+
+  it('is one jump, then motion: a 150 m/s dash (world distance) and a 40 m/s one (a cloth distance of 0.5 m)', () => {
+    for (const [speed, teleport] of [[150, undefined], [40, 0.5]] as const) {
+      const instant = dash(speed, 1, teleport), ramped = dash(speed, 4, teleport)
+      expect(instant.teleports).toBe(1) // measured before: 30 of 30 frames
+      expect(ramped.teleports).toBe(0)
+      // the cape runs with its hero by the dash's end (before: 0 m/s, carried rigidly)
+      expect(instant.hemVz).toBeGreaterThan(0.8 * speed)
+      expect(Math.abs(instant.hemVz - ramped.hemVz)).toBeLessThan(0.25 * ramped.hemVz) // 40 m/s: 36.9 against 43.2
+    }
+  })
+
+  it('a ball thrown at 150 m/s sweeps through a hanging sheet as one reaching it over 4 frames does', () => {
+    const shot = (ramp: number) => {
+      const world = makeWorld({ sleep: false })
+      const sheet = createCloth(world, { width: 2, height: 2, resolution: 20, position: [0, 1, 0] })
+      pinRow(world, sheet, 0)
+      const ball = addEntity(world)
+      let z = -150 * DT * 8 + 0.3
+      setTransform(world, ball, [0, 0.5, z])
+      addSphereCollider(world, ball, { radius: 0.3 })
+      const c = getClothState(world, sheet)
+      let pushed = 0
+      for (let f = 1; f <= 20; f++) {
+        z += 150 * Math.min(f / ramp, 1) * DT
+        setTransform(world, ball, [0, 0.5, z])
+        stepCloth(world, DT)
+        for (let i = 0; i < c.count; i++) pushed = Math.max(pushed, c.pos[3 * i + 2])
+      }
+      return pushed
+    }
+    const instant = shot(1), ramped = shot(4)
+    expect(ramped).toBeGreaterThan(1) // measured 4.3 m
+    expect(instant).toBeGreaterThan(0.5 * ramped) // measured 5.6 m (before: 0, it passed through)
+  })
+
+  it('a teleport repeated at the next frame faster than the world speed limit is a second jump', () => {
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0], yawQuat(Math.PI))
+    const cape = capeBehind(world, [8, 12], 2)
+    pinRow(world, cape, 0, hero)
+    for (let f = 0; f < 30; f++) stepCloth(world, DT)
+    const t0 = getClothStats(world).teleports
+    for (const z of [10, 20]) {
+      setTransform(world, hero, [0, 1.6, z], yawQuat(Math.PI)) // 600 m/s, over the 250 m/s limit
+      stepCloth(world, DT)
+    }
+    expect(getClothStats(world).teleports - t0).toBe(2)
+    expect(getClothStretch(world, cape).max).toBeLessThan(0.05)
+  })
 })

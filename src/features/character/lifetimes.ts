@@ -71,7 +71,8 @@ function pinGone(state: ClothWorldState, pin: number): void {
   dropPinFrame(state, pin)
   const c = state.components.Cloth.state[P.cloth[pin]]
   const ch = c?.character
-  if (going && ch && ch.skin === null && ch.frame === 0) liftMotionConstraints(state, c)
+  // (a frame that is the world by choice, `frame: null`, was never the entity that went)
+  if (going && ch && ch.skin === null && ch.frame === 0 && ch.settings[S_FRAME_EXPLICIT] === 0) liftMotionConstraints(state, c)
 }
 
 /** The frame's pose now (10 values), then its turn (4): scratch of `keepBonePoses`. */

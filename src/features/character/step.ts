@@ -12,7 +12,7 @@ import {
 } from '../../kernels/motion'
 import { K_DROPPED, K_SINCE_SAMPLE, jumpTest, landsBeyond, readPoseInto } from '../../world/kinematics'
 import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
-import type { ClothState, ClothWorldState } from '../../world/state'
+import type { ClothState, ClothWorldState, Kinematics } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import { beginFrameStep, frameSubstep } from './frame'
 import { followPinGlides } from './frames'
@@ -38,6 +38,7 @@ import {
   W_RESUME,
   W_W,
   type ClothCharacter,
+  type ClothSkin,
 } from './types'
 
 /** Pose and quaternion scratch of the teleport test. */
@@ -96,6 +97,7 @@ export function markFrameTeleports(state: ClothWorldState): void {
     // the cloth's own distance, tested as `sampleFrame` tests the world's
     jumpTest[0] = ratio
     jumpTest[1] = ch.settings[S_TELEPORT_DISTANCE] * ch.settings[S_TELEPORT_DISTANCE]
+    jumpTest[2] = (state.maxSpeed * state.fixedTimeStep * ratio) ** 2
     const moved = landsBeyond(k, o, pose, jumpTest)
     // the rotation too: the last step's turn, scaled to the span, after the last sample (not also
     // against the last sample, as the distance is: a turn wraps round, and a steady turn through a
@@ -105,10 +107,33 @@ export function markFrameTeleports(state: ClothWorldState): void {
     let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
     if (dot < 0) dot = -dot
     const turned = 2 * Math.acos(dot > 1 ? 1 : dot) > angle
-    if (!c.pins.skipTeleport && !moved && !turned) continue
-    k.forceJump[slot] = 1
     const skin = ch.skin
+    if (!c.pins.skipTeleport && !moved && !turned) {
+      if (skin !== null) markBoneLeaps(state, ch, skin, ratio, angle)
+      continue
+    }
+    k.forceJump[slot] = 1
     if (skin !== null) { for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0) k.forceJump[skin.slots[b]] = 1 }
+  }
+}
+
+/**
+ * A bone of a skinned cloth that lands beyond the cloth's teleport distance or angle on its own
+ * (posed a frame before or after its root around a teleport) is marked to jump like the frame:
+ * only such a sample lets `skinJumped` rest the limits (a bone swung fast against its frame is
+ * motion, and its cloth held to it: tested as motion, a strip at max distance 0 on an arm swinging
+ * at 4 m/s let go 0.42 m with a teleport distance of 5 cm).
+ */
+function markBoneLeaps(state: ClothWorldState, ch: ClothCharacter, skin: ClothSkin, ratio: number, angle: number): void {
+  const k = state.kinematics
+  for (let b = 0; b < skin.slots.length; b++) {
+    const bs = skin.slots[b], o = 7 * bs
+    if (bs < 0 || bs === ch.frameSlot) continue
+    readPoseInto(state, skin.bones[b], pose)
+    predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, ratio, turn)
+    let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
+    if (dot < 0) dot = -dot
+    if (landsBeyond(k, o, pose, jumpTest) || 2 * Math.acos(dot > 1 ? 1 : dot) > angle) k.forceJump[bs] = 1
   }
 }
 
@@ -187,7 +212,7 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const slot = jumpSlot(ch)
   const jumped = frameStart && slot >= 0 && k.jumped[slot] !== 0
   const teleported = jumped && k.jumped[slot] === 1 // (2: the carried motion of dropped time)
-  const skinJump = m[M_GAP] !== 1 && skinJumped(state, ch, slot)
+  const skinJump = m[M_GAP] !== 1 && frameStart && leapt(k, ch, slot) && skinJumped(state, ch, slot)
   ch.work[W_SKIN_JUMPED] = skinJump ? 1 : 0
   if (frameStart || m[M_GAP] === 1) resyncBones(state, ch, m[M_GAP] === 1)
   const gap = m[M_GAP] === 1
@@ -295,6 +320,15 @@ function skinJumped(state: ClothWorldState, ch: ClothCharacter, slot: number): b
     const w = Math.abs(s[40])
     if (2 * Math.acos(w > 1 ? 1 : w) > angle) return true
   }
+  return false
+}
+
+/** Whether the entity at `slot` or a bone of the cloth's skin was sampled as a jump this frame. */
+function leapt(k: Kinematics, ch: ClothCharacter, slot: number): boolean {
+  if (slot >= 0 && k.jumped[slot] !== 0) return true
+  const skin = ch.skin
+  if (skin === null) return false
+  for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0 && k.jumped[skin.slots[b]] !== 0) return true
   return false
 }
 
