@@ -262,7 +262,8 @@ export function sampleFrame(state: ClothWorldState): void {
   const ratio = (simulated + dropped) / state.fixedTimeStep, simRatio = simulated / state.fixedTimeStep
   jumpTest[0] = ratio
   jumpTest[1] = state.teleportDistance * state.teleportDistance
-  jumpTest[2] = (state.maxSpeed * state.fixedTimeStep * ratio) ** 2
+  const reach = state.maxSpeed * state.fixedTimeStep * ratio
+  jumpTest[2] = reach * reach // (not `** 2`: that call boxed its result)
   const carry = dropped / (simulated + dropped) // (0 when nothing was dropped)
   // every transform is checked before any is taken: a rejected one leaves the sample untouched
   for (let slot = 0; slot < k.count; slot++) {
@@ -274,10 +275,9 @@ export function sampleFrame(state: ClothWorldState): void {
   k.time[K_DROPPED] = 0
   for (let slot = 0; slot < k.count; slot++) {
     const eid = k.eid[slot]
-    if (eid < 0) {
-      k.jumped[slot] = 0
-      continue
-    }
+    jumpTest[3] = k.jumped[slot] // (its last frame's, for `landsBeyond`)
+    k.jumped[slot] = 0
+    if (eid < 0) continue
     readPoseInto(state, eid, pose)
     const so = 3 * slot
     k.scaleSampleFrom[so] = k.scaleSampleTo[so]
@@ -285,9 +285,7 @@ export function sampleFrame(state: ClothWorldState): void {
     k.scaleSampleFrom[so + 2] = k.scaleSampleTo[so + 2]
     readScaleInto(state, eid, k.scaleSampleTo, so, true)
     const o = 7 * slot
-    const leaps = k.forceJump[slot] === 1 || landsBeyond(k, o, pose, jumpTest) // (reads the last frame's `jumped`)
-    k.jumped[slot] = 0
-    if (leaps) {
+    if (k.forceJump[slot] === 1 || landsBeyond(k, o, pose, jumpTest)) {
       k.forceJump[slot] = 0
       k.jumped[slot] = 1
       turned[3] = simRatio // (a double passed to a call is boxed)
@@ -363,13 +361,12 @@ export function landsBeyond(k: Kinematics, o: number, p: Float64Array, t: Float6
   if (!(jx * jx + jy * jy + jz * jz > limit2)) return false
   const dx = p[0] - k.sampleTo[o], dy = p[1] - k.sampleTo[o + 1], dz = p[2] - k.sampleTo[o + 2]
   if (!(dx * dx + dy * dy + dz * dz > limit2)) return false
-  const slot = (o / 7) | 0
-  if (k.jumped[slot] !== 1) return true
+  if (t[3] !== 1) return true
   // the last frame was a jump: its leap again (sampleTo − sampleFrom is the velocity it kept, plus
   // the jump's translation), no faster than the world's speed limit, is motion at that speed. A
   // start at full speed is a jump once (a standing cape was carried rigidly at every frame of a
   // 150 m/s dash, and a ball thrown at 150 m/s passed through a sheet unswept)
-  const j = 10 * slot
+  const j = 10 * ((o / 7) | 0)
   const lx = k.sampleTo[o] - k.sampleFrom[o] + k.jump[j + 7]
   const ly = k.sampleTo[o + 1] - k.sampleFrom[o + 1] + k.jump[j + 8]
   const lz = k.sampleTo[o + 2] - k.sampleFrom[o + 2] + k.jump[j + 9]
@@ -378,10 +375,11 @@ export function landsBeyond(k: Kinematics, o: number, p: Float64Array, t: Float6
 }
 
 /**
- * `landsBeyond`'s span (steps), squared distance and squared speed limit over the span (the world's
- * `maxSpeed`), in an array: doubles passed to a call are boxed.
+ * `landsBeyond`'s span (steps), squared distance, squared speed limit over the span (the world's
+ * `maxSpeed`) and whether the entity's last frame sample was a jump (1), in an array: doubles
+ * passed to a call are boxed.
  */
-export const jumpTest = new Float64Array(3)
+export const jumpTest = new Float64Array(4)
 
 /** A jump that carries the dropped time's share of the motion (`Kinematics.jumped`); 1 is a teleport. */
 export const K_CARRIED = 2

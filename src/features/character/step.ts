@@ -50,7 +50,8 @@ const turn = new Float64Array(4)
  * turn from `from` to `to` (its last step), scaled by `ratio` about the same axis, after `at` (all
  * unit quaternions at offset o), into out[0..3].
  */
-function predictTurn(to: Float64Array, from: Float64Array, at: Float64Array, o: number, ratio: number, out: Float64Array): void {
+function predictTurn(to: Float64Array, from: Float64Array, at: Float64Array, o: number, out: Float64Array): void {
+  const ratio = jumpTest[0] // (the span, in `jumpTest` as the teleport test reads it: a double passed to a call is boxed)
   relativeRotationAt(to, o, from, o, out, 0)
   let x = out[0], y = out[1], z = out[2], w = out[3]
   if (w < 0) {
@@ -87,6 +88,8 @@ export function markFrameTeleports(state: ClothWorldState): void {
   const cloths = state.cloths
   // (the frame's whole span: dropped time too, as `sampleFrame` takes it)
   const ratio = (k.framed ? k.time[K_SINCE_SAMPLE] + k.time[K_DROPPED] : state.fixedTimeStep) / state.fixedTimeStep
+  const reach = state.maxSpeed * state.fixedTimeStep * ratio
+  jumpTest[2] = reach * reach
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const ch = c.character
@@ -97,19 +100,19 @@ export function markFrameTeleports(state: ClothWorldState): void {
     // the cloth's own distance, tested as `sampleFrame` tests the world's
     jumpTest[0] = ratio
     jumpTest[1] = ch.settings[S_TELEPORT_DISTANCE] * ch.settings[S_TELEPORT_DISTANCE]
-    jumpTest[2] = (state.maxSpeed * state.fixedTimeStep * ratio) ** 2
+    jumpTest[3] = k.jumped[slot]
     const moved = landsBeyond(k, o, pose, jumpTest)
     // the rotation too: the last step's turn, scaled to the span, after the last sample (not also
     // against the last sample, as the distance is: a turn wraps round, and a steady turn through a
     // hitch snapped 180° came out at 0.9 rad)
     const angle = ch.settings[S_TELEPORT_ANGLE]
-    predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, ratio, turn)
+    predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, turn)
     let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
     if (dot < 0) dot = -dot
     const turned = 2 * Math.acos(dot > 1 ? 1 : dot) > angle
     const skin = ch.skin
     if (!c.pins.skipTeleport && !moved && !turned) {
-      if (skin !== null) markBoneLeaps(state, ch, skin, ratio, angle)
+      if (skin !== null) markBoneLeaps(state, ch, skin)
       continue
     }
     k.forceJump[slot] = 1
@@ -124,13 +127,17 @@ export function markFrameTeleports(state: ClothWorldState): void {
  * motion, and its cloth held to it: tested as motion, a strip at max distance 0 on an arm swinging
  * at 4 m/s let go 0.42 m with a teleport distance of 5 cm).
  */
-function markBoneLeaps(state: ClothWorldState, ch: ClothCharacter, skin: ClothSkin, ratio: number, angle: number): void {
+function markBoneLeaps(state: ClothWorldState, ch: ClothCharacter, skin: ClothSkin): void {
   const k = state.kinematics
+  // (the span and the cloth's distance as `markFrameTeleports` left them in `jumpTest`: doubles
+  // passed to a call are boxed)
+  const angle = ch.settings[S_TELEPORT_ANGLE]
   for (let b = 0; b < skin.slots.length; b++) {
     const bs = skin.slots[b], o = 7 * bs
     if (bs < 0 || bs === ch.frameSlot) continue
     readPoseInto(state, skin.bones[b], pose)
-    predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, ratio, turn)
+    jumpTest[3] = k.jumped[bs]
+    predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, turn)
     let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
     if (dot < 0) dot = -dot
     if (landsBeyond(k, o, pose, jumpTest) || 2 * Math.acos(dot > 1 ? 1 : dot) > angle) k.forceJump[bs] = 1
@@ -212,7 +219,9 @@ export function beginCharacterStep(state: ClothWorldState, c: ClothState, frameS
   const slot = jumpSlot(ch)
   const jumped = frameStart && slot >= 0 && k.jumped[slot] !== 0
   const teleported = jumped && k.jumped[slot] === 1 // (2: the carried motion of dropped time)
-  const skinJump = m[M_GAP] !== 1 && frameStart && leapt(k, ch, slot) && skinJumped(state, ch, slot)
+  // (the bone test runs every step, hot: run only around a leap, its first run was interpreted
+  // code, which boxes its doubles)
+  const skinJump = m[M_GAP] !== 1 && skinJumped(state, ch, slot) && frameStart && leapt(k, ch, slot)
   ch.work[W_SKIN_JUMPED] = skinJump ? 1 : 0
   if (frameStart || m[M_GAP] === 1) resyncBones(state, ch, m[M_GAP] === 1)
   const gap = m[M_GAP] === 1
