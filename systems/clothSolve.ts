@@ -2,11 +2,13 @@ import { solveLineBending } from '../src/kernels/bending'
 import { solveDihedrals } from '../src/kernels/dihedral'
 import { solveCompression, solveDistances, solveDistancesXpbd, spreadInverseMasses } from '../src/kernels/distance'
 import { solveTethers } from '../src/kernels/tether'
+import { solveLines } from '../src/kernels/lines'
 import { solveGrabs } from '../src/kernels/grab'
 import { beginGrabSubstep, endGrabSubstep } from '../src/features/grab/step'
 import { anchorsMoveTogether } from '../src/features/pins/step'
 import { getClothWorld } from '../src/world/access'
 import type { ClothState, ClothWorldState } from '../src/world/state'
+import type { ClothLines } from '../src/model/lines'
 
 /**
  * Solve phase, every substep: Gauss-Seidel sweeps over each cloth's constraints, `iterations`
@@ -16,6 +18,9 @@ import type { ClothState, ClothWorldState } from '../src/world/state'
  * diagonals. Tethers run once, after the last sweep: they are one-sided limits
  * whose job is that no particle ends the substep beyond its long-range distance; within the
  * sweeps the distance constraints already carry the load, so repeating them there buys nothing.
+ * With `lineSolve`, the edges that form lines (rows and columns) are solved a line at a time
+ * (`src/kernels/lines.ts`) in place of their place in the distance sweep, after the other distance
+ * constraints of the iteration.
  */
 export function clothSolve<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -37,6 +42,12 @@ export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
   // the distance loops read inverse masses at position offsets; masses change only between
   // steps (pins, unpins, tears, restores), so one copy per step keeps them current
   if (c.subIndex === 0) spreadInverseMasses(c.invMass, c.invMass3, c.count)
+  // lines of edges solved at once (`lineSolve`; not on a tearable cloth: a tear splits particles)
+  const lines = c.tear === null ? c.lines : null
+  if (accumulate && lines !== null) {
+    lines.lambda.fill(0)
+    lines.sweepLambda.fill(0)
+  }
   if (accumulate) {
     // the live constraints only (a tearable cloth reserves room for more)
     c.distLambda.fill(0, 0, t.distCount)
@@ -57,7 +68,8 @@ export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
     if (t.hingeCount > 0) {
       solveDihedrals(c.pos, c.invMass, t.hingeIds, t.hingeRest, t.hingeCompliance, hingeLambda, t.hingeSide, p, 0, t.hingeCount)
     }
-    if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, p, 0, t.distCount)
+    if (lines !== null) solveLinesAndSweep(c, lines, accumulate)
+    else if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, c.distLambda, p, 0, t.distCount)
     else solveDistances(c.pos, c.invMass3, t.distOffsets, t.distRest, t.distCompliance, p, 0, t.distCount)
     if (t.compCount > 0) {
       solveCompression(c.pos, c.invMass, t.compIds, t.compRest, t.compCompliance, compLambda, p, 0, t.compCount)
@@ -72,4 +84,12 @@ export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
   stats.lineProjections += t.lineCount * c.iterations
   stats.distanceProjections += (t.distCount + t.compCount) * c.iterations
   stats.tetherProjections += tethers.count
+}
+
+/** One iteration's distance constraints with `lineSolve`: those in no line swept, then each line at once. */
+function solveLinesAndSweep(c: ClothState, L: ClothLines, accumulate: boolean): void {
+  const p = c.params
+  if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, L.sweepLambda, p, 0, L.sweepCount)
+  else solveDistances(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, p, 0, L.sweepCount)
+  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, p, L.count, accumulate ? L.lambda : null, L.n, L.cc, L.dd)
 }

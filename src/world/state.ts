@@ -5,6 +5,7 @@ import type { WindZoneStore } from '../../components/WindZone'
 import type { TearableStore } from '../../components/Tearable'
 import type { ClothMaterialSpec } from '../model/materials'
 import type { TetherMode, TetherSet } from '../model/tethers'
+import type { ClothLines } from '../model/lines'
 import type { ClothTopology } from '../model/topology'
 import type { ClothPins } from '../features/pins/types'
 import type { ClothGrabs, GrabWorld } from '../features/grab/types'
@@ -284,6 +285,11 @@ export interface ClothState {
   compLambda: Float64Array
   lineLambda: Float64Array
   hingeLambda: Float64Array
+  /**
+   * Lines of structural edges solved directly each substep (the option `lineSolve`), or null. Not
+   * used while the cloth is tearable (a tear would leave a line joining what it split).
+   */
+  lines: ClothLines | null
   /** Bumped at the end of every step (and by anything that moves the particles); the render mesh follows it. */
   version: number
 
