@@ -46,6 +46,7 @@ import { checkPins, restorePinEntities, restorePins, savePins, type PinsSnapshot
 import { checkGrabs, restoreGrabs, saveGrabs, type GrabSnapshot } from './features/grab/snapshot'
 import { checkWind, restoreWind, saveWind, type WindSnapshot } from './features/wind/snapshot'
 import { checkCollision, restoreCollision, saveCollision, type CollisionSnapshot } from './features/collision/snapshot'
+import { B_REFRESH } from './features/collision/types'
 import { checkBudget, restoreBudget, saveBudget, type BudgetSnapshot } from './features/budget/snapshot'
 import { checkSleep, restoreSleep, saveSleep, type SleepSnapshot } from './features/sleep/snapshot'
 import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './features/guard/snapshot'
@@ -201,6 +202,7 @@ function restoreChecked(world: object, state: ClothWorldState, c: ClothState, s:
   restoreCharacter(state, c, s) // (before the budget: a frozen cloth may be carried by its frame or bone)
   restoreBudget(state, c, s)
   restoreSleep(state, c, s)
+  c.collision.bounds[B_REFRESH] = 1 // (an idle cloth's collision bounds and hash are made again from the restored positions)
   restoreGuard(c, s)
   restoreTearing(state, c, s)
   c.version++

@@ -1,6 +1,6 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import { clothLayersMatch } from './reach'
-import { B_MAX_DEV, B_MEAN_V, type CollisionWorld, type SelfCollisionState, type SelfSweep } from './types'
+import { B_MAX_DEV, B_MEAN_V, B_REFRESH, type CollisionWorld, type SelfCollisionState, type SelfSweep } from './types'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkKeys, checkNonNegative, checkPositive, keysOf } from '../../core/errors'
 import {
   S_DIST,
@@ -189,7 +189,9 @@ export function buildSelfCollisionPairs(state: ClothWorldState): void {
   const group = cw.selfCloths
   for (let a = 0; a < group.length; a++) {
     const c = group[a]
-    if (c.idle) continue // keeps its last hash (it has not moved since)
+    const refresh = c.collision.bounds
+    if (c.idle && refresh[B_REFRESH] === 0) continue // keeps its last hash (it has not moved since)
+    refresh[B_REFRESH] = 0
     const st = c.collision.self!
     const D = st.thickness
     const dt = c.h * c.substeps // the cloth's step (longer when it steps every n-th)

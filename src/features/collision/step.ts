@@ -7,7 +7,7 @@ import { grabTravel } from '../grab/step'
 import { fillColliderFrame, sweepColliderBounds, sweptAtRest } from './colliders'
 import { colliderLayersMatch, colliderReaches } from './reach'
 import { buildSelfCollisionPairs, solveSelfCollision } from './selfCollision'
-import { B_MAX_DEV, B_MEAN_V } from './types'
+import { B_MAX_DEV, B_MEAN_V, B_REFRESH } from './types'
 
 /**
  * Once per fixed step (the sync phase): each collider's bounds swept over the step, from its
@@ -50,7 +50,9 @@ export function beginClothCollision(state: ClothWorldState, c: ClothState): void
   const colliders = cw.colliders
   const cc = c.collision
   cc.activeCount = 0
-  if (c.idle) return
+  const b = cc.bounds
+  if (c.idle && b[B_REFRESH] === 0) return
+  if (cc.self === null) b[B_REFRESH] = 0 // (a self-colliding cloth's hash is built after: it clears it there)
   let candidates = false
   for (let k = 0; k < colliders.length; k++) {
     if (colliderLayersMatch(C, colliders[k], cc)) {
@@ -70,7 +72,6 @@ export function beginClothCollision(state: ClothWorldState, c: ClothState): void
   if (c.pins.list.length > 0) pinTravel(state, c, m, M_PIN_TRAVEL)
   if (c.grab.count > 0) grabTravel(c, m, M_PIN_TRAVEL) // (the larger of the two)
   const travel = 1.5 * (Math.sqrt(m[6]) * dt + gravity * dt * dt + m[M_PIN_TRAVEL]) + 0.01
-  const b = cc.bounds
   for (let a = 0; a < 3; a++) {
     b[a] = m[a] - travel
     b[3 + a] = m[3 + a] + travel

@@ -72,6 +72,14 @@ export interface ClothCollision {
 /** Slots of `ClothCollision.bounds` after the bounds (0-5). */
 export const B_MEAN_V = 6
 export const B_MAX_DEV = 9
+/**
+ * 1: an idle cloth (asleep, frozen) measures its bounds and builds its self-collision hash at its
+ * next step anyway, then keeps them. Set when it falls asleep (its velocities just zeroed) and when
+ * it is restored, so that a sleeper's bounds and hash come from its saved positions alone: kept from
+ * its last awake step, a cloth restored asleep into a fresh world had none, and a self-colliding
+ * neighbour went through it. (In the shared array: a worker reads it.)
+ */
+export const B_REFRESH = 10
 
 /** Self-collision state of one cloth (allocated when it is enabled, never in a step). */
 export interface SelfCollisionState {

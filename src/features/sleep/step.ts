@@ -12,6 +12,7 @@ import {
   planeUnchanged,
 } from '../collision/reach'
 import { windReaches } from '../wind/step'
+import { B_REFRESH } from '../collision/types'
 
 /**
  * Writeback phase, after a cloth's last substep: advances its stillness timer from the fastest
@@ -35,6 +36,7 @@ export function updateSleep(state: ClothWorldState, c: ClothState): void {
   s.asleep = true
   state.sleep.count++
   c.vel.fill(0, 0, 3 * c.count)
+  c.collision.bounds[B_REFRESH] = 1 // (its bounds and hash made again from where it sleeps)
   const g = state.gravity
   state.sleep.gravity[0] = g[0]
   state.sleep.gravity[1] = g[1]
@@ -102,11 +104,29 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
       if (o === c || o.sleep.asleep || o.budget.frozen) continue
       const cb = o.collision
       if (!clothLayersMatch(ca, cb)) continue
-      const ob = cb.bounds
-      const D = self.thickness + cb.self!.thickness
-      if (ob[0] > b[3] + D || b[0] > ob[3] + D || ob[1] > b[4] + D || b[1] > ob[4] + D || ob[2] > b[5] + D || b[2] > ob[5] + D) continue
-      return true
+      if (movesWithin(o, b, self.thickness + cb.self!.thickness, c.sleep.speed2)) return true
     }
   }
   return false
+}
+
+/** Scratch of `movesWithin`: a box (6). */
+const near = new Float64Array(6)
+
+/**
+ * Whether an awake self-colliding cloth moves (a particle faster than the sleeper's sleep speed)
+ * within `reach` of a sleeper's box. One still, like a napkin settled on a sleeping one, disturbs
+ * nothing: woken by any awake neighbour in reach, two settled napkins slept in turns, each waking
+ * the other, for good (every phase run, 100× the cost of both asleep). Read from the cloth's
+ * positions and velocities (saved by snapshots), not its collision bounds (made later in the step,
+ * and not saved: restored into a fresh world the test read zeros and a napkin stayed asleep).
+ */
+function movesWithin(o: ClothState, b: Float64Array, reach: number, speed2: number): boolean {
+  const v = o.vel
+  let fast = false
+  for (let i = 0; i < 3 * o.count && !fast; i += 3) fast = v[i] * v[i] + v[i + 1] * v[i + 1] + v[i + 2] * v[i + 2] > speed2
+  if (!fast) return false
+  particleBounds(o.pos, o.count, near, 0, o.topology.unused)
+  return !(near[0] > b[3] + reach || b[0] > near[3] + reach || near[1] > b[4] + reach || b[1] > near[4] + reach || near[2] > b[5] + reach ||
+    b[2] > near[5] + reach)
 }
