@@ -8,6 +8,7 @@ import {
   ClothError,
   type ClothMotionConstraints,
   createCloth,
+  createClothFromMesh,
   getClothReference,
   getClothState,
   getClothStats,
@@ -539,5 +540,68 @@ describe('setClothMotionConstraints input', () => {
     expectClothErrors(bad, (constraints) => setClothMotionConstraints(world, cape, constraints as never))
     expect(() => setClothMotionConstraints(world, cape, 5 as never)).toThrow(ClothError)
     expect(getClothState(world, cape).character).toBeNull()
+  })
+})
+
+describe("limits every n-th substep never run only at a step's last", () => {
+  // A skirt skinned to a hip and two thighs swinging ±40° at 1.5 Hz, walking at 1.4 m/s, with
+  // painted max distance and a backstop, 8 substeps. With `every: 8` the limits ran once a step,
+  // at its last substep: the whole step's drift taken back after the last solve, particle by
+  // particle, showed in every frame (median edge stretch 28 %, against 7 % at every substep). The
+  // step's last run now always has one before it.
+  const skirt = (every: number) => {
+    const world = makeWorld({ sleep: false })
+    const hip = addEntity(world), thighL = addEntity(world), thighR = addEntity(world)
+    const rows = 10, cols = 24, n = rows * cols
+    const positions: number[] = [], indices: number[] = []
+    for (let r = 0; r < rows; r++) {
+      const v = r / (rows - 1), rad = 0.17 + 0.28 * v, y = 1 - 0.55 * v
+      for (let k = 0; k < cols; k++) positions.push(rad * Math.sin((2 * Math.PI * k) / cols), y, rad * Math.cos((2 * Math.PI * k) / cols))
+    }
+    for (let r = 0; r + 1 < rows; r++) {
+      for (let k = 0; k < cols; k++) {
+        const a = r * cols + k, b = a + cols, d = r * cols + ((k + 1) % cols), e = d + cols
+        indices.push(a, b, d, d, b, e)
+      }
+    }
+    const pose = (t: number) => {
+      const swing = ((40 * Math.PI) / 180) * Math.sin(2 * Math.PI * 1.5 * t)
+      const hy = 1 + 0.03 * Math.abs(Math.sin(2 * Math.PI * 1.5 * t)), hz = 1.4 * t
+      setTransform(world, hip, [0, hy, hz])
+      setTransform(world, thighL, [0.09, hy - 0.06, hz], [Math.sin(-swing / 2), 0, 0, Math.cos(-swing / 2)])
+      setTransform(world, thighR, [-0.09, hy - 0.06, hz], [Math.sin(swing / 2), 0, 0, Math.cos(swing / 2)])
+    }
+    pose(0)
+    for (const thigh of [thighL, thighR]) {
+      addCapsuleCollider(world, addEntity(world), { body: thigh, offset: [0, -0.4, 0], radius: 0.07, halfHeight: 0.33 })
+    }
+    const cloth = createClothFromMesh(world, { positions, indices, material: 'cotton', substeps: 8 })
+    const joints: number[] = [], weights: number[] = [], maxDistance: number[] = []
+    for (let i = 0; i < n; i++) {
+      const v = Math.floor(i / cols) / (rows - 1)
+      const s = positions[3 * i] / Math.hypot(positions[3 * i], positions[3 * i + 2])
+      const wl = v * 0.5 * (1 + s), wr = v * 0.5 * (1 - s)
+      joints.push(0, 1, 2, 0)
+      weights.push(Math.max(0, 1 - wl - wr), wl, wr, 0)
+      maxDistance.push(0.25 * v * v)
+    }
+    setClothInertia(world, cloth, { frame: hip, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+    setClothSkinning(world, cloth, { bones: [hip, thighL, thighR], joints, weights })
+    setClothMotionConstraints(world, cloth, { maxDistance, backstop: { distance: 0.02, radius: 0.15 }, every })
+    const stretch: number[] = []
+    for (let f = 1; f <= 240; f++) {
+      pose(f / 60)
+      stepCloth(world, 1 / 60)
+      stretch.push(getClothStretch(world, cloth).max)
+    }
+    stretch.sort((a, b) => a - b)
+    return { median: stretch[120], p95: stretch[228] }
+  }
+
+  it('a walking skirt at every: 8 of 8 substeps stretches about as at every substep', () => {
+    const one = skirt(1), last = skirt(8)
+    console.log('skirt median / p95 edge stretch: every 1', one, 'every 8', last)
+    expect(last.median).toBeLessThan(1.5 * one.median) // measured before: 28 % against 7 %
+    expect(last.p95).toBeLessThan(1.5 * one.p95)
   })
 })

@@ -481,8 +481,20 @@ function limitsRun(c: ClothState, ch: ClothCharacter, k: number): boolean {
   if (ch.work[W_SKIN_JUMPED] === 1) return false
   if (ch.drive !== null) return true
   if (ch.work[W_LIMITED] === 0) return false
-  const every = ch.settings[S_EVERY]
+  const every = runEvery(c, ch)
   return every === 1 || (k + 1) % every === 0 || k === c.substeps - 1
+}
+
+/**
+ * The substeps between limit runs: `every`, but at most one less than the step's substeps, so that
+ * the step's last run is never its only one. Run once, at the last substep, the whole step's drift
+ * was taken back after the last solve, and the frame showed the particles put back one by one:
+ * a walking skirt's edges 28 % stretched at the median (80 % at worst), a cape knocked over 323 %,
+ * against 7–8 % and 54 % with a run one substep before it.
+ */
+function runEvery(c: ClothState, ch: ClothCharacter): number {
+  const every = ch.settings[S_EVERY]
+  return every < c.substeps ? every : c.substeps > 1 ? c.substeps - 1 : 1
 }
 
 /**
@@ -494,7 +506,7 @@ function limitsRun(c: ClothState, ch: ClothCharacter, k: number): boolean {
 export function writebackCharacter(c: ClothState): void {
   const ch = c.character!
   releaseLimitHolds(c.invMass, c.invMass3, ch.limitHeld)
-  const k = c.subIndex, every = ch.settings[S_EVERY]
+  const k = c.subIndex, every = runEvery(c, ch)
   if (!limitsRun(c, ch, k)) {
     updateVelocities(c.pos, c.prev, c.vel, c.params, c.count)
     return
