@@ -186,6 +186,10 @@ describe('skinned reference', () => {
     const rounded = weights.map((w) => (w === 1 ? 1.0005 : w))
     expect(rounded).toContain(1.0005)
     expect(() => setClothSkinning(world, cloth, { bones, joints, weights: rounded })).not.toThrow()
+    // and one a rounding below 0, as 1 − 0.75 − 0.25000000000000006 gives, is a weight of 0 (it was refused)
+    const below = weights.map((w) => (w === 0 ? 1 - 0.75 - 0.25000000000000006 : w))
+    expect(below).toContain(-5.551115123125783e-17)
+    expect(() => setClothSkinning(world, cloth, { bones, joints, weights: below })).not.toThrow()
   })
 
   it('a vertex no triangle uses may have no weights (as exports leave it); a used one may not', () => {

@@ -236,8 +236,9 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     let sum = 0
     for (let k = 4 * i; k < 4 * i + 4; k++) {
       const w = weights[k]
-      // (the sum's tolerance covers one weight a rounding above 1, as float32 exporters write them)
-      if (typeof w !== 'number' || !(w >= 0) || !(w <= 1 + 1e-3))
+      // (the sum's tolerance either side: one weight a rounding above 1, as float32 exporters write
+      // them, or a rounding below 0, as 1 − a − b gives: −5.55e-17 was refused)
+      if (typeof w !== 'number' || !(w >= -1e-3) || !(w <= 1 + 1e-3))
         throw new ClothError(`skinning.weights[${k}]`, w, 'must be a weight in [0, 1]')
       sum += w
     }
