@@ -46,7 +46,7 @@ function applyResolution(): void {
 }
 applyResolution()
 
-const settings: DemoSettings = { material: 'cotton', substeps: 8, iterations: 1, tethers: true }
+const settings: DemoSettings = { material: 'cotton', substeps: 8, iterations: 1, tethers: true, lineSolve: false }
 let world: object
 /** Whether `world` exists yet (a scene's world is disposed when the next scene loads: its workers exit). */
 let haveWorld = false
@@ -76,6 +76,7 @@ for (const m of Object.values(ClothMaterial)) materialSelect.add(new Option(m.na
 const substeps = $<HTMLInputElement>('substeps')
 const iterations = $<HTMLInputElement>('iterations')
 const tethers = $<HTMLInputElement>('tethers')
+const lineSolve = $<HTMLInputElement>('line-solve')
 const tintBox = $<HTMLInputElement>('tint')
 
 function showSettings(): void {
@@ -83,6 +84,7 @@ function showSettings(): void {
   substeps.value = String(settings.substeps)
   iterations.value = String(settings.iterations)
   tethers.checked = settings.tethers
+  lineSolve.checked = settings.lineSolve
   $('substeps-value').textContent = String(settings.substeps)
   $('iterations-value').textContent = String(settings.iterations)
   const locked = instance?.locked?.() ?? []
@@ -90,13 +92,14 @@ function showSettings(): void {
   substeps.disabled = locked.includes('substeps')
   iterations.disabled = locked.includes('iterations')
   tethers.disabled = locked.includes('tethers')
+  lineSolve.disabled = locked.includes('lineSolve')
 }
 
 function applySettings(): void {
   if (instance.applySettings) instance.applySettings(settings)
   else {
     for (const cloth of instance.cloths) {
-      setClothQuality(world, cloth, { substeps: settings.substeps, iterations: settings.iterations })
+      setClothQuality(world, cloth, { substeps: settings.substeps, iterations: settings.iterations, lineSolve: settings.lineSolve })
       setClothTethers(world, cloth, settings.tethers)
     }
   }
@@ -134,6 +137,11 @@ iterations.addEventListener('input', () =>
 tethers.addEventListener('change', () =>
   change(() => {
     settings.tethers = tethers.checked
+    applySettings()
+  }))
+lineSolve.addEventListener('change', () =>
+  change(() => {
+    settings.lineSolve = lineSolve.checked
     applySettings()
   }))
 tintBox.addEventListener('change', () => setTint(tintBox.checked))
@@ -318,7 +326,8 @@ function setTint(on: boolean): void {
 function loadScene(id: string, useDefaults = true): void {
   scene = scenes.find((s) => s.id === id) ?? scenes[0]
   sceneSelect.value = scene.id
-  if (useDefaults) Object.assign(settings, { material: 'cotton', substeps: 8, iterations: 1, tethers: true }, scene.defaults)
+  if (useDefaults)
+    Object.assign(settings, { material: 'cotton', substeps: 8, iterations: 1, tethers: true, lineSolve: false }, scene.defaults)
   for (const m of instance?.warmup ?? []) m.dispose() // the last scene's (its meshes' are disposed by clear)
   view.clear()
   clothViews.length = 0
@@ -348,6 +357,8 @@ function loadScene(id: string, useDefaults = true): void {
     camera: view.camera,
     reload: () => loadScene(scene.id, false),
   })
+  // (the scenes make their cloths with the panel's substeps, iterations and tethers; the line solve is switched on after)
+  if (settings.lineSolve && !instance.applySettings) { for (const c of instance.cloths) setClothQuality(world, c, { lineSolve: true }) }
   simTime = 0
   setTint(tint)
   warmUp([tintMaterial, ...(instance.warmup ?? [])])

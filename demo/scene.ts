@@ -7,6 +7,8 @@ export interface DemoSettings {
   substeps: number
   iterations: number
   tethers: boolean
+  /** Solve each row and column of edges at once (`lineSolve`). */
+  lineSolve: boolean
 }
 
 /** What a scene gets when it is built: a fresh world with the plugin installed. */

@@ -27,6 +27,7 @@ export {
   removeCloth,
   setClothQuality,
   setClothTethers,
+  type ClothQuality,
   type ClothOptions,
   type CreateClothOptions,
   type CreateClothFromMeshOptions,

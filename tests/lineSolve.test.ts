@@ -272,6 +272,7 @@ describe('lineSolve holds up', () => {
     const r = { predicted, sweep8x1: sag(false, 8, 1), sweep32x8: sag(false, 32, 8), lines8x1: sag(true, 8, 1), lines8x4: sag(true, 8, 4) }
     console.log('compliant sag (m):', r)
     expect(Math.abs(r.sweep32x8 / predicted - 1)).toBeLessThan(0.01) // the sweep, converged
+    expect(r.sweep8x1 / predicted - 1).toBeGreaterThan(0.05) // the sweep at 8 × 1: 16.2 mm, 10 % long
     expect(Math.abs(r.lines8x1 / predicted - 1)).toBeLessThan(0.01) // measured 14.714 against 14.715 mm
     expect(Math.abs(r.lines8x4 / predicted - 1)).toBeLessThan(0.01) // multipliers accumulated over iterations
   })

@@ -124,7 +124,8 @@ export const accuracyScene: DemoScene = {
         s.iterations = 1
       }
       for (const c of left) setClothQuality(world, c, { substeps: 1, iterations: 1 })
-      for (const c of right) setClothQuality(world, c, { substeps: s.substeps, iterations: s.iterations })
+      for (const c of left) setClothQuality(world, c, { lineSolve: false })
+      for (const c of right) setClothQuality(world, c, { substeps: s.substeps, iterations: s.iterations, lineSolve: s.lineSolve })
       for (const c of [...left, ...right]) setClothTethers(world, c, s.tethers)
     }
     apply(settings)

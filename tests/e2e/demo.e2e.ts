@@ -172,19 +172,21 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
 
   it('changing iterations changes the max-stretch readout', async () => {
     // top row pinned, tethers off, one substep: iterations alone decide how much the sheet stretches
-    const readout = async (iterations: number) => {
+    const readout = async (iterations: number, lines = false, substeps = 1) => {
       await open('sheet') // the scene afresh; the panel's settings then apply live
-      await page.evaluate((n) => {
+      await page.evaluate(([n, l, sub]) => {
         const set = (id: string, v: number) => {
           const el = document.getElementById(id) as HTMLInputElement
           el.value = String(v)
           el.dispatchEvent(new Event('input', { bubbles: true }))
         }
-        set('substeps', 1)
-        set('iterations', n)
+        set('substeps', sub as number)
+        set('iterations', n as number)
         const t = document.getElementById('tethers') as HTMLInputElement
         if (t.checked) t.click()
-      }, iterations)
+        const ls = document.getElementById('line-solve') as HTMLInputElement
+        if (ls.checked !== l) ls.click()
+      }, [iterations, lines, substeps] as const)
       await page.evaluate(() => __demo.simulate(2))
       await page.waitForTimeout(400) // the overlay refreshes four times a second
       await frames(1)
@@ -197,6 +199,11 @@ describe.skipIf(!hasChromium)('demo in Chromium', () => {
     const one = await readout(1)
     const many = await readout(16)
     expect(one).toBeGreaterThan(3 * many)
+    // the panel's line solve: the sheet's rows and columns solved at once (4 substeps of one
+    // iteration: measured in Node 20 to 30 % max stretch without, 0.0 % with)
+    const swept = await readout(1, false, 4)
+    const lined = await readout(1, true, 4)
+    expect(swept).toBeGreaterThan(3 * lined)
     expect(errors).toEqual([])
   })
 
