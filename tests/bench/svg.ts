@@ -57,7 +57,7 @@ function marker(kind: Series['marker'], x: number, y: number, color: string): st
 /** Renders panels side by side into one SVG document. */
 export function scatterPanels(title: string, panels: Panel[], note = ''): string {
   const pw = 360, ph = 300, ml = 62, mr = 14, mt = 48, mb = 52
-  const width = Math.max(panels.length * (pw + ml + mr) + 20, 760) // room for the title and legend
+  const width = Math.max(panels.length * (pw + ml + mr) + 20, 900) // room for the title and legend
   const legendH = 26
   const height = mt + ph + mb + legendH + (note ? 18 : 0)
   const out: string[] = []
