@@ -47,6 +47,7 @@ import { checkGrabs, restoreGrabs, saveGrabs, type GrabSnapshot } from './featur
 import { checkWind, restoreWind, saveWind, type WindSnapshot } from './features/wind/snapshot'
 import { checkCollision, restoreCollision, saveCollision, type CollisionSnapshot } from './features/collision/snapshot'
 import { B_REFRESH } from './features/collision/types'
+import { buildLines } from './model/lines'
 import { checkBudget, restoreBudget, saveBudget, type BudgetSnapshot } from './features/budget/snapshot'
 import { checkSleep, restoreSleep, saveSleep, type SleepSnapshot } from './features/sleep/snapshot'
 import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './features/guard/snapshot'
@@ -81,7 +82,8 @@ export interface ClothSnapshot
   /**
    * substeps, iterations, h, damping, stretchDamping, useTethers, tetherSlack, tethersPerParticle,
    * tethersDirty (0; 1; 2: after a change of pins or settings), skipTeleport, then the pending hand
-   * move of `teleportCloth` (`ClothPins.hand`, 11 values; absent in older snapshots).
+   * move of `teleportCloth` (`ClothPins.hand`, 11 values; absent in older snapshots), then
+   * `lineSolve` (1/0; absent in older snapshots).
    */
   settings: Float64Array
   tetherMode: TetherMode
@@ -224,7 +226,7 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.vel = copyInto(s.vel, c.vel, 3 * n)
   s.invMass = copyInto(s.invMass, c.invMass, n)
   const ct = c.tethers
-  s.settings = fit64(s.settings, 10 + HAND)
+  s.settings = fit64(s.settings, 11 + HAND)
   s.settings[0] = c.substeps
   s.settings[1] = c.iterations
   s.settings[2] = c.h
@@ -237,6 +239,7 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.settings[8] = ct.dirty ? (ct.loosen ? 2 : 1) : 0
   s.settings[9] = c.pins.skipTeleport ? 1 : 0
   s.settings.set(c.pins.hand, 10)
+  s.settings[10 + HAND] = c.lines !== null ? 1 : 0
   s.tetherMode = ct.mode
   s.tethers = ct.set
   s.world = fit64(s.world, 6)
@@ -276,7 +279,7 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
     x.pos.length !== 3 * n || !(x.prev instanceof Float64Array) || x.prev.length !== 3 * n || !(x.vel instanceof Float64Array) ||
     x.vel.length !== 3 * n ||
     !(x.invMass instanceof Float64Array) || x.invMass.length !== n || !(x.settings instanceof Float64Array) ||
-    (x.settings.length !== 10 && x.settings.length !== 10 + HAND) ||
+    (x.settings.length !== 10 && x.settings.length !== 10 + HAND && x.settings.length !== 11 + HAND) ||
     !(x.world instanceof Float64Array) || (x.world.length !== 5 && x.world.length !== 6)
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
@@ -308,6 +311,9 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
       v,
       'must be the settings saved by saveClothState (substeps and iterations 1…256, h in (0, 1e6] s, 1…16 tethers per particle, ...)',
     )
+  }
+  if (v.length > 10 + HAND && v[10 + HAND] !== 0 && v[10 + HAND] !== 1) {
+    throw new ClothError(`${arg}.settings`, v, 'holds a bad line solve switch (0 or 1)')
   }
   if (v.length > 10 && v[20] === 1) {
     const q = Math.hypot(v[13], v[14], v[15], v[16])
@@ -355,6 +361,11 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   c.pins.skipTeleport = s.settings[9] === 1
   if (s.settings.length > 10) c.pins.hand.set(s.settings.subarray(10, 10 + HAND))
   else c.pins.hand[10] = 0 // (an older snapshot: the hand move is not known, and stays)
+  if (s.settings.length > 10 + HAND && (s.settings[10 + HAND] === 1) !== (c.lines !== null)) {
+    // the line solve as saved (a setting like substeps; older snapshots: it stays as it is)
+    c.lines = s.settings[10 + HAND] === 1 ? buildLines(c.topology) : null
+    touchLayout()
+  }
   ct.mode = s.tetherMode
   if (ct.set !== s.tethers) touchLayout() // the cloth holds another tether set
   ct.set = s.tethers

@@ -13,11 +13,14 @@ import { P_INV_H2 } from './params'
  * than a sweep carries it). Exact for a straight line; for a bent one a Newton step, which converges
  * quadratically (a 10-link zigzag 8 % stretched: 1.4 % after one step, 2e-4 after two).
  *
- * Two-sided like the sweep's distance constraints. A pinned particle (inverse mass 0) decouples the
- * line at it; a row that cannot move at all (both ends pinned, rigid) gets no correction. An edge
- * of zero length has no direction: it gets none either (the sweep's own loop keeps it bounded).
- * Multipliers start at 0 (one step: nothing carries over), so a compliant edge solved here after
- * the sweep has solved it too is held somewhat stiffer than its compliance alone would give.
+ * Two-sided like the sweep's distance constraints. A pinned particle (inverse mass 0) splits the
+ * line into segments. A segment held at both ends is projected edge by edge instead, as the sweep
+ * does: along a straight line between two held particles its edges are one constraint more than
+ * its particles can meet (the pins fix its length), so the system is singular, and nearly so when
+ * it sags a little; solved directly, a row 1 % too long between two pins moved a particle 20 m,
+ * and such rows buzzed at metres per second for good. A row that cannot move at all gets no
+ * correction; an edge of zero length has no direction and gets none either. Multipliers start at
+ * the substep's accumulated `lambda` (null: at 0, one iteration).
  *
  * `n`, `cc`, `dd`: scratch of 3, 1 and 1 values per slot (slot k = the edge from ids[k] to ids[k+1]).
  */
@@ -35,55 +38,117 @@ export function solveLines(
   cc: Float64Array,
   dd: Float64Array,
 ): void {
-  const invH2 = params[P_INV_H2]
   for (let q = 0; q < lineCount; q++) {
-    const k0 = start[q], k1 = start[q + 1] - 1 // edges k0 .. k1 - 1
-    // edge directions and the right-hand side −C
-    for (let k = k0; k < k1; k++) {
-      const a = 3 * ids[k], b = 3 * ids[k + 1]
-      const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
-      const l = Math.sqrt(dx * dx + dy * dy + dz * dz)
-      const inv = l > 1e-12 ? 1 / l : 0
-      n[3 * k] = dx * inv
-      n[3 * k + 1] = dy * inv
-      n[3 * k + 2] = dz * inv
-      // −C − α̃λ (λ accumulated over the substep's iterations, or 0 with one)
-      dd[k] = (inv === 0 ? 0 : rest[k] - l) - (lambda === null ? 0 : compliance[k] * invH2 * lambda[k])
+    const k1 = start[q + 1] - 1 // the line's edges: start[q] .. k1 − 1
+    for (let s0 = start[q]; s0 < k1;) {
+      // a segment: edges s0 .. s1 − 1, the particles between them movable
+      let s1 = s0 + 1
+      while (s1 < k1 && invMass[ids[s1]] !== 0) s1++
+      if (invMass[ids[s0]] === 0 && invMass[ids[s1]] === 0) projectSegment(pos, invMass, ids, rest, compliance, params, lambda, s0, s1)
+      else solveSegment(pos, invMass, ids, rest, compliance, params, lambda, n, cc, dd, s0, s1)
+      s0 = s1
     }
-    // forward elimination (Thomas): cc[k] = c'_k, dd[k] = d'_k; `off` is the row's raw
-    // off-diagonal c_k, which is also the next row's sub-diagonal (the matrix is symmetric)
-    let cPrev = 0, dPrev = 0, sub = 0
-    for (let k = k0; k < k1; k++) {
-      const wb = invMass[ids[k + 1]]
-      const m = invMass[ids[k]] + wb + compliance[k] * invH2 - sub * cPrev
-      const off = k + 1 < k1 ? -wb * (n[3 * k] * n[3 * k + 3] + n[3 * k + 1] * n[3 * k + 4] + n[3 * k + 2] * n[3 * k + 5]) : 0
-      if (m > 1e-300) {
-        cPrev = off / m
-        dPrev = (dd[k] - sub * dPrev) / m
-        sub = off
-      } else {
-        // both ends immovable and rigid: no correction, and no coupling (its off-diagonals are 0)
-        cPrev = 0
-        dPrev = 0
-        sub = 0
-      }
-      cc[k] = cPrev
-      dd[k] = dPrev
+  }
+}
+
+/** The smallest pivot of the elimination, as a share of its row's diagonal (see `solveSegment`). */
+const FLOOR = 0.05
+
+/** A segment's edges k0 .. k1 − 1 at once: the tridiagonal solve (see `solveLines`). */
+function solveSegment(
+  pos: Float64Array,
+  invMass: Float64Array,
+  ids: Int32Array,
+  rest: Float64Array,
+  compliance: Float64Array,
+  params: Float64Array,
+  lambda: Float64Array | null,
+  n: Float64Array,
+  cc: Float64Array,
+  dd: Float64Array,
+  k0: number,
+  k1: number,
+): void {
+  const invH2 = params[P_INV_H2]
+  // edge directions and the right-hand side −C − α̃λ
+  for (let k = k0; k < k1; k++) {
+    const a = 3 * ids[k], b = 3 * ids[k + 1]
+    const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
+    const l = Math.sqrt(dx * dx + dy * dy + dz * dz)
+    const inv = l > 1e-12 ? 1 / l : 0
+    n[3 * k] = dx * inv
+    n[3 * k + 1] = dy * inv
+    n[3 * k + 2] = dz * inv
+    dd[k] = (inv === 0 ? 0 : rest[k] - l) - (lambda === null ? 0 : compliance[k] * invH2 * lambda[k])
+  }
+  // forward elimination (Thomas): cc[k] = c'_k, dd[k] = d'_k; `sub` is the last row's raw
+  // off-diagonal, which is this row's sub-diagonal (the matrix is symmetric)
+  let cPrev = 0, dPrev = 0, sub = 0
+  for (let k = k0; k < k1; k++) {
+    const wb = invMass[ids[k + 1]]
+    const diag = invMass[ids[k]] + wb + compliance[k] * invH2
+    // (the pivot kept at FLOOR of its diagonal at least: a line folded back on itself is close to
+    // singular, and its solve would throw particles far)
+    let m = diag - sub * cPrev
+    if (m < FLOOR * diag) m = FLOOR * diag
+    const off = k + 1 < k1 ? -wb * (n[3 * k] * n[3 * k + 3] + n[3 * k + 1] * n[3 * k + 4] + n[3 * k + 2] * n[3 * k + 5]) : 0
+    if (m > 1e-300) {
+      cPrev = off / m
+      dPrev = (dd[k] - sub * dPrev) / m
+      sub = off
+    } else {
+      cPrev = 0 // nothing to move: no correction, and no coupling
+      dPrev = 0
+      sub = 0
     }
-    // back substitution, applying each edge's Δλ as it is found
-    let x = 0
-    for (let k = k1 - 1; k >= k0; k--) {
-      x = dd[k] - cc[k] * x
-      if (lambda !== null) lambda[k] += x
-      const a = ids[k], b = ids[k + 1]
-      const fa = invMass[a] * x, fb = invMass[b] * x
-      const nx = n[3 * k], ny = n[3 * k + 1], nz = n[3 * k + 2]
-      pos[3 * a] -= fa * nx
-      pos[3 * a + 1] -= fa * ny
-      pos[3 * a + 2] -= fa * nz
-      pos[3 * b] += fb * nx
-      pos[3 * b + 1] += fb * ny
-      pos[3 * b + 2] += fb * nz
-    }
+    cc[k] = cPrev
+    dd[k] = dPrev
+  }
+  // back substitution, applying each edge's Δλ as it is found
+  let x = 0
+  for (let k = k1 - 1; k >= k0; k--) {
+    x = dd[k] - cc[k] * x
+    if (lambda !== null) lambda[k] += x
+    const a = ids[k], b = ids[k + 1]
+    const fa = invMass[a] * x, fb = invMass[b] * x
+    const nx = n[3 * k], ny = n[3 * k + 1], nz = n[3 * k + 2]
+    pos[3 * a] -= fa * nx
+    pos[3 * a + 1] -= fa * ny
+    pos[3 * a + 2] -= fa * nz
+    pos[3 * b] += fb * nx
+    pos[3 * b + 1] += fb * ny
+    pos[3 * b + 2] += fb * nz
+  }
+}
+
+/** A segment held at both ends: its edges k0 .. k1 − 1 projected one after another (XPBD), as the sweep does. */
+function projectSegment(
+  pos: Float64Array,
+  invMass: Float64Array,
+  ids: Int32Array,
+  rest: Float64Array,
+  compliance: Float64Array,
+  params: Float64Array,
+  lambda: Float64Array | null,
+  k0: number,
+  k1: number,
+): void {
+  const invH2 = params[P_INV_H2]
+  for (let k = k0; k < k1; k++) {
+    const a = 3 * ids[k], b = 3 * ids[k + 1]
+    const wa = invMass[ids[k]], wb = invMass[ids[k + 1]]
+    const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
+    const l = Math.sqrt(dx * dx + dy * dy + dz * dz)
+    const alpha = compliance[k] * invH2
+    if (!(l > 1e-12) || !(wa + wb + alpha > 1e-300)) continue
+    const dl = (rest[k] - l - (lambda === null ? 0 : alpha * lambda[k])) / (wa + wb + alpha)
+    if (lambda !== null) lambda[k] += dl
+    const f = dl / l
+    pos[a] -= wa * f * dx
+    pos[a + 1] -= wa * f * dy
+    pos[a + 2] -= wa * f * dz
+    pos[b] += wb * f * dx
+    pos[b + 1] += wb * f * dy
+    pos[b + 2] += wb * f * dz
   }
 }

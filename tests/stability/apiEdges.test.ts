@@ -174,12 +174,20 @@ describe('restoreClothState: a snapshot that passes the checks but holds values 
   it('a pending teleportCloth move that is no rigid motion (a quaternion of length 2) is refused by restore', () => {
     const { world, cloth } = scene()
     const snapshot = saveClothState(world, cloth)
-    expect(snapshot.settings.length).toBe(21)
+    expect(snapshot.settings.length).toBe(22) // (the last: the line solve switch)
     snapshot.settings[9] = 1
     snapshot.settings.set([0, 2, 0, 0, 0, 0, 2, 1, 2, 0, 1], 10)
     expect(() => restoreClothState(world, cloth, snapshot)).toThrow(/settings.*holds a bad teleport/)
     snapshot.settings[16] = 1 // a unit quaternion: restored
     restoreClothState(world, cloth, snapshot)
+    snapshot.settings[21] = 0.5 // the line solve switch is 0 or 1
+    expect(() => restoreClothState(world, cloth, snapshot)).toThrow(/settings.*line solve/)
+    snapshot.settings[21] = 1
+    restoreClothState(world, cloth, snapshot)
+    expect(getClothState(world, cloth).lines).not.toBeNull()
+    // an older snapshot (without the switch) leaves it as it is
+    restoreClothState(world, cloth, { ...snapshot, settings: snapshot.settings.slice(0, 21) })
+    expect(getClothState(world, cloth).lines).not.toBeNull()
   })
 
   it('substeps beyond 256 (setClothQuality and createCloth refuse them) are refused by restore too', () => {

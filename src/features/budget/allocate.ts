@@ -87,7 +87,9 @@ function runTarget(state: ClothWorldState, c: ClothState): void {
       s = ladderBelow(s)
     }
   }
-  if (s < lod.minSubsteps) s = lod.minSubsteps
+  // (a cloth solving lines keeps 2 substeps at least: at one it never comes to rest, see levels.ts)
+  const least = c.lines !== null && c.tear === null && lod.minSubsteps < 2 ? 2 : lod.minSubsteps
+  if (s < least) s = least
   if (s > lod.maxSubsteps) s = lod.maxSubsteps
   lod.wantSubsteps = s
 }

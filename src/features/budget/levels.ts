@@ -69,12 +69,18 @@ export function topLevel(c: ClothState): number {
 /** Ladder rung of the fewest substeps a self-colliding cloth runs under the budget (SUBSTEP_LADDER[4]: 6). */
 const SELF_FLOOR_RUNG = 4
 
+/** Ladder rung of the fewest substeps a cloth with `lineSolve` runs under the budget (SUBSTEP_LADDER[1]: 2). */
+const LINES_FLOOR_RUNG = 1
+
 export function bottomLevel(c: ClothState, b: BudgetSettings): number {
   // a self-colliding cloth keeps stepping every step, at 6 substeps or its own count when fewer:
   // its contacts need the travel limits of one step, and its stacked layers the substeps (a far
   // heap of folds at 1 × 1 was squashed to 60 % of its height and jittered at 0.3–0.5 m/s for
   // good, never still enough to sleep; still 0.09 m/s after 3 s at 4 substeps, settled at 6)
   if (c.collision.self !== null) return Math.min(topLevel(c), halvingsTop(c) + SELF_FLOOR_RUNG)
+  // a cloth solving lines keeps 2 substeps or its own count when fewer: at one, a hanging sheet's
+  // rows and columns kept it moving (0.19 m/s, 3 mm a frame) and it never slept
+  if (c.lines !== null && c.tear === null) return Math.min(topLevel(c), halvingsTop(c) + LINES_FLOOR_RUNG)
   return b.farStepEvery === 4 ? 0 : b.farStepEvery === 2 ? 1 : 2
 }
 
