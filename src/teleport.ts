@@ -1,3 +1,4 @@
+import { wakeSelfNeighbours } from './features/collision/selfCollision'
 import type { quat, vec3 } from 'gl-matrix'
 import { checkPoint, checkQuat } from './core/errors'
 import { normalizedQuat } from './core/math'
@@ -40,6 +41,7 @@ export function teleportCloth(
   const [rx, ry, rz, rw] = rotation === undefined ? IDENTITY : normalizedQuat(checkQuat('rotation', rotation))
   if (pivot !== undefined) checkPoint('pivot', pivot)
   carryFrozen(c, state.kinematics.stepTo) // moved from where its pins have carried it
+  wakeSelfNeighbours(state, c) // (what sleeps on it, where it was)
   let px = 0, py = 0, pz = 0
   if (pivot !== undefined) {
     px = pivot[0]

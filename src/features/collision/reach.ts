@@ -108,15 +108,18 @@ function boundsReach(sw: Float64Array, o: number, plane: boolean, b: Float64Arra
     const reach = r + PLANE_SLACK
     return d0 <= reach || d1 <= reach
   }
-  return !boxClear(sw, o, b, r)
+  return !boxClear(sw, o, b, c)
 }
 
 /**
- * Whether the box sw[o..o + 6) (min xyz, max xyz) lies more than r from the box `b`: the test of a
- * solid collider's swept bounds (`colliderReaches`), small enough to be inlined where it runs per
- * pair (the sleep phase's wake test).
+ * Whether the box sw[o..o + 6) (min xyz, max xyz) lies more than the cloth `c`'s collision
+ * thickness from the box `b`: the test of a solid collider's swept bounds (`colliderReaches`), small
+ * enough to be inlined where it runs per pair (the sleep phase's wake test). (The cloth, not its
+ * thickness, is passed: a double passed to a call that is not inlined is boxed.)
  */
-export function boxClear(sw: Float64Array, o: number, b: Float64Array, r: number): boolean {
+export function boxClear(sw: Float64Array, o: number, b: Float64Array, c: ClothState): boolean {
+  const cc = c.collision
+  const r = cc.thickness >= 0 ? cc.thickness : c.material.thickness
   return sw[o] > b[3] + r || sw[o + 3] < b[0] - r || sw[o + 1] > b[4] + r || sw[o + 4] < b[1] - r ||
     sw[o + 2] > b[5] + r || sw[o + 5] < b[2] - r
 }

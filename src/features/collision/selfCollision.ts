@@ -1,5 +1,6 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import { clothLayersMatch } from './reach'
+import { particleBounds } from '../../kernels/mesh'
 import { B_MAX_DEV, B_MEAN_V, B_REFRESH, type CollisionWorld, type SelfCollisionState, type SelfSweep } from './types'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkKeys, checkNonNegative, checkPositive, keysOf } from '../../core/errors'
 import {
@@ -167,12 +168,36 @@ export function allocateSelfCollision(state: ClothWorldState, c: ClothState): vo
 /** Called when a SelfCollision component (or its cloth) goes away. */
 export function releaseSelfCollision(state: ClothWorldState, c: ClothState): void {
   const cw = state.collision
+  wakeSelfNeighbours(state, c)
   const k = cw.selfCloths.indexOf(c)
   if (k >= 0) cw.selfCloths.splice(k, 1)
   touchLayout()
   wakeClothState(state, c)
   if (c.collision) c.collision.self = null
   for (let q = 0; q < cw.selfCloths.length; q++) cw.selfCloths[q].collision.self!.blockCount = 0
+}
+
+/** Scratch of `wakeSelfNeighbours`: a box (6). */
+const around = new Float64Array(6)
+
+/**
+ * Wakes the sleeping self-colliding cloths within reach of the self-colliding cloth `c`, which is
+ * about to go, to stop colliding or to be moved away: one asleep on it would stay asleep where it
+ * lay (a napkin on a hammock removed, teleported or made not to collide hung in the air).
+ */
+export function wakeSelfNeighbours(state: ClothWorldState, c: ClothState): void {
+  const self = c.collision.self
+  if (self === null) return
+  const group = state.collision.selfCloths
+  particleBounds(c.pos, c.count, around, 0, c.topology.unused)
+  for (let q = 0; q < group.length; q++) {
+    const o = group[q]
+    if (o === c || !o.sleep.asleep) continue
+    const b = o.sleep.bounds, r = self.thickness + o.collision.self!.thickness
+    if (around[0] > b[3] + r || b[0] > around[3] + r || around[1] > b[4] + r || b[1] > around[4] + r || around[2] > b[5] + r) continue
+    if (b[2] > around[5] + r) continue
+    wakeClothState(state, o)
+  }
 }
 
 /**

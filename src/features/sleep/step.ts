@@ -76,7 +76,6 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
     const C = cw.Collider
     const cc = c.collision
     const sw = C.swept
-    const r = cc.thickness >= 0 ? cc.thickness : c.material.thickness
     for (let q = 0; q < colliders.length; q++) {
       const e = colliders[q]
       const slot = C.slot[e]
@@ -84,7 +83,7 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
       // a solid that did not jump and whose swept box stays clear of the cloth's disturbs nothing
       // (the box test first: with the full tests' calls for every pair, 500 sleeping cloths and 64
       // colliders moving far from them cost 2.3× a cape's step)
-      if (k.jumped[slot] === 0 && C.shape[e] !== SHAPE_PLANE && boxClear(sw, 8 * e, b, r)) continue
+      if (k.jumped[slot] === 0 && C.shape[e] !== SHAPE_PLANE && boxClear(sw, 8 * e, b, c)) continue
       // a collider that jumped is tested where it was before the jump too (the jump does not sweep);
       // a plane that only slid or turned within itself (a ground carried by a running character)
       // is the same surface and disturbs nothing
@@ -95,17 +94,17 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
     }
   }
   if (state.wind.zones.length > 0 && windReaches(state, b)) return true
-  const self = c.collision.self
-  if (self !== null) {
-    const group = cw.selfCloths
-    const ca = c.collision
-    for (let q = 0; q < group.length; q++) {
-      const o = group[q]
-      if (o === c || o.sleep.asleep || o.budget.frozen) continue
-      const cb = o.collision
-      if (!clothLayersMatch(ca, cb)) continue
-      if (movesWithin(o, b, self.thickness + cb.self!.thickness, c.sleep.speed2)) return true
-    }
+  return c.collision.self !== null && selfNeighbourMoves(state, c)
+}
+
+/** Whether an awake self-colliding cloth that can touch the sleeper `c` moves within its reach (`movesWithin`). */
+function selfNeighbourMoves(state: ClothWorldState, c: ClothState): boolean {
+  const group = state.collision.selfCloths
+  const ca = c.collision
+  for (let q = 0; q < group.length; q++) {
+    const o = group[q]
+    if (o === c || o.sleep.asleep || o.budget.frozen) continue
+    if (clothLayersMatch(ca, o.collision) && movesWithin(o, c)) return true
   }
   return false
 }
@@ -114,18 +113,19 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
 const near = new Float64Array(6)
 
 /**
- * Whether an awake self-colliding cloth moves (a particle faster than the sleeper's sleep speed)
- * within `reach` of a sleeper's box. One still, like a napkin settled on a sleeping one, disturbs
- * nothing: woken by any awake neighbour in reach, two settled napkins slept in turns, each waking
- * the other, for good (every phase run, 100× the cost of both asleep). Read from the cloth's
- * positions and velocities (saved by snapshots), not its collision bounds (made later in the step,
- * and not saved: restored into a fresh world the test read zeros and a napkin stayed asleep).
+ * Whether an awake self-colliding cloth `o` moves (its last step was not still by its own sleep
+ * speed: `still` 0) within reach of the sleeper `c` (their collision distances). One still, like a
+ * napkin settled on a sleeping one, disturbs nothing: woken by any awake neighbour in reach, two
+ * settled napkins slept in turns, each waking the other, for good (every phase run, 100× the cost
+ * of both asleep). Read from what snapshots save (the stillness timer and the positions), not the
+ * cloth's collision bounds (made later in the step, and not saved: restored into a fresh world the
+ * test read zeros and a napkin stayed asleep). (The cloths, not numbers, are passed: a double
+ * passed to a call is boxed.)
  */
-function movesWithin(o: ClothState, b: Float64Array, reach: number, speed2: number): boolean {
-  const v = o.vel
-  let fast = false
-  for (let i = 0; i < 3 * o.count && !fast; i += 3) fast = v[i] * v[i] + v[i + 1] * v[i + 1] + v[i + 2] * v[i + 2] > speed2
-  if (!fast) return false
+function movesWithin(o: ClothState, c: ClothState): boolean {
+  if (o.sleep.still > 0) return false
+  const b = c.sleep.bounds
+  const reach = c.collision.self!.thickness + o.collision.self!.thickness
   particleBounds(o.pos, o.count, near, 0, o.topology.unused)
   return !(near[0] > b[3] + reach || b[0] > near[3] + reach || near[1] > b[4] + reach || b[1] > near[4] + reach || near[2] > b[5] + reach ||
     b[2] > near[5] + reach)
