@@ -35,6 +35,7 @@ import {
   W_V,
   W_LIMITED,
   W_SKIN_JUMPED,
+  W_BONE_LEAPT,
   W_RESUME,
   W_W,
   type ClothCharacter,
@@ -94,6 +95,7 @@ export function markFrameTeleports(state: ClothWorldState): void {
     const c = cloths[ci]
     const ch = c.character
     if (ch === null) continue
+    ch.work[W_BONE_LEAPT] = 0
     const slot = jumpSlot(ch), o = 7 * slot
     if (slot < 0) continue
     readPoseInto(state, slot === ch.frameSlot ? ch.frame : boneAt(ch, slot), pose)
@@ -122,8 +124,8 @@ export function markFrameTeleports(state: ClothWorldState): void {
 
 /**
  * A bone of a skinned cloth that lands beyond the cloth's teleport distance or angle on its own
- * (posed a frame before or after its root around a teleport) is marked to jump like the frame:
- * only such a sample lets `skinJumped` rest the limits (a bone swung fast against its frame is
+ * (posed a frame before or after its root around a teleport) is marked as a leap for this cloth
+ * (`W_BONE_LEAPT`): only such a sample lets `skinJumped` rest the limits (a bone swung fast against its frame is
  * motion, and its cloth held to it: tested as motion, a strip at max distance 0 on an arm swinging
  * at 4 m/s let go 0.42 m with a teleport distance of 5 cm).
  */
@@ -140,7 +142,7 @@ function markBoneLeaps(state: ClothWorldState, ch: ClothCharacter, skin: ClothSk
     predictTurn(k.stepTo, k.stepFrom, k.sampleTo, o + 3, turn)
     let dot = pose[3] * turn[0] + pose[4] * turn[1] + pose[5] * turn[2] + pose[6] * turn[3]
     if (dot < 0) dot = -dot
-    if (landsBeyond(k, o, pose, jumpTest) || 2 * Math.acos(dot > 1 ? 1 : dot) > angle) k.forceJump[bs] = 1
+    if (landsBeyond(k, o, pose, jumpTest) || 2 * Math.acos(dot > 1 ? 1 : dot) > angle) ch.work[W_BONE_LEAPT] = 1
   }
 }
 
@@ -332,9 +334,9 @@ function skinJumped(state: ClothWorldState, ch: ClothCharacter, slot: number): b
   return false
 }
 
-/** Whether the entity at `slot` or a bone of the cloth's skin was sampled as a jump this frame. */
+/** Whether the entity at `slot` or a bone of the cloth's skin was sampled as a jump this frame, or a bone leapt for this cloth (`markBoneLeaps`). */
 function leapt(k: Kinematics, ch: ClothCharacter, slot: number): boolean {
-  if (slot >= 0 && k.jumped[slot] !== 0) return true
+  if (ch.work[W_BONE_LEAPT] === 1 || (slot >= 0 && k.jumped[slot] !== 0)) return true
   const skin = ch.skin
   if (skin === null) return false
   for (let b = 0; b < skin.slots.length; b++) if (skin.slots[b] >= 0 && k.jumped[skin.slots[b]] !== 0) return true

@@ -241,7 +241,14 @@ export const W_LIMITED = W_RESUME + 1
  * step.ts): its motion constraints, drive and held particles rest for the step. Set by the sync phase.
  */
 export const W_SKIN_JUMPED = W_LIMITED + 1
-export const WORK = W_SKIN_JUMPED + 1
+/**
+ * 1 when a bone of a skinned cloth landed beyond the cloth's own teleport distance or angle at this
+ * frame's sample (`markBoneLeaps`): a leap for this cloth's `skinJumped` only. (Marked as the
+ * bone's jump for the whole world, it reset another cloth framed on that bone, and a hand collider
+ * on it stopped sweeping.)
+ */
+export const W_BONE_LEAPT = W_SKIN_JUMPED + 1
+export const WORK = W_BONE_LEAPT + 1
 /** `work[W_BLEND]`: the end of last step becomes the start, then the end is blended. */
 export const BLEND_END = 1
 /** `work[W_BLEND]`: start and end are blended (the reference was not continuous). */
