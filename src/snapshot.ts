@@ -29,6 +29,7 @@ import type { TetherMode, TetherSet } from './model/tethers'
 import { getCloth, getClothWorldForChange } from './world/access'
 import {
   K_DROPPED,
+  K_LAST_SPAN,
   K_SINCE_SAMPLE,
   K_STEP_FRACTION,
   SLOT_DATA,
@@ -89,7 +90,7 @@ export interface ClothSnapshot
   tetherMode: TetherMode
   /** The cloth's tethers (immutable arrays, shared rather than copied). */
   tethers: TetherSet
-  /** World: accumulator, time since the last frame sample, step fraction, newFrame, framed, dropped time not yet sampled (absent in older snapshots). */
+  /** World: accumulator, time since the last frame sample, step fraction, newFrame, framed, dropped time not yet sampled, the last sample's span (the last two absent in older snapshots). */
   world: Float64Array
   /** Entities the world's colliders and wind zones follow (distinct, creation order), and their motion history. */
   bodies: Int32Array
@@ -242,13 +243,14 @@ function saveCore(state: ClothWorldState, c: ClothState, s: Writable): void {
   s.settings[10 + HAND] = c.lines !== null ? 1 : 0
   s.tetherMode = ct.mode
   s.tethers = ct.set
-  s.world = fit64(s.world, 6)
+  s.world = fit64(s.world, 7)
   s.world[0] = state.accumulator
   s.world[1] = k.time[K_SINCE_SAMPLE]
   s.world[2] = k.time[K_STEP_FRACTION]
   s.world[3] = k.newFrame ? 1 : 0
   s.world[4] = k.framed ? 1 : 0
   s.world[5] = k.time[K_DROPPED] // (pending after a frame refused at its sample)
+  s.world[6] = k.time[K_LAST_SPAN]
   if (state.frame.open) {
     // a listener after the frame's last step: the timing the frame leaves when it closes (saved as
     // it stood, a restore outside a frame never sampled the next frame's transforms: 3.5 cm off)
@@ -280,7 +282,7 @@ function checkCore(s: unknown, arg: string): asserts s is ClothSnapshot {
     x.vel.length !== 3 * n ||
     !(x.invMass instanceof Float64Array) || x.invMass.length !== n || !(x.settings instanceof Float64Array) ||
     (x.settings.length !== 10 && x.settings.length !== 10 + HAND && x.settings.length !== 11 + HAND) ||
-    !(x.world instanceof Float64Array) || (x.world.length !== 5 && x.world.length !== 6)
+    !(x.world instanceof Float64Array) || x.world.length < 5 || x.world.length > 7
   ) {
     throw new ClothError(arg, s, 'is not a complete snapshot (array sizes do not match)')
   }
@@ -374,6 +376,7 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
   k.time[K_SINCE_SAMPLE] = s.world[1]
   k.time[K_STEP_FRACTION] = s.world[2]
   k.time[K_DROPPED] = s.world.length > 5 ? s.world[5] : 0 // (older snapshots: none)
+  k.time[K_LAST_SPAN] = s.world.length > 6 && s.world[6] > 0 ? s.world[6] : 1 // (older snapshots: one step)
   k.newFrame = s.world[3] === 1
   k.framed = s.world[4] === 1
 }

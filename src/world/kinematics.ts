@@ -1,9 +1,9 @@
 import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../core/errors'
 import { multiplyQuatAt, normalizeQuatAt, relativeRotationAt, rotateVecAt } from '../core/math'
-import { K_DROPPED, K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
+import { K_DROPPED, K_LAST_SPAN, K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
 import { newArray, newArrayLike, type TypedArray } from '../core/shared'
 
-export { K_DROPPED, K_SINCE_SAMPLE, K_STEP_FRACTION }
+export { K_DROPPED, K_LAST_SPAN, K_SINCE_SAMPLE, K_STEP_FRACTION }
 
 /**
  * Kinematic tracking of entities whose Transform drives the simulation (pin targets, collider
@@ -35,7 +35,7 @@ export function createKinematics(): Kinematics {
     forceJump: new Uint8Array(0),
     carry: new Uint8Array(0),
     jump: new Float64Array(0),
-    time: Float64Array.from([0, 1, 0]),
+    time: Float64Array.from([0, 1, 0, 1]),
     newFrame: true,
     framed: false,
   }
@@ -264,6 +264,8 @@ export function sampleFrame(state: ClothWorldState): void {
   jumpTest[1] = state.teleportDistance * state.teleportDistance
   const reach = state.maxSpeed * state.fixedTimeStep * ratio
   jumpTest[2] = reach * reach // (not `** 2`: that call boxed its result)
+  jumpTest[4] = ratio / k.time[K_LAST_SPAN]
+  k.time[K_LAST_SPAN] = ratio
   const carry = dropped / (simulated + dropped) // (0 when nothing was dropped)
   // every transform is checked before any is taken: a rejected one leaves the sample untouched
   for (let slot = 0; slot < k.count; slot++) {
@@ -367,19 +369,22 @@ export function landsBeyond(k: Kinematics, o: number, p: Float64Array, t: Float6
   // start at full speed is a jump once (a standing cape was carried rigidly at every frame of a
   // 150 m/s dash, and a ball thrown at 150 m/s passed through a sheet unswept)
   const j = 10 * ((o / 7) | 0)
-  const lx = k.sampleTo[o] - k.sampleFrom[o] + k.jump[j + 7]
-  const ly = k.sampleTo[o + 1] - k.sampleFrom[o + 1] + k.jump[j + 8]
-  const lz = k.sampleTo[o + 2] - k.sampleFrom[o + 2] + k.jump[j + 9]
+  // (scaled to this frame's span: frames alternating 1/60 and 1/30 s made every leap differ from
+  // the last by more than the distance, and a dash a jump at every frame)
+  const span = t[4]
+  const lx = (k.sampleTo[o] - k.sampleFrom[o] + k.jump[j + 7]) * span
+  const ly = (k.sampleTo[o + 1] - k.sampleFrom[o + 1] + k.jump[j + 8]) * span
+  const lz = (k.sampleTo[o + 2] - k.sampleFrom[o + 2] + k.jump[j + 9]) * span
   const ex = dx - lx, ey = dy - ly, ez = dz - lz
   return ex * ex + ey * ey + ez * ez > limit2 || lx * lx + ly * ly + lz * lz > t[2]
 }
 
 /**
  * `landsBeyond`'s span (steps), squared distance, squared speed limit over the span (the world's
- * `maxSpeed`) and whether the entity's last frame sample was a jump (1), in an array: doubles
- * passed to a call are boxed.
+ * `maxSpeed`), whether the entity's last frame sample was a jump (1), and this span over the last
+ * sample's, in an array: doubles passed to a call are boxed.
  */
-export const jumpTest = new Float64Array(4)
+export const jumpTest = new Float64Array(5)
 
 /** A jump that carries the dropped time's share of the motion (`Kinematics.jumped`); 1 is a teleport. */
 export const K_CARRIED = 2

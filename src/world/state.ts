@@ -411,6 +411,8 @@ export interface Kinematics {
 export const K_SINCE_SAMPLE = 0
 export const K_STEP_FRACTION = 1
 export const K_DROPPED = 2
+/** `Kinematics.time`: the last frame sample's span, in fixed steps (what a leap repeated at the next frame is scaled by, `landsBeyond`). */
+export const K_LAST_SPAN = 3
 
 /** The frame `beginClothStep` opened (`ClothWorldState.frame`). */
 export interface ClothFrame {

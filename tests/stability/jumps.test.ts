@@ -149,6 +149,28 @@ describe('a start at full speed', () => {
     }
   })
 
+  it('with frame times alternating 1/60 and 1/30 s too: one jump, then the cape runs with its hero', () => {
+    // (each leap measured against the last over its own span: 2.5 m against 5 m differed by more
+    // than the distance, and every frame was a jump: 30 of 30, hem at 0 m/s)
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 1.6, 0], yawQuat(Math.PI))
+    const cape = capeBehind(world, [8, 12], 2)
+    pinRow(world, cape, 0, hero)
+    const c = getClothState(world, cape)
+    let z = 0, teleports = 0
+    for (let f = 1; f <= 60; f++) {
+      const dt = f % 2 === 0 ? 1 / 30 : 1 / 60
+      if (f > 30) z += 150 * dt
+      setTransform(world, hero, [0, 1.6, z], yawQuat(Math.PI))
+      const t0 = getClothStats(world).teleports
+      stepCloth(world, dt)
+      if (f > 30) teleports += getClothStats(world).teleports - t0
+    }
+    expect(teleports).toBe(1)
+    expect(c.vel[3 * (c.count - 4) + 2]).toBeGreaterThan(0.8 * 150)
+  })
+
   it('a ball thrown at 150 m/s sweeps through a hanging sheet as one reaching it over 4 frames does', () => {
     const shot = (ramp: number) => {
       const world = makeWorld({ sleep: false })

@@ -10,7 +10,7 @@ import {
   predictInFrame,
   releaseLimitHolds,
 } from '../../kernels/motion'
-import { K_DROPPED, K_SINCE_SAMPLE, jumpTest, landsBeyond, readPoseInto } from '../../world/kinematics'
+import { K_DROPPED, K_LAST_SPAN, K_SINCE_SAMPLE, jumpTest, landsBeyond, readPoseInto } from '../../world/kinematics'
 import { carryGrabTargetsBy, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState, Kinematics } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -91,6 +91,7 @@ export function markFrameTeleports(state: ClothWorldState): void {
   const ratio = (k.framed ? k.time[K_SINCE_SAMPLE] + k.time[K_DROPPED] : state.fixedTimeStep) / state.fixedTimeStep
   const reach = state.maxSpeed * state.fixedTimeStep * ratio
   jumpTest[2] = reach * reach
+  jumpTest[4] = ratio / k.time[K_LAST_SPAN] // (`sampleFrame`, after this, records this frame's)
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const ch = c.character
