@@ -5,6 +5,7 @@ import {
   getClothState,
   getClothStats,
   installClothPlugin,
+  stepCloth,
   type ClothCostCalibration,
   type ClothPluginOptions,
 } from '../src/index'
@@ -95,4 +96,36 @@ export function hashBytes(arr: ArrayBufferView): string {
     h = Math.imul(h, 0x01000193) >>> 0
   }
   return h.toString(16).padStart(8, '0')
+}
+
+/**
+ * Mechanical energy (kinetic + gravitational at 9.81 m/s² along −y) of a cloth's free particles,
+ * per step over `steps` steps of 1/60 s: how many steps gained energy, the largest gain and the
+ * total change, both as shares of M·g·L (M the cloth's mass, L = 1 m).
+ */
+export function energyGains(world: object, cloth: number, steps: number): { count: number; largest: number; total: number } {
+  const c = getClothState(world, cloth)
+  let M = 0
+  for (let i = 0; i < c.count; i++) M += 1 / c.baseInvMass[i]
+  const energy = () => {
+    let e = 0
+    for (let i = 0; i < c.count; i++) {
+      if (c.invMass[i] === 0) continue
+      const v2 = c.vel[3 * i] ** 2 + c.vel[3 * i + 1] ** 2 + c.vel[3 * i + 2] ** 2
+      e += (0.5 * v2 + 9.81 * c.pos[3 * i + 1]) / c.baseInvMass[i]
+    }
+    return e
+  }
+  const e0 = energy()
+  let prev = e0, count = 0, largest = 0
+  for (let f = 0; f < steps; f++) {
+    stepCloth(world, 1 / 60)
+    const e = energy()
+    if (e > prev) {
+      count++
+      largest = Math.max(largest, (e - prev) / (M * 9.81))
+    }
+    prev = e
+  }
+  return { count, largest, total: (prev - e0) / (M * 9.81) }
 }

@@ -25,7 +25,7 @@ import { buildLines } from '../src/model/lines'
 import { buildGridTopology, buildMeshTopology } from '../src/model/builders'
 import { solveLines } from '../src/kernels/lines'
 import { createKernelParams, setSubstepParams } from '../src/kernels/params'
-import { allFinite, hashBytes, lowestY, makeWorld, rng } from './helpers'
+import { allFinite, energyGains, hashBytes, lowestY, makeWorld, rng } from './helpers'
 import { drive, sprintTurnStopJump, woolCape } from './character/scenes'
 
 /** A 1 m cotton sheet of n×n released level from its two top corners (the accuracy benchmark's swing). */
@@ -217,28 +217,7 @@ describe('lineSolve holds up', () => {
   it('an undamped swinging sheet gains energy in no more steps, nor by more, than without it', () => {
     const gains = (lineSolve: boolean) => {
       const { world, cloth } = swingingSheet(24, 8, lineSolve, { damping: 0, stretchDamping: 0 })
-      const c = getClothState(world, cloth)
-      let M = 0
-      for (let i = 0; i < c.count; i++) M += 1 / c.baseInvMass[i]
-      const energy = () => {
-        let e = 0
-        for (let i = 0; i < c.count; i++) {
-          if (c.invMass[i] === 0) continue
-          e += (0.5 * (c.vel[3 * i] ** 2 + c.vel[3 * i + 1] ** 2 + c.vel[3 * i + 2] ** 2) + 9.81 * c.pos[3 * i + 1]) / c.baseInvMass[i]
-        }
-        return e
-      }
-      let prev = energy(), count = 0, largest = 0
-      for (let f = 0; f < 600; f++) {
-        stepCloth(world, 1 / 60)
-        const e = energy()
-        if (e > prev) {
-          count++
-          largest = Math.max(largest, (e - prev) / (M * 9.81))
-        }
-        prev = e
-      }
-      return { count, largest }
+      return energyGains(world, cloth, 600)
     }
     const on = gains(true), off = gains(false)
     console.log('energy gains: lines', on, 'sweep only', off)
