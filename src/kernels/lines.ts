@@ -41,21 +41,28 @@ export function solveLines(
   for (let q = 0; q < lineCount; q++) {
     const k1 = start[q + 1] - 1 // the line's edges: start[q] .. k1 − 1
     for (let s0 = start[q]; s0 < k1;) {
-      // a segment: edges s0 .. s1 − 1, the particles between them movable
-      let s1 = s0 + 1
-      while (s1 < k1 && invMass[ids[s1]] !== 0) s1++
+      // a segment: edges s0 .. s1 − 1, the particles between them movable (the elimination finds
+      // where it ends; it moves nothing, so a segment held at both ends is projected instead)
+      const s1 = eliminateSegment(pos, invMass, ids, rest, compliance, params, lambda, n, cc, dd, s0, k1)
       if (invMass[ids[s0]] === 0 && invMass[ids[s1]] === 0) projectSegment(pos, invMass, ids, rest, compliance, params, lambda, s0, s1)
-      else solveSegment(pos, invMass, ids, rest, compliance, params, lambda, n, cc, dd, s0, s1)
+      else substituteSegment(pos, invMass, ids, lambda, n, cc, dd, s0, s1)
       s0 = s1
     }
   }
 }
 
-/** The smallest pivot of the elimination, as a share of its row's diagonal (see `solveSegment`). */
+/** The smallest pivot of the elimination, as a share of its row's diagonal (see `eliminateSegment`). */
 const FLOOR = 0.05
 
-/** A segment's edges k0 .. k1 − 1 at once: the tridiagonal solve (see `solveLines`). */
-function solveSegment(
+/**
+ * The forward half of a segment's tridiagonal solve (see `solveLines`): from edge k0, each edge's
+ * direction (into `n`) and right-hand side −C − α̃λ, and the elimination of the row before it,
+ * whose off-diagonal −w·n_{k−1}·n_k needs this edge's direction (w: the particle they share); up to
+ * the first held particle after ids[k0] or the line's end (edge `end` − 1). Returns the segment's
+ * end k1 (its edges: k0 .. k1 − 1); cc[k] = c'_k and dd[k] = d'_k of the elimination (Thomas).
+ * Each edge loads one new particle; the one it shares with the edge before is carried in registers.
+ */
+function eliminateSegment(
   pos: Float64Array,
   invMass: Float64Array,
   ids: Int32Array,
@@ -67,58 +74,108 @@ function solveSegment(
   cc: Float64Array,
   dd: Float64Array,
   k0: number,
-  k1: number,
-): void {
+  end: number,
+): number {
   const invH2 = params[P_INV_H2]
-  // edge directions and the right-hand side −C − α̃λ
-  for (let k = k0; k < k1; k++) {
-    const a = 3 * ids[k], b = 3 * ids[k + 1]
-    const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
+  // `sub`: the last row's raw off-diagonal, which is this row's sub-diagonal (the matrix is symmetric)
+  let cPrev = 0, dPrev = 0, sub = 0
+  let i = ids[k0]
+  let wa = invMass[i]
+  let ax = pos[3 * i], ay = pos[3 * i + 1], az = pos[3 * i + 2]
+  let pnx = 0, pny = 0, pnz = 0, rhsPrev = 0, diagPrev = 0
+  let k = k0
+  for (;;) {
+    i = ids[k + 1]
+    const wb = invMass[i]
+    const bx = pos[3 * i], by = pos[3 * i + 1], bz = pos[3 * i + 2]
+    const dx = bx - ax, dy = by - ay, dz = bz - az
     const l = Math.sqrt(dx * dx + dy * dy + dz * dz)
     const inv = l > 1e-12 ? 1 / l : 0
-    n[3 * k] = dx * inv
-    n[3 * k + 1] = dy * inv
-    n[3 * k + 2] = dz * inv
-    dd[k] = (inv === 0 ? 0 : rest[k] - l) - (lambda === null ? 0 : compliance[k] * invH2 * lambda[k])
-  }
-  // forward elimination (Thomas): cc[k] = c'_k, dd[k] = d'_k; `sub` is the last row's raw
-  // off-diagonal, which is this row's sub-diagonal (the matrix is symmetric)
-  let cPrev = 0, dPrev = 0, sub = 0
-  for (let k = k0; k < k1; k++) {
-    const wb = invMass[ids[k + 1]]
-    const diag = invMass[ids[k]] + wb + compliance[k] * invH2
-    // (the pivot kept at FLOOR of its diagonal at least: a line folded back on itself is close to
-    // singular, and its solve would throw particles far)
-    let m = diag - sub * cPrev
-    if (m < FLOOR * diag) m = FLOOR * diag
-    const off = k + 1 < k1 ? -wb * (n[3 * k] * n[3 * k + 3] + n[3 * k + 1] * n[3 * k + 4] + n[3 * k + 2] * n[3 * k + 5]) : 0
-    if (m > 1e-300) {
-      cPrev = off / m
-      dPrev = (dd[k] - sub * dPrev) / m
-      sub = off
-    } else {
-      cPrev = 0 // nothing to move: no correction, and no coupling
-      dPrev = 0
-      sub = 0
+    const nx = dx * inv, ny = dy * inv, nz = dz * inv
+    n[3 * k] = nx
+    n[3 * k + 1] = ny
+    n[3 * k + 2] = nz
+    const alpha = compliance[k] * invH2
+    const rhs = (inv === 0 ? 0 : rest[k] - l) - (lambda === null ? 0 : alpha * lambda[k])
+    const diag = wa + wb + alpha
+    if (k > k0) {
+      // row k − 1 (the pivot kept at FLOOR of its diagonal at least: a line folded back on
+      // itself is close to singular, and its solve would throw particles far)
+      let m = diagPrev - sub * cPrev
+      if (m < FLOOR * diagPrev) m = FLOOR * diagPrev
+      const off = -wa * (pnx * nx + pny * ny + pnz * nz)
+      if (m > 1e-300) {
+        cPrev = off / m
+        dPrev = (rhsPrev - sub * dPrev) / m
+        sub = off
+      } else {
+        cPrev = 0 // nothing to move: no correction, and no coupling
+        dPrev = 0
+        sub = 0
+      }
+      cc[k - 1] = cPrev
+      dd[k - 1] = dPrev
     }
-    cc[k] = cPrev
-    dd[k] = dPrev
+    pnx = nx
+    pny = ny
+    pnz = nz
+    rhsPrev = rhs
+    diagPrev = diag
+    wa = wb
+    ax = bx
+    ay = by
+    az = bz
+    k++
+    if (k === end || wb === 0) break
   }
-  // back substitution, applying each edge's Δλ as it is found
+  // the last row, with no off-diagonal
+  let m = diagPrev - sub * cPrev
+  if (m < FLOOR * diagPrev) m = FLOOR * diagPrev
+  cc[k - 1] = 0
+  dd[k - 1] = m > 1e-300 ? (rhsPrev - sub * dPrev) / m : 0
+  return k
+}
+
+/**
+ * The backward half: each edge's Δλ from the elimination of `eliminateSegment`, applied as it is
+ * found. Particle b of edge k (ids[k + 1], at offset jb) is carried in registers from edge k + 1,
+ * which moved it first, and stored once both have.
+ */
+function substituteSegment(
+  pos: Float64Array,
+  invMass: Float64Array,
+  ids: Int32Array,
+  lambda: Float64Array | null,
+  n: Float64Array,
+  cc: Float64Array,
+  dd: Float64Array,
+  k0: number,
+  k1: number,
+): void {
+  let jb = 3 * ids[k1]
+  let wb = invMass[ids[k1]]
+  let bx = pos[jb], by = pos[jb + 1], bz = pos[jb + 2]
   let x = 0
   for (let k = k1 - 1; k >= k0; k--) {
     x = dd[k] - cc[k] * x
     if (lambda !== null) lambda[k] += x
-    const a = ids[k], b = ids[k + 1]
-    const fa = invMass[a] * x, fb = invMass[b] * x
+    const a = ids[k]
+    const ja = 3 * a
+    const wa = invMass[a]
+    const fa = wa * x, fb = wb * x
     const nx = n[3 * k], ny = n[3 * k + 1], nz = n[3 * k + 2]
-    pos[3 * a] -= fa * nx
-    pos[3 * a + 1] -= fa * ny
-    pos[3 * a + 2] -= fa * nz
-    pos[3 * b] += fb * nx
-    pos[3 * b + 1] += fb * ny
-    pos[3 * b + 2] += fb * nz
+    pos[jb] = bx + fb * nx
+    pos[jb + 1] = by + fb * ny
+    pos[jb + 2] = bz + fb * nz
+    bx = pos[ja] - fa * nx
+    by = pos[ja + 1] - fa * ny
+    bz = pos[ja + 2] - fa * nz
+    jb = ja
+    wb = wa
   }
+  pos[jb] = bx
+  pos[jb + 1] = by
+  pos[jb + 2] = bz
 }
 
 /** A segment held at both ends: its edges k0 .. k1 − 1 projected one after another (XPBD), as the sweep does. */
