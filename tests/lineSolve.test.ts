@@ -131,6 +131,73 @@ describe('line solve kernel', () => {
     expect(l.error()).toBeLessThan(e0 / 3) // a Newton step on a crooked line: 0.20 -> 0.058
   })
 
+  it('takes the step of the linearised XPBD system (J W Jᵀ + α̃) Δλ = −C − α̃λ, solved densely, on bent compliant lines split by a pin', () => {
+    // random lines bent up to 50° at each particle, unequal masses, compliance, a pin inside and
+    // accumulated multipliers: each call's displacement must be W Jᵀ Δλ of the dense solution
+    const r = rng(11)
+    for (let trial = 0; trial < 20; trial++) {
+      const m = 4 + Math.floor(r() * 12)
+      const l = line(m, () => {}, true)
+      let x = 0, y = 0, angle = 0
+      for (let i = 0; i < m; i++) {
+        l.pos[3 * i] = x
+        l.pos[3 * i + 1] = y
+        l.pos[3 * i + 2] = 0.05 * (r() - 0.5)
+        angle += (r() - 0.5) * 1.7
+        const len = 0.8 + 0.4 * r()
+        x += len * Math.cos(angle)
+        y += len * Math.sin(angle)
+        l.invMass[i] = 0.3 + 2 * r()
+      }
+      l.invMass[1 + Math.floor(r() * (m - 2))] = 0 // held inside: two segments, each free at one end
+      for (let k = 0; k + 1 < m; k++) l.L.compliance[k] = r() < 0.5 ? 0 : 1e-6 * r()
+      const lambda = Float64Array.from({ length: m }, () => 1e-4 * (r() - 0.5))
+      const invH2 = 480 * 480
+      // the dense system, by Gaussian elimination
+      const E = m - 1, dir: number[][] = [], A = Array.from({ length: E }, () => new Float64Array(E)), b = new Float64Array(E)
+      for (let k = 0; k < E; k++) {
+        const d = [0, 1, 2].map((q) => l.pos[3 * k + 3 + q] - l.pos[3 * k + q])
+        const len = Math.hypot(d[0], d[1], d[2])
+        dir.push(d.map((v) => v / len))
+        b[k] = 1 - len - l.L.compliance[k] * invH2 * lambda[k]
+      }
+      for (let k = 0; k < E; k++) {
+        A[k][k] = l.invMass[k] + l.invMass[k + 1] + l.L.compliance[k] * invH2
+        if (k + 1 < E) {
+          const o = -l.invMass[k + 1] * (dir[k][0] * dir[k + 1][0] + dir[k][1] * dir[k + 1][1] + dir[k][2] * dir[k + 1][2])
+          A[k][k + 1] = o
+          A[k + 1][k] = o
+        }
+      }
+      for (let c = 0; c < E; c++) {
+        for (let row = c + 1; row < E; row++) {
+          const f = A[row][c] / A[c][c]
+          for (let q = c; q < E; q++) A[row][q] -= f * A[c][q]
+          b[row] -= f * b[c]
+        }
+      }
+      const dl = new Float64Array(E)
+      for (let k = E - 1; k >= 0; k--) {
+        let v = b[k]
+        for (let q = k + 1; q < E; q++) v -= A[k][q] * dl[q]
+        dl[k] = v / A[k][k]
+      }
+      const expected = l.pos.slice()
+      for (let k = 0; k < E; k++) {
+        for (let q = 0; q < 3; q++) {
+          expected[3 * k + q] -= l.invMass[k] * dl[k] * dir[k][q]
+          expected[3 * k + 3 + q] += l.invMass[k + 1] * dl[k] * dir[k][q]
+        }
+      }
+      const lambdaBefore = lambda.slice()
+      const params = createKernelParams()
+      setSubstepParams(params, 1 / 480, 0, [0, 0, 0], 1000)
+      solveLines(l.pos, l.invMass, l.L.start, l.L.ids, l.L.rest, l.L.compliance, params, 1, lambda, l.L.n, l.L.cc, l.L.dd)
+      for (let i = 0; i < 3 * m; i++) expect(Math.abs(l.pos[i] - expected[i])).toBeLessThan(1e-12)
+      for (let k = 0; k < E; k++) expect(Math.abs(lambda[k] - lambdaBefore[k] - dl[k])).toBeLessThan(1e-9)
+    }
+  })
+
   it('gives no correction where nothing can move and stays finite on collapsed edges', () => {
     const l = line(6, (i, p) => (p[3 * i] = i < 3 ? 0 : 1.5 * i)) // three particles on one point
     l.invMass[4] = 0
