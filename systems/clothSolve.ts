@@ -20,7 +20,10 @@ import type { ClothLines } from '../src/model/lines'
  * sweeps the distance constraints already carry the load, so repeating them there buys nothing.
  * With `lineSolve`, the edges that form lines (rows and columns) are solved a line at a time
  * (`src/kernels/lines.ts`) in place of their place in the distance sweep, after the other distance
- * constraints of the iteration.
+ * constraints of the iteration, and once more after the tethers, last, their multipliers carried
+ * over so a compliant edge keeps its compliance: the tethers pull particles toward their anchors
+ * and stretch the lines they cross (a 64×64 sheet swinging from two corners at 3 substeps: 19.6 %
+ * at its worst edge with one pass, 2.7 % with the last; see `tests/lineSolve.test.ts`).
  */
 export function clothSolve<W extends object>(world: W): W {
   const state = getClothWorld(world)
@@ -44,10 +47,9 @@ export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
   if (c.subIndex === 0) spreadInverseMasses(c.invMass, c.invMass3, c.count)
   // lines of edges solved at once (`lineSolve`; not on a tearable cloth: a tear splits particles)
   const lines = c.tear === null ? c.lines : null
-  if (accumulate && lines !== null) {
-    lines.lambda.fill(0)
-    lines.sweepLambda.fill(0)
-  }
+  // (the lines' multipliers always: their last pass, after the iterations, goes on from them)
+  if (lines !== null) lines.lambda.fill(0)
+  if (accumulate && lines !== null) lines.sweepLambda.fill(0)
   if (accumulate) {
     // the live constraints only (a tearable cloth reserves room for more)
     c.distLambda.fill(0, 0, t.distCount)
@@ -79,6 +81,22 @@ export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
     const apart = anchorsMoveTogether(state, c) ? null : t.restPositions
     solveTethers(c.pos, c.invMass, tethers.particle, tethers.anchor, tethers.rest, apart, tethers.count)
   }
+  // the lines once more, last: the stretch the tethers and the sweep left along them
+  if (lines !== null)
+    solveLines(
+      c.pos,
+      c.invMass,
+      lines.start,
+      lines.ids,
+      lines.rest,
+      lines.compliance,
+      p,
+      lines.count,
+      lines.lambda,
+      lines.n,
+      lines.cc,
+      lines.dd,
+    )
   if (grabs.count > 0) endGrabSubstep(c)
   stats.dihedralProjections += t.hingeCount * c.iterations
   stats.lineProjections += t.lineCount * c.iterations
@@ -91,5 +109,5 @@ function solveLinesAndSweep(c: ClothState, L: ClothLines, accumulate: boolean): 
   const p = c.params
   if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, L.sweepLambda, p, 0, L.sweepCount)
   else solveDistances(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, p, 0, L.sweepCount)
-  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, p, L.count, accumulate ? L.lambda : null, L.n, L.cc, L.dd)
+  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, p, L.count, L.lambda, L.n, L.cc, L.dd)
 }

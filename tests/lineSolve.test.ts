@@ -270,10 +270,12 @@ describe('lines of a topology', () => {
 })
 
 describe('lineSolve on a swinging sheet', () => {
-  it('a 64×64 sheet released level from two corners: at 5 substeps it meets mean ≤ 1 % and max ≤ 5 % with lines, not without', () => {
-    const a = swingingSheet(64, 5, true), b = swingingSheet(64, 5, false)
+  it('a 64×64 sheet released level from two corners: at 3 substeps it meets mean ≤ 1 % and max ≤ 5 % with lines, not without', () => {
+    // (with one line pass per substep, before the tethers: 19.6 % at the worst edge, mid-swing; with
+    // the row between the two pins swept once, one way: 9.4 % beside the right-hand pin, at release)
+    const a = swingingSheet(64, 3, true), b = swingingSheet(64, 3, false)
     const lines = worstStretch(a.world, a.cloth, 300), sweep = worstStretch(b.world, b.cloth, 300)
-    console.log('swinging 64x64 at 5 x 1: lines', lines, 'sweep only', sweep)
+    console.log('swinging 64x64 at 3 x 1: lines', lines, 'sweep only', sweep)
     expect(lines.mean).toBeLessThan(0.01)
     expect(lines.max).toBeLessThan(0.05)
     expect(sweep.max).toBeGreaterThan(0.1)
