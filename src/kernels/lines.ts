@@ -20,7 +20,9 @@ import { P_INV_H2 } from './params'
  * system is singular, and nearly so when it sags a little; solved directly, a row 1 % too long between two pins moved a particle 20 m,
  * and such rows buzzed at metres per second for good. A row that cannot move at all gets no
  * correction; an edge of zero length has no direction and gets none either. Multipliers start at
- * the substep's accumulated `lambda` (null: at 0, one iteration).
+ * the substep's accumulated `lambda` (null: at 0, one iteration). `held` 0 leaves a segment held at
+ * both ends as it is when its ends are pulled farther apart than its length (a second pass, after
+ * the tethers, which spread such a row's stretch evenly: see `solveOfCloth`).
  *
  * `n`, `cc`, `dd`: scratch of 3, 1 and 1 values per slot (slot k = the edge from ids[k] to ids[k+1]).
  */
@@ -37,6 +39,7 @@ export function solveLines(
   n: Float64Array,
   cc: Float64Array,
   dd: Float64Array,
+  held: number,
 ): void {
   for (let q = 0; q < lineCount; q++) {
     const k1 = start[q + 1] - 1 // the line's edges: start[q] .. k1 − 1
@@ -44,11 +47,26 @@ export function solveLines(
       // a segment: edges s0 .. s1 − 1, the particles between them movable (the elimination finds
       // where it ends; it moves nothing, so a segment held at both ends is projected instead)
       const s1 = eliminateSegment(pos, invMass, ids, rest, compliance, params, lambda, n, cc, dd, s0, k1)
-      if (invMass[ids[s0]] === 0 && invMass[ids[s1]] === 0) projectSegment(pos, invMass, ids, rest, compliance, params, lambda, dd, s0, s1)
-      else substituteSegment(pos, invMass, ids, lambda, n, cc, dd, s0, s1)
+      if (invMass[ids[s0]] === 0 && invMass[ids[s1]] === 0) {
+        if (held !== 0 || !pulledTaut(pos, ids, rest, s0, s1))
+          projectSegment(pos, invMass, ids, rest, compliance, params, lambda, dd, s0, s1)
+      } else substituteSegment(pos, invMass, ids, lambda, n, cc, dd, s0, s1)
       s0 = s1
     }
   }
+}
+
+/**
+ * Whether a segment held at both ends is held farther apart than its rest lengths add up to (by
+ * more than 0.1 %): no pose meets them all, and projected edge by edge it zigzags (see `solveLines`).
+ */
+function pulledTaut(pos: Float64Array, ids: Int32Array, rest: Float64Array, k0: number, k1: number): boolean {
+  let length = 0
+  for (let k = k0; k < k1; k++) length += rest[k]
+  const a = 3 * ids[k0], b = 3 * ids[k1]
+  const dx = pos[b] - pos[a], dy = pos[b + 1] - pos[a + 1], dz = pos[b + 2] - pos[a + 2]
+  const reach = 1.001 * length
+  return dx * dx + dy * dy + dz * dz > reach * reach
 }
 
 /** The smallest pivot of the elimination, as a share of its row's diagonal (see `eliminateSegment`). */
