@@ -47,8 +47,9 @@ export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
   if (c.subIndex === 0) spreadInverseMasses(c.invMass, c.invMass3, c.count)
   // lines of edges solved at once (`lineSolve`; not on a tearable cloth: a tear splits particles)
   const lines = c.tear === null ? c.lines : null
-  // (the lines' multipliers always: their last pass, after the iterations, goes on from them)
-  if (lines !== null) lines.lambda.fill(0)
+  // (with XPBD the lines' multipliers always: their last pass, after the iterations, goes on from
+  // them; classic PBD projects afresh each time, its stiffness per projection)
+  if (lines !== null && c.solver === 'xpbd') lines.lambda.fill(0)
   if (accumulate && lines !== null) lines.sweepLambda.fill(0)
   if (accumulate) {
     // the live constraints only (a tearable cloth reserves room for more)
@@ -97,10 +98,15 @@ function solveLinesAndSweep(c: ClothState, L: ClothLines, accumulate: boolean): 
   const p = c.params
   if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, L.sweepLambda, p, 0, L.sweepCount)
   else solveDistances(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, p, 0, L.sweepCount)
-  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, p, L.count, L.lambda, L.n, L.cc, L.dd, 1)
+  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, p, L.count, lineMultipliers(c, L), L.n, L.cc, L.dd, 1)
 }
 
 /** The lines' last pass of a substep (after the tethers), leaving segments held at both ends. */
 function solveLinesLast(c: ClothState, L: ClothLines): void {
-  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, c.params, L.count, L.lambda, L.n, L.cc, L.dd, 0)
+  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, c.params, L.count, lineMultipliers(c, L), L.n, L.cc, L.dd, 0)
+}
+
+/** The lines' multipliers: accumulated over a substep's passes with XPBD, none with classic PBD. */
+function lineMultipliers(c: ClothState, L: ClothLines): Float64Array | null {
+  return c.solver === 'xpbd' ? L.lambda : null
 }
