@@ -101,9 +101,9 @@ function solveLinesAndSweep(c: ClothState, L: ClothLines, accumulate: boolean): 
   solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, p, L.count, lineMultipliers(c, L), L.n, L.cc, L.dd, 1)
 }
 
-/** The lines' last pass of a substep (after the tethers), leaving segments held at both ends. */
+/** The lines' last pass of a substep (after the tethers; a row pulled taut between two pins left to them). */
 function solveLinesLast(c: ClothState, L: ClothLines): void {
-  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, c.params, L.count, lineMultipliers(c, L), L.n, L.cc, L.dd, 0)
+  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, c.params, L.count, lineMultipliers(c, L), L.n, L.cc, L.dd, 2)
 }
 
 /** The lines' multipliers: accumulated over a substep's passes with XPBD, none with classic PBD. */
