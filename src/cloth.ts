@@ -81,8 +81,8 @@ export interface ClothOptions {
    * the sweep and once more at the substep's end, after the tethers (a tridiagonal solve per line;
    * a segment held at both ends is projected). A sweep carries a correction one edge per pass, a
    * line solve the whole length: a swinging 64×64 sheet meets 1 % mean / 5 % max stretch at 3
-   * substeps instead of 24. Default false. Costs about 1.4–1.8× per substep; give it 2 substeps or more
-   * (README, Materials and accuracy). Not used while a cloth is tearable.
+   * substeps instead of 24. Default false. Costs about 1.4–1.8× per substep; give it 2 substeps
+   * or more (README, Materials and accuracy). Not used while a cloth is tearable.
    */
   lineSolve?: boolean
   /**

@@ -17,13 +17,14 @@ import { P_INV_H2 } from './params'
  * line into segments. A segment held at both ends is projected edge by edge instead, swept both
  * ways several times (`projectSegment`): along a straight line between two held particles its
  * edges are one constraint more than its particles can meet (the pins fix its length), so the
- * system is singular, and nearly so when it sags a little; solved directly, a row 1 % too long between two pins moved a particle 20 m,
- * and such rows buzzed at metres per second for good. A row that cannot move at all gets no
- * correction; an edge of zero length has no direction and gets none either. Multipliers start at
- * the substep's accumulated `lambda` (null: at 0, one iteration). `pass`: 0 takes the whole Newton
- * step; the pipeline's passes take STEP_SHARE of it, 1 in each iteration and 2 at the substep's end,
- * after the tethers (see `solveOfCloth`), which also leaves a segment held at both ends as it is
- * when its ends are pulled farther apart than its length (the tethers spread that stretch evenly).
+ * system is singular, and nearly so when it sags a little; solved directly, a row 1 % too long
+ * between two pins moved a particle 20 m, and such rows buzzed at metres per second for good. A
+ * row that cannot move at all gets no correction; an edge of zero length has no direction and gets
+ * none either. Multipliers start at the substep's accumulated `lambda` (null: at 0, one
+ * iteration). `pass`: 0 takes the whole Newton step; the pipeline's passes take STEP_SHARE of it,
+ * 1 in each iteration and 2 at the substep's end, after the tethers (see `solveOfCloth`), which
+ * also leaves a segment held at both ends as it is when its ends are pulled farther apart than its
+ * length (the tethers spread that stretch evenly).
  *
  * `n`, `cc`, `dd`: scratch of 3, 1 and 1 values per slot (slot k = the edge from ids[k] to ids[k+1]).
  */
@@ -77,7 +78,7 @@ const FLOOR = 0.05
  * The share of its Newton step each of the pipeline's line passes takes. In full, a sheet pulled
  * by a grab held out of its reach (the grab at its largest force) buzzed at 0.52 m/s at 4 substeps
  * for good, the lines' and the other constraints' corrections taking each other back every second
- * substep; at 0.95 it rests (0.013 m/s), and a compliant sheet still sags within 0.3 % of its
+ * substep; at 0.95 it rests (0.015 m/s), and a compliant sheet still sags within 0.3 % of its
  * compliance (at 0.9: 1.1 %).
  */
 const STEP_SHARE = 0.95
@@ -166,8 +167,9 @@ function eliminateSegment(
 
 /**
  * The backward half: each edge's Δλ from the elimination of `eliminateSegment`, applied as it is
- * found (all of it with `pass` 0, else STEP_SHARE of it, see `solveLines`). Particle b of edge k (ids[k + 1], at offset jb) is carried in registers from edge k + 1,
- * which moved it first, and stored once both have.
+ * found (all of it with `pass` 0, else STEP_SHARE of it, see `solveLines`). Particle b of edge k
+ * (ids[k + 1], at offset jb) is carried in registers from edge k + 1, which moved it first, and
+ * stored once both have.
  */
 function substituteSegment(
   pos: Float64Array,
