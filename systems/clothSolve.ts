@@ -85,7 +85,7 @@ export function solveOfCloth(state: ClothWorldState, c: ClothState): void {
   // the lines once more, last: the stretch the tethers and the sweep left along them; not the
   // segments held at both ends: between two pins moved apart the tethers spread the stretch evenly,
   // and swept again after them a banner's top row pulled 5 % wider zigzagged between 2 and 8 %
-  if (lines !== null) solveLinesLast(c, lines)
+  if (lines !== null) solveLinePass(c, lines, 2)
   if (grabs.count > 0) endGrabSubstep(c)
   stats.dihedralProjections += t.hingeCount * c.iterations
   stats.lineProjections += t.lineCount * c.iterations
@@ -98,15 +98,15 @@ function solveLinesAndSweep(c: ClothState, L: ClothLines, accumulate: boolean): 
   const p = c.params
   if (accumulate) solveDistancesXpbd(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, L.sweepLambda, p, 0, L.sweepCount)
   else solveDistances(c.pos, c.invMass3, L.sweepOffsets, L.sweepRest, L.sweepCompliance, p, 0, L.sweepCount)
-  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, p, L.count, lineMultipliers(c, L), L.n, L.cc, L.dd, 1)
+  solveLinePass(c, L, 1)
 }
 
-/** The lines' last pass of a substep (after the tethers; a row pulled taut between two pins left to them). */
-function solveLinesLast(c: ClothState, L: ClothLines): void {
-  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, c.params, L.count, lineMultipliers(c, L), L.n, L.cc, L.dd, 2)
-}
-
-/** The lines' multipliers: accumulated over a substep's passes with XPBD, none with classic PBD. */
-function lineMultipliers(c: ClothState, L: ClothLines): Float64Array | null {
-  return c.solver === 'xpbd' ? L.lambda : null
+/**
+ * One pass of the lines (`solveLines`): `pass` 1 in an iteration, 2 the substep's last (after the
+ * tethers; a row pulled taut between two pins left to them). Their multipliers accumulate over a
+ * substep's passes with XPBD; classic PBD projects afresh.
+ */
+function solveLinePass(c: ClothState, L: ClothLines, pass: number): void {
+  const lambda = c.solver === 'xpbd' ? L.lambda : null
+  solveLines(c.pos, c.invMass, L.start, L.ids, L.rest, L.compliance, c.params, L.count, lambda, L.n, L.cc, L.dd, pass)
 }

@@ -221,9 +221,9 @@ const HELD_SWEEPS = 4
 
 /**
  * A segment held at both ends: its edges k0 .. k1 − 1 projected one after another (XPBD), forward
- * and back HELD_SWEEPS times. Each edge's multiplier is accumulated over the sweeps (in `acc`, the
- * elimination's scratch, from the substep's `lambda` when given), so a compliant edge keeps its
- * compliance however often it is swept; the total goes back to `lambda`.
+ * and back HELD_SWEEPS times. Each edge's multiplier is accumulated over the sweeps (in the
+ * substep's `lambda`, or from 0 in `scratch` without), so a compliant edge keeps its compliance
+ * however often it is swept.
  */
 function projectSegment(
   pos: Float64Array,
@@ -233,12 +233,16 @@ function projectSegment(
   compliance: Float64Array,
   params: Float64Array,
   lambda: Float64Array | null,
-  acc: Float64Array,
+  scratch: Float64Array,
   k0: number,
   k1: number,
 ): void {
   const invH2 = params[P_INV_H2]
-  for (let k = k0; k < k1; k++) acc[k] = lambda === null ? 0 : lambda[k]
+  let acc = lambda
+  if (acc === null) {
+    acc = scratch
+    acc.fill(0, k0, k1)
+  }
   const E = k1 - k0
   for (let t = 0; t < 2 * E * HELD_SWEEPS; t++) {
     const u = t % (2 * E)
@@ -259,5 +263,4 @@ function projectSegment(
     pos[b + 1] += wb * f * dy
     pos[b + 2] += wb * f * dz
   }
-  if (lambda !== null) { for (let k = k0; k < k1; k++) lambda[k] = acc[k] }
 }

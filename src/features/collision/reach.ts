@@ -5,6 +5,7 @@ import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
 import type { ClothCollision } from './types'
 import { newArray } from '../../core/shared'
+import { particleBounds } from '../../kernels/mesh'
 
 /** Which colliders reach which cloths: layers, swept bounds, per-cloth collider lists. */
 
@@ -164,4 +165,21 @@ export function wakeAroundCollider(state: ClothWorldState, e: number): void {
     const c = cloths[ci]
     if (c.sleep.asleep && colliderLayersMatch(C, e, c.collision) && colliderReaches(C, e, c.sleep.bounds, c)) wakeClothState(state, c)
   }
+}
+
+/** Scratch of `selfReaches`: a box (6). */
+const near = new Float64Array(6)
+
+/**
+ * Whether the self-colliding cloth `o`'s particles come within the two cloths' collision distances
+ * of the sleeping self-colliding cloth `c`'s box (its `sleep.bounds`): read from the positions,
+ * which snapshots save, not from the collision bounds made later in the step. (The cloths, not
+ * numbers, are passed: a double passed to a call is boxed.)
+ */
+export function selfReaches(o: ClothState, c: ClothState): boolean {
+  const b = c.sleep.bounds
+  const reach = c.collision.self!.thickness + o.collision.self!.thickness
+  particleBounds(o.pos, o.count, near, 0, o.topology.unused)
+  return !(near[0] > b[3] + reach || b[0] > near[3] + reach || near[1] > b[4] + reach || b[1] > near[4] + reach || near[2] > b[5] + reach ||
+    b[2] > near[5] + reach)
 }

@@ -1,6 +1,5 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
-import { clothLayersMatch } from './reach'
-import { particleBounds } from '../../kernels/mesh'
+import { clothLayersMatch, selfReaches } from './reach'
 import { B_MAX_DEV, B_MEAN_V, B_REFRESH, type CollisionWorld, type SelfCollisionState, type SelfSweep } from './types'
 import { ClothError, MAX_COORDINATE, checkAtMost, checkKeys, checkNonNegative, checkPositive, keysOf } from '../../core/errors'
 import {
@@ -177,26 +176,17 @@ export function releaseSelfCollision(state: ClothWorldState, c: ClothState): voi
   for (let q = 0; q < cw.selfCloths.length; q++) cw.selfCloths[q].collision.self!.blockCount = 0
 }
 
-/** Scratch of `wakeSelfNeighbours`: a box (6). */
-const around = new Float64Array(6)
-
 /**
  * Wakes the sleeping self-colliding cloths within reach of the self-colliding cloth `c`, which is
  * about to go, to stop colliding or to be moved away: one asleep on it would stay asleep where it
  * lay (a napkin on a hammock removed, teleported or made not to collide hung in the air).
  */
 export function wakeSelfNeighbours(state: ClothWorldState, c: ClothState): void {
-  const self = c.collision.self
-  if (self === null) return
+  if (c.collision.self === null) return
   const group = state.collision.selfCloths
-  particleBounds(c.pos, c.count, around, 0, c.topology.unused)
   for (let q = 0; q < group.length; q++) {
     const o = group[q]
-    if (o === c || !o.sleep.asleep) continue
-    const b = o.sleep.bounds, r = self.thickness + o.collision.self!.thickness
-    if (around[0] > b[3] + r || b[0] > around[3] + r || around[1] > b[4] + r || b[1] > around[4] + r || around[2] > b[5] + r) continue
-    if (b[2] > around[5] + r) continue
-    wakeClothState(state, o)
+    if (o !== c && o.sleep.asleep && selfReaches(c, o)) wakeClothState(state, o)
   }
 }
 

@@ -10,6 +10,7 @@ import {
   colliderReachedBeforeJump,
   colliderReaches,
   planeUnchanged,
+  selfReaches,
 } from '../collision/reach'
 import { windReaches } from '../wind/step'
 import { B_REFRESH } from '../collision/types'
@@ -97,36 +98,21 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
   return c.collision.self !== null && selfNeighbourMoves(state, c)
 }
 
-/** Whether an awake self-colliding cloth that can touch the sleeper `c` moves within its reach (`movesWithin`). */
+/**
+ * Whether an awake self-colliding cloth that can touch the sleeper `c` moves (its last step was not
+ * still by its own sleep speed: `still` 0) within reach of it (`selfReaches`). One still, like a
+ * napkin settled on a sleeping one, disturbs nothing: woken by any awake neighbour in reach, two
+ * settled napkins slept in turns, each waking the other, for good (every phase run, 100× the cost
+ * of both asleep). The stillness timer and the positions are what snapshots save (restored into a
+ * fresh world, a test of the collision bounds read zeros and a napkin stayed asleep).
+ */
 function selfNeighbourMoves(state: ClothWorldState, c: ClothState): boolean {
   const group = state.collision.selfCloths
   const ca = c.collision
   for (let q = 0; q < group.length; q++) {
     const o = group[q]
-    if (o === c || o.sleep.asleep || o.budget.frozen) continue
-    if (clothLayersMatch(ca, o.collision) && movesWithin(o, c)) return true
+    if (o === c || o.sleep.asleep || o.budget.frozen || o.sleep.still > 0) continue
+    if (clothLayersMatch(ca, o.collision) && selfReaches(o, c)) return true
   }
   return false
-}
-
-/** Scratch of `movesWithin`: a box (6). */
-const near = new Float64Array(6)
-
-/**
- * Whether an awake self-colliding cloth `o` moves (its last step was not still by its own sleep
- * speed: `still` 0) within reach of the sleeper `c` (their collision distances). One still, like a
- * napkin settled on a sleeping one, disturbs nothing: woken by any awake neighbour in reach, two
- * settled napkins slept in turns, each waking the other, for good (every phase run, 100× the cost
- * of both asleep). Read from what snapshots save (the stillness timer and the positions), not the
- * cloth's collision bounds (made later in the step, and not saved: restored into a fresh world the
- * test read zeros and a napkin stayed asleep). (The cloths, not numbers, are passed: a double
- * passed to a call is boxed.)
- */
-function movesWithin(o: ClothState, c: ClothState): boolean {
-  if (o.sleep.still > 0) return false
-  const b = c.sleep.bounds
-  const reach = c.collision.self!.thickness + o.collision.self!.thickness
-  particleBounds(o.pos, o.count, near, 0, o.topology.unused)
-  return !(near[0] > b[3] + reach || b[0] > near[3] + reach || near[1] > b[4] + reach || b[1] > near[4] + reach || near[2] > b[5] + reach ||
-    b[2] > near[5] + reach)
 }
