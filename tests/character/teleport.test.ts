@@ -247,9 +247,10 @@ describe('a hand holding the cape across a 10 m jump of its character', () => {
       )
       expect(framed.stretch).toBeLessThan(pinned.stretch + 0.02)
       expect(framed.speed).toBeLessThan(pinned.speed + 0.5)
-      // measured (README), pinned or not: 'keep' 8.3 % and 0.20 m/s at the hem, as without the jump;
-      // 'reset' 44 % and 7.8 m/s, the hand pulling the hem back from the reference
-      const [stretch, speed] = mode === 'keep' ? [0.083, 0.2] : [0.444, 7.81]
+      // measured (README), pinned or not: 'keep' 7.4 % and 0.12 m/s at the hem, as without the jump
+      // (8.3 % and 0.20 m/s while the walk's start in the first frame was taken as steady); 'reset'
+      // 44 % and 7.8 m/s, the hand pulling the hem back from the reference
+      const [stretch, speed] = mode === 'keep' ? [0.074, 0.12] : [0.444, 7.81]
       for (const r of [pinned, framed]) {
         expect(r.stretch).toBeGreaterThan(0.85 * stretch)
         expect(r.stretch).toBeLessThan(1.15 * stretch)

@@ -1,9 +1,10 @@
 import { quatToMatrix, relativeRotationAt } from '../../core/math'
-import { F_A, F_C, F_ORIGIN, F_Q } from '../../kernels/motion'
+import { F_A, F_C, F_ORIGIN, F_Q, fastestSpeed2 } from '../../kernels/motion'
 import { P_DAMP, P_GX, P_H } from '../../kernels/params'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { trackedPose } from './reference'
 import {
+  FROM_CLOTH,
   M_PRIMED,
   M_POSE,
   M_V,
@@ -93,8 +94,29 @@ export function beginFrameStep(state: ClothWorldState, c: ClothState, ch: ClothC
     m[M_VC + j] = w[W_VC + j]
     m[M_WC + j] = w[W_WC + j]
   }
+  if (m[M_PRIMED] === FROM_CLOTH && ch.frameSlot >= 0) frameFromCloth(c, w)
   m[M_PRIMED] = 1
   for (let j = 0; j < 10; j++) m[M_POSE + j] = w[W_TO + j]
+}
+
+/** Below this speed (m/s) every particle of a cloth is at rest for a new frame (`FROM_CLOTH`). */
+const AT_REST = 0.01
+
+/**
+ * The frame's last velocities for a new frame entity (`FROM_CLOTH`): a cloth at rest (no particle
+ * faster than AT_REST) stood in a frame at rest, and a character that starts moving in its first
+ * step in the frame has accelerated; a cloth in motion keeps the frame's motion in that step as
+ * steady (its motion is relative to the frame: a cloth drifting across a frame standing still, or
+ * running along with its character).
+ */
+function frameFromCloth(c: ClothState, w: Float64Array): void {
+  if (!(fastestSpeed2(c.vel, c.count) <= AT_REST * AT_REST)) return
+  for (let j = 0; j < 3; j++) {
+    w[W_PV + j] = 0
+    w[W_PW + j] = 0
+    w[W_PVC + j] = 0
+    w[W_PWC + j] = 0
+  }
 }
 
 /**

@@ -4,7 +4,7 @@ import type { ClothState, ClothWorldState } from '../../world/state'
 import { adoptAnchor, releaseAnchor } from '../budget/freeze'
 import { pinOffsetAhead } from '../pins/step'
 import { bindRigid, currentReference, restNormals, trackedPose } from './reference'
-import { M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_FRAME_EXPLICIT, type ClothCharacter } from './types'
+import { FROM_CLOTH, M_BIND, M_POSE, M_PRIMED, M_REF_VALID, S_FRAME_EXPLICIT, type ClothCharacter } from './types'
 
 /**
  * A character cloth's frame: which entity it is (given, or the default: the first pin's target, the
@@ -109,7 +109,11 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
   if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
   // (the world, or a frame gone: the last pose stays)
   m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
-  m[M_PRIMED] = 0
+  // a new frame entity of a cloth at rest stood still until now (the world as the frame stands
+  // still anyway): a character that starts running in its cape's first frame in it is an
+  // acceleration the cape feels by its shares (taken as steady, a cape with shares 0 swung 18.8 cm
+  // RMS out of its shape)
+  m[M_PRIMED] = ch.frameSlot >= 0 ? FROM_CLOTH : 0
   if (onPins) fitToPins(state, c, ch, eid)
   else {
     if (!rebind && ch.skin === null) attachPose(state, c, eid, m, M_BIND)

@@ -191,8 +191,13 @@ export const M_V = 20
 export const M_W = 23
 export const M_VC = 26
 export const M_WC = 29
-/** 1 once the velocities above are known (0: the next step feels no acceleration at its start). */
+/**
+ * 1 once the velocities above are known; 0: the next step feels no acceleration at its start; 2
+ * (`FROM_CLOTH`, a new frame entity): neither, when the cloth is at rest (the frame stood still
+ * before; see `beginFrameStep`).
+ */
 export const M_PRIMED = 32
+export const FROM_CLOTH = 2
 /** 1 while a skinned cloth's `ref` holds its reference at the end of its last step. */
 export const M_REF_VALID = 33
 /** 1 when the cloth sat steps out (asleep, frozen): its next step starts from the frame's pose then. */
