@@ -459,7 +459,7 @@ export function interpolateScale(k: Kinematics, so: number, t: Float64Array, ti:
 /**
  * Pose at fraction f = t[ti] between poses `a` and `b` (both at offset `o`) into out[oo..oo+6]:
  * position lerp, rotation slerp along the shortest arc (nlerp when nearly equal); f ≥ 1 gives b
- * exactly. (The fraction is read from an array: a double argument would be boxed per call.)
+ * exactly, and so does a rotation equal in a and b. (The fraction is read from an array: a double argument would be boxed per call.)
  */
 export function interpolatePose(
   a: Float64Array,
@@ -480,6 +480,15 @@ export function interpolatePose(
   out[oo + 2] = a[o + 2] + (b[o + 2] - a[o + 2]) * f
   const ax = a[o + 3], ay = a[o + 4], az = a[o + 5], aw = a[o + 6]
   let bx = b[o + 3], by = b[o + 4], bz = b[o + 5], bw = b[o + 6]
+  if (ax === bx && ay === by && az === bz && aw === bw) {
+    // not turning: the rotation itself (normalised, a still entity turned 0.3 rad came out an ulp
+    // off, moved at every step that ended between frames and woke the cloth on it)
+    out[oo + 3] = bx
+    out[oo + 4] = by
+    out[oo + 5] = bz
+    out[oo + 6] = bw
+    return
+  }
   let cos = ax * bx + ay * by + az * bz + aw * bw
   if (cos < 0) {
     cos = -cos
