@@ -2,7 +2,7 @@ import { rebuildTethers } from '../src/cloth'
 import { beginKinematicStep, sampleFrame } from '../src/world/kinematics'
 import { getClothWorld } from '../src/world/access'
 import { followTargetJumps, jumpedPinTarget } from '../src/features/pins/step'
-import { advanceGrabs, beginGrabFrame } from '../src/features/grab/step'
+import { advanceGrabs, beginGrabFrame, sampleGrabTargets } from '../src/features/grab/step'
 import { advanceWind } from '../src/features/wind/step'
 import { sweepColliders } from '../src/features/collision/step'
 import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
@@ -79,6 +79,8 @@ export function clothSync<W extends object>(world: W): W {
     if (c.grab.count > 0) advanceGrabs(state, c)
     if (c.tethers.dirty) rebuildTethers(state, c)
   }
+  // (after the jumps carried the targets so far: the hand's target now is where the next frame's glide starts)
+  if (frameStart) { for (let ci = 0; ci < cloths.length; ci++) if (cloths[ci].grab.count > 0) sampleGrabTargets(cloths[ci]) }
   state.substepCount = total
   state.substep = 0
   state.frame.stepping = true // (until the guard: cloths may not change in between)

@@ -27,6 +27,7 @@ import {
   stepCloth,
   unpin,
 } from '../src/index'
+import { getClothWorld } from '../src/world/access'
 import { RUN_COLS, RUN_ROWS, runningCape as capeOnRunner } from './character/scenes'
 import { allFinite, hashBytes, makeWorld, momentum } from './helpers'
 
@@ -360,6 +361,35 @@ describe('grab: moving, releasing', () => {
     }
     const a = path(60), b = path(30)
     expect(Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2])).toBeLessThan(1e-9)
+  })
+
+  it('the glide keeps pace with a steady hand at frames that are not whole steps (59.94 Hz, 1/50 and 1/70 s, 144 Hz)', () => {
+    // (the glide started where the last step left the target, short of the last frame sample by
+    // the time still in the accumulator: each step fell behind by a share of the gap, and the frame
+    // running two steps snapped the target onto the hand: 1.01 m behind at 59.94 Hz, found by a hunt)
+    const path = (frames: number[]) => {
+      const world = makeWorld({ sleep: false, gravity: [0, 0, 0] })
+      const cloth = createCloth(world, { width: 0.5, height: 0.5, resolution: 8, position: [0, 2, 0], damping: 0 })
+      const start = at(world, cloth, 27)
+      const hand = (t: number) => [start[0] + 2 * t, start[1], start[2]] // 2 m/s along x
+      const grab = grabParticle(world, cloth, 27, hand(0))
+      const state = getClothWorld(world)
+      let t = 0, worst = 0
+      for (let f = 0; t < 4; f++) {
+        const dt = frames[f % frames.length]
+        t += dt
+        moveGrab(world, grab, hand(t))
+        if (stepCloth(world, dt) === 0 || t < 1) continue
+        // the hand where the last step ended
+        worst = Math.max(worst, Math.abs(at(world, cloth, 27)[0] - hand(t - state.accumulator)[0]))
+      }
+      return worst
+    }
+    const steady = path([1 / 60])
+    for (const frames of [[1 / 59.94], [1 / 50, 1 / 70], [1 / 144]]) {
+      const off = path(frames)
+      expect(off, `${frames.map((d) => (1 / d).toFixed(2)).join('/')} Hz`).toBeLessThan(steady + 0.005)
+    }
   })
 
   it('a grab wakes a sleeping cloth when it moves', () => {

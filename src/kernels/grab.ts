@@ -7,7 +7,7 @@ import { P_INV_H2 } from './params'
  */
 /** Requested target xyz (set by `moveGrab`). */
 export const G_TO = 0
-/** Where the target stood at the last frame sample (the frame's motion starts there). */
+/** Where the target stood at the last frame sample, carried by teleports since (the frame's motion starts there). */
 export const G_FRAME = 3
 /** Target at the start and at the end of the current fixed step. */
 export const G_STEP_FROM = 6
@@ -24,7 +24,9 @@ export const G_LAMBDA = 17
 export const G_IMPULSE = 20
 /** Mean force of the last finished step, xyz, N. */
 export const G_FORCE = 23
-export const GRAB_STRIDE = 26
+/** The requested target at the last frame sample (the next frame's motion starts there). */
+export const G_SAMPLE = 26
+export const GRAB_STRIDE = 29
 
 /**
  * One Gauss-Seidel pass over `count` grabs. Each is the vector constraint C = x − target on its

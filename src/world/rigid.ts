@@ -1,12 +1,12 @@
 import { quatToMatrix, relativeRotationAt } from '../core/math'
-import { GRAB_STRIDE, G_AT, G_FRAME, G_STEP_FROM, G_STEP_TO } from '../kernels/grab'
+import { GRAB_STRIDE, G_AT, G_FRAME, G_SAMPLE, G_STEP_FROM, G_STEP_TO } from '../kernels/grab'
 import type { ClothState, ClothWorldState } from './state'
 
 /** Scratch of moveClothRigidly: the rotation matrix in [0, 9), the quaternion in [9, 13). */
 const ROTATION = new Float64Array(13)
 
 /** The grab targets a rigid move carries: where each glides from (the target asked for stays). */
-const CARRIED_TARGETS = [G_FRAME, G_STEP_FROM, G_STEP_TO, G_AT] as const
+const CARRIED_TARGETS = [G_FRAME, G_STEP_FROM, G_STEP_TO, G_AT, G_SAMPLE] as const
 
 /** The row-major rotation matrix of the unit quaternion (rx, ry, rz, rw) into ROTATION[0..8]. */
 function rotation(rx: number, ry: number, rz: number, rw: number): Float64Array {

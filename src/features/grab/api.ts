@@ -11,7 +11,7 @@ import {
   checkKeys,
   keysOf,
 } from '../../core/errors'
-import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
+import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_FORCE, G_FRAME, G_MAX_FORCE, G_SAMPLE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { grownArray } from '../../core/store'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import type { ClothState, ClothWorldState } from '../../world/state'
@@ -105,7 +105,7 @@ export function grabParticle(
   G.particle[g] = index
   const o = GRAB_STRIDE * g
   G.data.fill(0, o, o + GRAB_STRIDE)
-  for (const slot of [G_TO, G_FRAME, G_STEP_FROM, G_STEP_TO, G_AT]) for (let j = 0; j < 3; j++) G.data[o + slot + j] = target[j]
+  for (const slot of [G_TO, G_FRAME, G_STEP_FROM, G_STEP_TO, G_AT, G_SAMPLE]) for (let j = 0; j < 3; j++) G.data[o + slot + j] = target[j]
   G.data[o + G_COMPLIANCE] = compliance
   G.data[o + G_MAX_FORCE] = maxForce
   wakeClothState(state, c)

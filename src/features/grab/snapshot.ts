@@ -1,6 +1,6 @@
 import { allFinite, fit32, fit64 } from '../../core/arrays'
 import { ClothError, MAX_SNAPSHOT_COORDINATE } from '../../core/errors'
-import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_MAX_FORCE } from '../../kernels/grab'
+import { GRAB_STRIDE, G_AT, G_COMPLIANCE, G_MAX_FORCE, G_SAMPLE } from '../../kernels/grab'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { growGrabs } from './api'
 
@@ -52,7 +52,8 @@ export function checkGrabs(state: ClothWorldState, c: ClothState, s: GrabSnapsho
       throw new ClothError(arg, s, `holds a bad grab at ${g} (handle, particle out of range, or grip settings grabParticle refuses)`)
     }
     // the targets (requested, frame, step ends, where the hand is): points, as grabParticle takes them
-    for (let j = 0; j < G_AT + 3; j++) {
+    for (let j = 0; j < GRAB_STRIDE; j++) {
+      if (j === G_AT + 3) j = G_SAMPLE // (grip settings and forces between: checked above or not points)
       if (!(Math.abs(s.grabData[o + j]) <= MAX_SNAPSHOT_COORDINATE))
         throw new ClothError(arg, s, `holds a grab target beyond ±${MAX_SNAPSHOT_COORDINATE} m at ${g}`)
     }

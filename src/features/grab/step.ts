@@ -1,4 +1,4 @@
-import { GRAB_STRIDE, G_AT, G_FORCE, G_FRAME, G_IMPULSE, G_LAMBDA, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
+import { GRAB_STRIDE, G_AT, G_FORCE, G_FRAME, G_IMPULSE, G_LAMBDA, G_SAMPLE, G_STEP_FROM, G_STEP_TO, G_TO } from '../../kernels/grab'
 import { P_INV_H2 } from '../../kernels/params'
 import { K_STEP_FRACTION, type ClothState, type ClothWorldState } from '../../world/state'
 
@@ -8,12 +8,27 @@ import { K_STEP_FRACTION, type ClothState, type ClothWorldState } from '../../wo
  * before the sweeps, runs the `solveGrabs` kernel in each sweep and books the substep's force after.
  */
 
-/** At a frame sample: the frame's motion of every grab target starts where the last step ended. */
+/**
+ * At a frame sample: the frame's motion of every grab target starts where the target was asked to
+ * be at the last frame sample (carried by teleports since), as a pin target's starts at its last
+ * sample. (Started where the last step left it, a step short of that sample by the time still in
+ * the accumulator, a hand moving steadily was followed short by a share of each frame: at
+ * 59.94 Hz a dragged sheet fell 1 m behind a hand at 2 m/s, then snapped to it.)
+ */
 export function beginGrabFrame(c: ClothState): void {
   const G = c.grab
   for (let g = 0; g < G.count; g++) {
     const o = GRAB_STRIDE * g
-    for (let j = 0; j < 3; j++) G.data[o + G_FRAME + j] = G.data[o + G_STEP_TO + j]
+    for (let j = 0; j < 3; j++) G.data[o + G_FRAME + j] = G.data[o + G_SAMPLE + j]
+  }
+}
+
+/** At a frame sample, after the jumps carried the targets so far: the targets asked for now are the next frame's start. */
+export function sampleGrabTargets(c: ClothState): void {
+  const G = c.grab
+  for (let g = 0; g < G.count; g++) {
+    const o = GRAB_STRIDE * g
+    for (let j = 0; j < 3; j++) G.data[o + G_SAMPLE + j] = G.data[o + G_TO + j]
   }
 }
 
