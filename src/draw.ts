@@ -1,6 +1,6 @@
 import { entityExists, hasComponent } from 'bitecs'
 import { checkOut } from './core/errors'
-import { quatToMatrix } from './core/math'
+import { multiplyQuatAt, quatToMatrix, rotateVecAt } from './core/math'
 import { getCloth, getClothWorld } from './world/access'
 import { readPoseInto } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
@@ -49,7 +49,7 @@ export function getClothDrawTransform<T extends { [i: number]: number; length: n
   if (lod.frozen && lod.refSlot === slot) {
     poses = lod.refPose
     po = 0
-  } else if (c.idle && !lod.frozen && lod.shownSlot === slot) {
+  } else if ((c.idle || lod.shownCarried) && !lod.frozen && lod.shownSlot === slot) {
     poses = lod.shownPose
     po = 0
   }
@@ -92,8 +92,29 @@ export function noteShownAnchors(state: ClothWorldState): void {
     if (c.idle) continue
     const slot = anchorSlot(state, c), lod = c.budget
     lod.shownSlot = slot
+    lod.shownCarried = false
     if (slot >= 0) { for (let j = 0; j < 7; j++) lod.shownPose[j] = to[7 * slot + j] }
   }
+}
+
+/**
+ * `teleportCloth` moved the cloth (by the rigid-motion record m[0..9], see `moveClothBy`) between
+ * steps: the mesh now shows it moved, so the pose its anchor is drawn from moves too. (Measured
+ * from the anchor's pose at the last step, a cape teleported with its character on a frame that
+ * ran no step was drawn moved twice: 10 m off its pins for 2–3 frames at 144–240 Hz.)
+ */
+export function carryShownAnchor(state: ClothWorldState, c: ClothState, m: Float64Array): void {
+  const slot = anchorSlot(state, c), lod = c.budget
+  if (slot < 0 || lod.frozen) return
+  const shown = (c.idle || lod.shownCarried) && lod.shownSlot === slot
+  for (let j = 0; j < 7; j++) t[j] = shown ? lod.shownPose[j] : state.kinematics.stepTo[7 * slot + j]
+  // p' = centre + R·(p − centre) + d, q' = R·q
+  for (let a = 0; a < 3; a++) t[10 + a] = t[a] - m[a]
+  rotateVecAt(m, 3, t, 10, t, 10)
+  for (let a = 0; a < 3; a++) lod.shownPose[a] = m[a] + t[10 + a] + m[7 + a]
+  multiplyQuatAt(m, 3, t, 3, lod.shownPose, 3)
+  lod.shownSlot = slot
+  lod.shownCarried = true
 }
 
 /** The kinematic slot of the cloth's anchor: its character frame, else its first pin target; −1 when none. */

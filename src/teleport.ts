@@ -2,6 +2,7 @@ import { wakeSelfNeighbours } from './features/collision/selfCollision'
 import type { quat, vec3 } from 'gl-matrix'
 import { checkPoint, checkQuat } from './core/errors'
 import { normalizedQuat } from './core/math'
+import { carryShownAnchor } from './draw'
 import { carryFrozenReference } from './features/budget/freeze'
 import { carryWorldFrame } from './features/character/frames'
 import { carryPins } from './features/pins/api'
@@ -75,6 +76,7 @@ export function teleportCloth(
   m[6] = rw
   for (let a = 0; a < 3; a++) m[7 + a] = translation[a]
   moveClothRigidly(c, px, py, pz, rx, ry, rz, rw, px + m[7], py + m[8], pz + m[9], true) // (torn pieces too)
+  carryShownAnchor(state, c, m) // (drawn from where the mesh now shows it)
   carryPins(state, c, m)
   carryWorldFrame(c, m)
   if (c.budget.frozen) {

@@ -19,7 +19,9 @@ import {
   setClothInertia,
   setTransform,
   stepCloth,
+  teleportCloth,
 } from '../../src/index'
+import { getClothWorld } from '../../src/world/access'
 import { createClothMesh, updateClothDrawMatrix, updateClothGeometry } from '../../src/three/index'
 import { makeWorld } from '../helpers'
 
@@ -113,6 +115,38 @@ describe('getClothDrawTransform', () => {
       }
     }
     expect(farthest).toBeLessThan(1.3) // the cape: 1.05 m long, 0.55 m wide
+  })
+
+  it('teleportCloth with its character on a frame that runs no step (144 Hz): the drawn pinned row stays on the pins, turned too', () => {
+    // (the draw transform measured from the anchor's pose at the last step, which the mesh no
+    // longer showed: the cape was drawn moved twice, 10 m off its pins, until the next step; found
+    // by a hunt)
+    for (const turn of [0, 1]) {
+      const { world, hero, cloth, pins } = scene()
+      const m = new Float64Array(16)
+      let t = 0, worst = 0, teleported = false
+      for (let f = 0; f < 144; f++) {
+        t += 1 / 144
+        const now = pose(t, 0)
+        // from 0.5 s the hero is 10 m along x and turned by `turn` rad about its own position
+        const jumped = t >= 0.5
+        if (jumped) {
+          now.p[0] += 10
+          now.q = yawQuat(0.8 * t + turn)
+        }
+        setTransform(world, hero, now.p, now.q)
+        // the jump on a frame that runs no step (one frame in 2.4 runs one at 144 Hz)
+        if (jumped && !teleported && getClothWorld(world).accumulator + 1 / 144 < 1 / 60 - 1e-9) {
+          teleported = true
+          teleportCloth(world, cloth, [10, 0, 0], yawQuat(turn), pose(t, 0).p)
+        }
+        if (jumped && !teleported) setTransform(world, hero, pose(t, 0).p, yawQuat(0.8 * t)) // (wait for such a frame)
+        stepCloth(world, 1 / 144)
+        if (teleported) worst = Math.max(worst, offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), now))
+      }
+      expect(teleported).toBe(true)
+      expect(worst).toBeLessThan(1e-6)
+    }
   })
 
   it('pipelined by a frame (animate → beginClothStep → draw → endClothStep), the drawn pinned row is on the pins too', () => {

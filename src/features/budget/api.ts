@@ -203,6 +203,7 @@ export function createClothBudget(substeps: number, iterations: number): ClothBu
     refPose: new Float64Array(7),
     shownSlot: -1,
     shownPose: new Float64Array(7),
+    shownCarried: false,
     measure: new Float64Array(7),
   }
 }

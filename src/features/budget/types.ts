@@ -100,6 +100,11 @@ export interface ClothBudget {
    */
   shownSlot: number
   shownPose: Float64Array
+  /**
+   * True while the mesh shows the cloth moved by `teleportCloth` since its last step: `shownPose`
+   * is then its anchor's pose at that step moved by the teleport (see `carryShownAnchor`).
+   */
+  shownCarried: boolean
   /** Measurement scratch: the particles' bounds (6), then the largest edge strain. */
   measure: Float64Array
 }
