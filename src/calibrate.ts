@@ -22,8 +22,10 @@ import { stepCloth } from '../systems/step'
 let processCalibration: Float64Array | null = null
 
 /**
- * Measures the cost model's per-unit costs on this machine (a few small scenes, about 30 ms; the
- * result is kept for the process). Pass `force` to measure again.
+ * Measures the cost model's per-unit costs on this machine (a few small scenes: 0.2 s here, 0.4 s
+ * the first time in a process, which compiles the kernels; the result is kept for the process).
+ * The first time budget or quality target in ms calls it: call it while loading to keep that out
+ * of a frame. Pass `force` to measure again.
  */
 export function calibrateClothCost(force = false): ClothCostCalibration {
   const c = measured(force)

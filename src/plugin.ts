@@ -101,6 +101,7 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
     kinematics: createKinematics(),
     substep: 0,
     substepCount: 0,
+    scheduledWritebacks: -1,
     stats: createStats(),
     sleep: createSleepWorld(sleep),
     grab: createGrabWorld(),

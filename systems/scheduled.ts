@@ -41,8 +41,16 @@ function checked(phase: <W extends object>(world: W) => W): <W extends object>(w
   return run
 }
 
-/** The sync phase, once per fixed step before the substeps (reads the Transforms). Throws a ClothError between `beginClothStep` and `endClothStep`. */
-export const clothSync = checked(sync)
+/**
+ * The sync phase, once per fixed step before the substeps (reads the Transforms). Throws a
+ * ClothError between `beginClothStep` and `endClothStep`.
+ */
+export const clothSync = checked(<W extends object>(world: W): W => {
+  sync(world)
+  getClothWorld(world).scheduledWritebacks = 0
+  return world
+})
+Object.defineProperty(clothSync, 'name', { value: sync.name })
 /** The forces phase of a substep (wind and other accelerations). Throws a ClothError between `beginClothStep` and `endClothStep`. */
 export const clothForces = checked(forces)
 /** The predict phase of a substep (integration; pinned and held particles placed). Throws a ClothError between `beginClothStep` and `endClothStep`. */
@@ -54,9 +62,33 @@ export const clothCollide = checked(collide)
 /** The tear phase of a substep (overstretched edges split at the step's last substep). Throws a ClothError between `beginClothStep` and `endClothStep`. */
 export const clothTear = checked(tear)
 /** The writeback phase of a substep (motion constraints, velocities, sleep). Throws a ClothError between `beginClothStep` and `endClothStep`. */
-export const clothWriteback = checked(writeback)
-/** The guard phase, once after the substeps (explosion guard). Throws a ClothError between `beginClothStep` and `endClothStep`. */
-export const clothGuard = checked(guard)
+export const clothWriteback = checked(<W extends object>(world: W): W => {
+  writeback(world)
+  const state = getClothWorld(world)
+  if (state.scheduledWritebacks >= 0) state.scheduledWritebacks++
+  return world
+})
+Object.defineProperty(clothWriteback, 'name', { value: writeback.name })
+/**
+ * The guard phase, once after the substeps (explosion guard). Throws a ClothError between
+ * `beginClothStep` and `endClothStep`, and when the substep phases ran fewer rounds since
+ * `clothSync` than `clothSubstepCount(world)` (run once per fixed step, every cloth went at a
+ * fraction of its speed: a falling sheet at 1/8 of g with 8 substeps).
+ */
+export const clothGuard = checked(<W extends object>(world: W): W => {
+  const state = getClothWorld(world)
+  const ran = state.scheduledWritebacks
+  state.scheduledWritebacks = -1 // (the guard alone, after a step run otherwise, checks nothing here)
+  if (ran >= 0 && ran < state.substepCount) {
+    throw new ClothError(
+      'world',
+      world,
+      `ran the substep phases ${ran} times since clothSync, for ${state.substepCount} substeps: run each of clothPhases once per clothSubstepCount(world) (setClothSubstep(world, s) before each round), or call clothFixedStep`,
+    )
+  }
+  return guard(world)
+})
+Object.defineProperty(clothGuard, 'name', { value: guard.name })
 /** The events phase, after the step (tear and reset listeners). Throws a ClothError between `beginClothStep` and `endClothStep`. */
 export const clothEvents = checked(events)
 

@@ -61,6 +61,7 @@ export function createWorkerWorld(): WorkerWorld {
     kinematics: createKinematics(),
     substep: 0,
     substepCount: 0,
+    scheduledWritebacks: -1,
     stats: createStats(),
     sleep: createSleepWorld(DEFAULT_SLEEP),
     wind: createWindWorld(undefined),

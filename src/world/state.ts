@@ -477,6 +477,8 @@ export interface ClothWorldState {
   /** Global substep index within the current fixed step, and how many there are. */
   substep: number
   substepCount: number
+  /** Writeback phases the scheduled phase systems ran since their `clothSync` (−1: none since their last `clothGuard`; see systems/scheduled.ts). */
+  scheduledWritebacks: number
   stats: ClothStats
   sleep: SleepWorld
   grab: GrabWorld
