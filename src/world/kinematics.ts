@@ -22,6 +22,8 @@ export function createKinematics(): Kinematics {
     refs: new Int32Array(0),
     count: 0,
     free: [],
+    live: [],
+    liveAt: [],
     sampleFrom: new Float64Array(0),
     sampleTo: new Float64Array(0),
     stepFrom: newArray(Float64Array, 0),
@@ -77,6 +79,8 @@ export function trackEntity(state: ClothWorldState, eid: number): number {
   k.slotOf[eid] = slot
   k.eid[slot] = eid
   k.refs[slot] = 1
+  k.liveAt[slot] = k.live.length
+  k.live.push(slot)
   k.jumped[slot] = 0
   k.moved[slot] = 0
   k.forceJump[slot] = 0
@@ -139,6 +143,11 @@ export function untrackEntity(state: ClothWorldState, eid: number): void {
   if (--k.refs[slot] > 0) return
   k.slotOf[eid] = -1
   k.eid[slot] = -1
+  const at = k.liveAt[slot], last = k.live.pop()!
+  if (last !== slot) {
+    k.live[at] = last
+    k.liveAt[last] = at
+  }
   if (slot !== k.count - 1) {
     k.free.push(slot)
     return
@@ -268,18 +277,17 @@ export function sampleFrame(state: ClothWorldState): void {
   k.time[K_LAST_SPAN] = ratio
   const carry = dropped / (simulated + dropped) // (0 when nothing was dropped)
   // every transform is checked before any is taken: a rejected one leaves the sample untouched
-  for (let slot = 0; slot < k.count; slot++) {
-    const eid = k.eid[slot]
-    if (eid < 0) continue
+  const live = k.live
+  for (let q = 0; q < live.length; q++) {
+    const eid = k.eid[live[q]]
     readPoseInto(state, eid, pose)
     readScaleInto(state, eid, scale, 0)
   }
   k.time[K_DROPPED] = 0
-  for (let slot = 0; slot < k.count; slot++) {
-    const eid = k.eid[slot]
+  for (let q = 0; q < live.length; q++) {
+    const slot = live[q], eid = k.eid[slot]
     jumpTest[3] = k.jumped[slot] // (its last frame's, for `landsBeyond`)
     k.jumped[slot] = 0
-    if (eid < 0) continue
     readPoseInto(state, eid, pose)
     const so = 3 * slot
     k.scaleSampleFrom[so] = k.scaleSampleTo[so]
@@ -420,8 +428,9 @@ export function applyJump(jump: Float64Array, j: number, poses: Float64Array, po
 export function beginKinematicStep(k: Kinematics): void {
   if (!k.framed) k.time[K_STEP_FRACTION] = 1
   const f = k.time[K_STEP_FRACTION]
-  for (let slot = 0; slot < k.count; slot++) {
-    if (k.eid[slot] < 0) continue
+  const live = k.live
+  for (let q = 0; q < live.length; q++) {
+    const slot = live[q]
     const o = 7 * slot
     for (let c = 0; c < 7; c++) k.stepFrom[o + c] = k.stepTo[o + c]
     interpolatePose(k.sampleFrom, k.sampleTo, o, k.time, K_STEP_FRACTION, k.stepTo, o)
@@ -483,10 +492,7 @@ export function interpolatePose(
   if (ax === bx && ay === by && az === bz && aw === bw) {
     // not turning: the rotation itself (normalised, a still entity turned 0.3 rad came out an ulp
     // off, moved at every step that ended between frames and woke the cloth on it)
-    out[oo + 3] = bx
-    out[oo + 4] = by
-    out[oo + 5] = bz
-    out[oo + 6] = bw
+    for (let c = 3; c < 7; c++) out[oo + c] = b[o + c]
     return
   }
   let cos = ax * bx + ay * by + az * bz + aw * bw

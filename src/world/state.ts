@@ -366,6 +366,13 @@ export interface Kinematics {
   count: number
   /** Free slots (reused last-in first-out, which keeps slot order deterministic). */
   free: number[]
+  /**
+   * Slots in use, in no particular order: the per-step loops walk these, not every slot below
+   * `count` (a hero tracked after a level of 20,000 colliders kept the loops that long once the
+   * level unloaded: 1.4× the step), and each slot's index in it.
+   */
+  live: number[]
+  liveAt: number[]
   sampleFrom: Float64Array
   sampleTo: Float64Array
   stepFrom: Float64Array
