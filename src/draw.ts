@@ -49,7 +49,9 @@ export function getClothDrawTransform<T extends { [i: number]: number; length: n
   if (lod.frozen && lod.refSlot === slot) {
     poses = lod.refPose
     po = 0
-  } else if ((c.idle || lod.shownCarried) && !lod.frozen && lod.shownSlot === slot) {
+  } else if ((lod.shownStale || lod.shownCarried) && !lod.frozen && lod.shownSlot === slot) {
+    // (whether it sat out the world's last step, not the step in flight while a frame is open: a
+    // far cloth running that one was drawn 150 mm behind its pins every 4th step, found by a hunt)
     poses = lod.shownPose
     po = 0
   }
@@ -89,6 +91,7 @@ export function noteShownAnchors(state: ClothWorldState): void {
   const to = state.kinematics.stepTo
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
+    c.budget.shownStale = c.idle
     if (c.idle) continue
     const slot = anchorSlot(state, c), lod = c.budget
     lod.shownSlot = slot

@@ -59,6 +59,7 @@ export function clothSync<W extends object>(world: W): W {
       } else lod.phase = 0
     }
     c.idle = idle
+    lod.dueNow = false
     if (idle) {
       noteIdle(c)
       c.subIndex = -1 // sits the whole step out (read by the guard, which runs after the substeps)
@@ -74,6 +75,8 @@ export function clothSync<W extends object>(world: W): W {
     if (c.substeps > total) total = c.substeps
     const pinJump = frameStart ? followTargetJumps(state, c) : 0
     if (c.character !== null) beginCharacterStep(state, c, frameStart, pinJump)
+    // (a teleportCloth is taken by now as its target's jump: the mesh moves on from the step's start)
+    lod.shownCarried = false
     // (after the jumps carried the cloth and its grabs' targets so far: the hand's new target is not
     // carried again; a cape held by its frame alone had its hand's target moved twice by a 10 m jump)
     if (c.grab.count > 0) advanceGrabs(state, c)

@@ -14,9 +14,12 @@ import {
   endClothStep,
   getClothComponents,
   getClothDrawTransform,
+  getClothLod,
   getClothState,
   pinRow,
+  setClothBudget,
   setClothInertia,
+  setClothVisible,
   setTransform,
   stepCloth,
   teleportCloth,
@@ -164,6 +167,43 @@ describe('getClothDrawTransform', () => {
       endClothStep(world)
     }
     expect(drawn).toBeLessThan(1e-6)
+  })
+
+  it('pipelined, a far cloth the budget steps every 4th step, and one hidden near and shown far (thawed into that level): on the pins every frame', () => {
+    // (with a frame open, a far cloth running the step in flight was drawn from the world's last
+    // step, not its own: 150 mm behind its pins every 4th frame at 3 m/s; a cape thawed into a far
+    // level sat out 3 more steps, drawn 3 m off its character; found by a hunt)
+    for (const pipelined of [false, true]) {
+      const { world, hero, cloth, pins } = scene()
+      const camera = addEntity(world)
+      setTransform(world, camera, [0, 2, 0])
+      setClothBudget(world, {
+        viewer: camera,
+        near: 5,
+        far: 20,
+        farStepEvery: 4,
+        calibration: { nsPerParticle: 10, nsPerProjection: 10, nsPerColliderTest: 10, nsPerClothSubstep: 100, nsPerWindTriangle: 10 },
+        adapt: false,
+      })
+      const m = new Float64Array(16)
+      stepCloth(world, 1 / 60)
+      let t = 0, drawn = 0, sat = 0
+      for (let f = 0; f < 120; f++) {
+        t += 1 / 60
+        const now = pose(t, 0)
+        setTransform(world, hero, now.p, now.q, now.s)
+        setTransform(world, camera, [now.p[0], 2, f >= 60 ? 40 : 0]) // near for the hidden second, far when shown
+        if (f === 30) setClothVisible(world, cloth, false)
+        if (f === 60) setClothVisible(world, cloth, true)
+        if (pipelined) beginClothStep(world, 1 / 60)
+        else stepCloth(world, 1 / 60)
+        if (f >= 60 && getClothLod(world, cloth).stepEvery === 4) sat++
+        drawn = Math.max(drawn, offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), now))
+        if (pipelined) endClothStep(world)
+      }
+      expect(sat).toBeGreaterThan(50) // (it did run at the far level)
+      expect(drawn).toBeLessThan(1e-6)
+    }
   })
 
   it('is the identity for a cloth without an anchor, and for one whose anchor lost its Transform; checks its out array', () => {

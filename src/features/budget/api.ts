@@ -204,6 +204,8 @@ export function createClothBudget(substeps: number, iterations: number): ClothBu
     shownSlot: -1,
     shownPose: new Float64Array(7),
     shownCarried: false,
+    shownStale: false,
+    dueNow: false,
     measure: new Float64Array(7),
   }
 }

@@ -57,9 +57,11 @@ export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array)
   glideThawingPins(state, c, poses, poses === k.stepFrom ? k.scaleStepFrom : k.scaleStepTo)
   lod.frozen = false
   lod.phase = lod.stepEvery - 1 // a far cloth steps at once: where it was carried to is this step's start
+  lod.dueNow = true // (at whatever rate its level this allocation gives: see `applyConfig`)
   lod.waited = 0 // (so its step is one fixed step long)
   lod.refPin = -1
   lod.refSlot = -1
+  lod.shownSlot = -1 // (carried to `poses`: drawn from there until it steps, not from before the freeze)
 }
 
 /** Called when a pin is added: a frozen cloth without a reference takes it (when it has a target). */

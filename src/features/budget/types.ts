@@ -105,6 +105,13 @@ export interface ClothBudget {
    * is then its anchor's pose at that step moved by the teleport (see `carryShownAnchor`).
    */
   shownCarried: boolean
+  /**
+   * True when the cloth sat out the world's last step (asleep, frozen, or stepping every n-th): its
+   * mesh shows an older step, whose anchor pose is `shownPose`.
+   */
+  shownStale: boolean
+  /** True from a thaw to the sync's choice of the cloth's step: it steps at once, at whatever level it gets (see `applyConfig`). */
+  dueNow: boolean
   /** Measurement scratch: the particles' bounds (6), then the largest edge strain. */
   measure: Float64Array
 }
