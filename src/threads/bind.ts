@@ -24,8 +24,12 @@ let warned = false
  */
 export function resolveThreadOptions(o: ClothPluginOptions): { count: number; url: URL | string; inlineNs: number } | null {
   const count = o.threads === undefined ? 0 : checkInteger('options.threads', o.threads, 0, MAX_THREADS)
-  if (o.workerUrl !== undefined && typeof o.workerUrl !== 'string' && !(o.workerUrl instanceof URL)) {
-    throw new ClothError('options.workerUrl', o.workerUrl, 'must be a URL or a string (the cloth worker script)')
+  const given: unknown = o.workerUrl
+  if (
+    given !== undefined && typeof given !== 'string' &&
+    !(typeof given === 'object' && given !== null && typeof (given as { href?: unknown }).href === 'string')
+  ) {
+    throw new ClothError('options.workerUrl', given, 'must be a URL or a string (the cloth worker script)')
   }
   if (o.requireThreads !== undefined && typeof o.requireThreads !== 'boolean') {
     throw new ClothError('options.requireThreads', o.requireThreads, 'must be true or false')
@@ -40,7 +44,10 @@ export function resolveThreadOptions(o: ClothPluginOptions): { count: number; ur
     warned = true
     return null
   }
-  return { count, url: o.workerUrl ?? defaultWorkerUrl(), inlineNs: min * 1e6 }
+  // (typed as anything with an href, so that the declarations need no DOM or Node types for URL)
+  const url = o.workerUrl === undefined ? defaultWorkerUrl()
+    : typeof o.workerUrl === 'string' || o.workerUrl instanceof URL ? o.workerUrl : new URL(o.workerUrl.href)
+  return { count, url, inlineNs: min * 1e6 }
 }
 
 /**

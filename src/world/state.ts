@@ -86,7 +86,7 @@ export interface ClothPluginOptions {
    * The worker script: the package's `worker.js` (next to its `index.js`), or your bundle of
    * `bitecs-cloth/worker`. Default: `worker.js` beside the library file.
    */
-  workerUrl?: string | URL
+  workerUrl?: string | { readonly href: string }
   /**
    * Without shared memory (a browser page that is not cross-origin isolated), `threads` cannot
    * work: true throws a ClothError; false (default) warns once and steps on the calling thread.

@@ -20,6 +20,9 @@ describe('thread options', () => {
   const cases: [string, Record<string, unknown>, string][] = [
     ['workerUrl http URL', { threads: 1, workerUrl: new URL('https://example.com/worker.js') }, 'ClothError(options.workerUrl)'],
     ['requireThreads string', { threads: 1, requireThreads: 'yes' }, 'ClothError(options.requireThreads)'],
+    // (typed as anything with an href, so that the declarations need no DOM or Node types for URL)
+    ['workerUrl object with an href', { threads: 1, workerUrl: { href: workerUrl().href } }, 'ok'],
+    ['workerUrl object without a string href', { threads: 1, workerUrl: { href: 5 } }, 'ClothError(options.workerUrl)'],
   ]
   for (const [name, opts, want] of cases) {
     it(name, () => {
