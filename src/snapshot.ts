@@ -204,6 +204,7 @@ function restoreChecked(world: object, state: ClothWorldState, c: ClothState, s:
   restoreCollision(c, s)
   restoreCharacter(state, c, s) // (before the budget: a frozen cloth may be carried by its frame or bone)
   restoreBudget(state, c, s)
+  c.budget.shownCarried = false // (a teleportCloth since the save moved the mesh this restore replaced)
   restoreSleep(state, c, s)
   c.collision.bounds[B_REFRESH] = 1 // (an idle cloth's collision bounds and hash are made again from the restored positions)
   restoreGuard(c, s)

@@ -82,6 +82,7 @@ export function refuseNestedStep(state: ClothWorldState, world: object): void {
 export function startFixedStep(world: object, blocking: boolean): void {
   const state = getClothWorld(world)
   clothSync(world)
+  state.scheduledWritebacks = -1 // (a step of its own: the phase systems' count is not kept)
   if (!blocking) {
     refreshFrameMeshes(state)
     refreshFrameProxies(state)

@@ -80,6 +80,7 @@ export const clothGuard = checked(<W extends object>(world: W): W => {
   const ran = state.scheduledWritebacks
   state.scheduledWritebacks = -1 // (the guard alone, after a step run otherwise, checks nothing here)
   if (ran >= 0 && ran < state.substepCount) {
+    state.frame.stepping = false // (the step is abandoned: the world may change again)
     throw new ClothError(
       'world',
       world,

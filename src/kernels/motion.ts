@@ -94,14 +94,24 @@ export function predictInFrame(
   }
 }
 
-/** The largest squared speed among the first `count` particles' velocities (m²/s²; NaN sticks). */
-export function fastestSpeed2(vel: Float64Array, count: number): number {
-  let top = 0
+/** The mean position of the first `count` particles into out[o..o+2], their mean velocity into out[o+3..o+5]. */
+export function meanMotion(pos: Float64Array, vel: Float64Array, count: number, out: Float64Array, o: number): void {
+  let px = 0, py = 0, pz = 0, vx = 0, vy = 0, vz = 0
   for (let j = 0; j < 3 * count; j += 3) {
-    const s2 = vel[j] * vel[j] + vel[j + 1] * vel[j + 1] + vel[j + 2] * vel[j + 2]
-    if (!(s2 <= top)) top = s2
+    px += pos[j]
+    py += pos[j + 1]
+    pz += pos[j + 2]
+    vx += vel[j]
+    vy += vel[j + 1]
+    vz += vel[j + 2]
   }
-  return top
+  const n = Math.max(count, 1)
+  out[o] = px / n
+  out[o + 1] = py / n
+  out[o + 2] = pz / n
+  out[o + 3] = vx / n
+  out[o + 4] = vy / n
+  out[o + 5] = vz / n
 }
 
 /**

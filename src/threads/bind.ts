@@ -46,7 +46,7 @@ export function resolveThreadOptions(o: ClothPluginOptions): { count: number; ur
   }
   // (typed as anything with an href, so that the declarations need no DOM or Node types for URL)
   const url = o.workerUrl === undefined ? defaultWorkerUrl()
-    : typeof o.workerUrl === 'string' || o.workerUrl instanceof URL ? o.workerUrl : new URL(o.workerUrl.href)
+    : typeof o.workerUrl === 'string' || o.workerUrl instanceof URL ? o.workerUrl : o.workerUrl.href
   return { count, url, inlineNs: min * 1e6 }
 }
 

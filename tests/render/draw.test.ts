@@ -17,6 +17,8 @@ import {
   getClothLod,
   getClothState,
   pinRow,
+  restoreClothState,
+  saveClothState,
   setClothBudget,
   setClothInertia,
   setClothVisible,
@@ -150,6 +152,31 @@ describe('getClothDrawTransform', () => {
       expect(teleported).toBe(true)
       expect(worst).toBeLessThan(1e-6)
     }
+  })
+
+  it('saved, teleported with its character on a frame that runs no step, then rolled back (Transform and snapshot): drawn on its pins', () => {
+    // (the pose the teleport carried outlived the restore: drawn 10 m off its pins; found by a hunt)
+    const { world, hero, cloth, pins } = scene()
+    const m = new Float64Array(16)
+    let t = 0
+    for (let f = 0; f < 40; f++) {
+      t += 1 / 144
+      setTransform(world, hero, pose(t, 0).p, pose(t, 0).q)
+      stepCloth(world, 1 / 144)
+    }
+    while (getClothWorld(world).accumulator + 1 / 144 >= 1 / 60 - 1e-9) {
+      t += 1 / 144
+      setTransform(world, hero, pose(t, 0).p, pose(t, 0).q)
+      stepCloth(world, 1 / 144)
+    }
+    const saved = saveClothState(world, cloth), at = pose(t, 0)
+    const jumped = { ...at, p: [at.p[0] + 10, at.p[1], at.p[2]] as [number, number, number] }
+    setTransform(world, hero, jumped.p, jumped.q)
+    teleportCloth(world, cloth, [10, 0, 0])
+    expect(offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), jumped)).toBeLessThan(1e-6)
+    setTransform(world, hero, at.p, at.q)
+    restoreClothState(world, cloth, saved)
+    expect(offPins(world, cloth, pins, getClothDrawTransform(world, cloth, m), at)).toBeLessThan(1e-6)
   })
 
   it('pipelined by a frame (animate → beginClothStep → draw → endClothStep), the drawn pinned row is on the pins too', () => {

@@ -23,6 +23,7 @@ describe('thread options', () => {
     // (typed as anything with an href, so that the declarations need no DOM or Node types for URL)
     ['workerUrl object with an href', { threads: 1, workerUrl: { href: workerUrl().href } }, 'ok'],
     ['workerUrl object without a string href', { threads: 1, workerUrl: { href: 5 } }, 'ClothError(options.workerUrl)'],
+    ['workerUrl object with a relative href', { threads: 1, workerUrl: { href: 'worker.js' } }, 'ClothError(options.workerUrl)'],
   ]
   for (const [name, opts, want] of cases) {
     it(name, () => {

@@ -1,5 +1,5 @@
 import { quatToMatrix, relativeRotationAt } from '../../core/math'
-import { F_A, F_C, F_ORIGIN, F_Q, fastestSpeed2 } from '../../kernels/motion'
+import { F_A, F_C, F_ORIGIN, F_Q, meanMotion } from '../../kernels/motion'
 import { P_DAMP, P_GX, P_H } from '../../kernels/params'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { trackedPose } from './reference'
@@ -17,6 +17,7 @@ import {
   S_MAX_ANGULAR,
   S_MAX_LINEAR,
   W_FROM,
+  W_MEAN,
   W_M,
   W_N,
   W_P,
@@ -99,18 +100,24 @@ export function beginFrameStep(state: ClothWorldState, c: ClothState, ch: ClothC
   for (let j = 0; j < 10; j++) m[M_POSE + j] = w[W_TO + j]
 }
 
-/** Below this speed (m/s) every particle of a cloth is at rest for a new frame (`FROM_CLOTH`). */
-const AT_REST = 0.01
-
 /**
- * The frame's last velocities for a new frame entity (`FROM_CLOTH`): a cloth at rest (no particle
- * faster than AT_REST) stood in a frame at rest, and a character that starts moving in its first
- * step in the frame has accelerated; a cloth in motion keeps the frame's motion in that step as
- * steady (its motion is relative to the frame: a cloth drifting across a frame standing still, or
- * running along with its character).
+ * The frame's last velocities for a new frame entity (`FROM_CLOTH`), which has no history: a cloth
+ * whose mean velocity is nearer rest than the frame's velocity at its centre stood in a frame at
+ * rest, and a character that starts moving in its first step in the frame has accelerated (taken
+ * as steady, a still or swaying cape with shares 0 swung 19–76 cm RMS out of shape); a cloth moving
+ * with the frame keeps the frame's motion in that step as steady (a cape running along with its
+ * character in world space; a cloth drifting across a frame standing still is either).
  */
 function frameFromCloth(c: ClothState, w: Float64Array): void {
-  if (!(fastestSpeed2(c.vel, c.count) <= AT_REST * AT_REST)) return
+  meanMotion(c.pos, c.vel, c.count, w, W_MEAN)
+  // the frame's velocity at the cloth's centre: V + ω × (centre − origin)
+  const rx = w[W_MEAN] - w[W_FROM], ry = w[W_MEAN + 1] - w[W_FROM + 1], rz = w[W_MEAN + 2] - w[W_FROM + 2]
+  const ux = w[W_V] + w[W_W + 1] * rz - w[W_W + 2] * ry
+  const uy = w[W_V + 1] + w[W_W + 2] * rx - w[W_W] * rz
+  const uz = w[W_V + 2] + w[W_W] * ry - w[W_W + 1] * rx
+  const vx = w[W_MEAN + 3], vy = w[W_MEAN + 4], vz = w[W_MEAN + 5]
+  const still = vx * vx + vy * vy + vz * vz, along = (vx - ux) ** 2 + (vy - uy) ** 2 + (vz - uz) ** 2
+  if (!(still <= along)) return
   for (let j = 0; j < 3; j++) {
     w[W_PV + j] = 0
     w[W_PW + j] = 0

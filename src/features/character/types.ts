@@ -193,8 +193,7 @@ export const M_VC = 26
 export const M_WC = 29
 /**
  * 1 once the velocities above are known; 0: the next step feels no acceleration at its start; 2
- * (`FROM_CLOTH`, a new frame entity): neither, when the cloth is at rest (the frame stood still
- * before; see `beginFrameStep`).
+ * (`FROM_CLOTH`, a new frame entity): the cloth's motion decides (see `frameFromCloth`).
  */
 export const M_PRIMED = 32
 export const FROM_CLOTH = 2
@@ -253,7 +252,9 @@ export const W_SKIN_JUMPED = W_LIMITED + 1
  * on it stopped sweeping.)
  */
 export const W_BONE_LEAPT = W_SKIN_JUMPED + 1
-export const WORK = W_BONE_LEAPT + 1
+/** The cloth's mean position and velocity (`meanMotion`), scratch of `beginFrameStep` for a new frame entity. */
+export const W_MEAN = W_BONE_LEAPT + 1
+export const WORK = W_MEAN + 6
 /** `work[W_BLEND]`: the end of last step becomes the start, then the end is blended. */
 export const BLEND_END = 1
 /** `work[W_BLEND]`: start and end are blended (the reference was not continuous). */

@@ -23,8 +23,13 @@ export function beginGrabFrame(c: ClothState): void {
   }
 }
 
-/** At a frame sample, after the jumps carried the targets so far: the targets asked for now are the next frame's start. */
+/**
+ * At a frame sample, after the jumps carried the targets so far: the targets asked for now are the
+ * next frame's start. A frozen cloth keeps its sample, which its thaw carries with it (sampled
+ * while frozen, then carried by the walk it sat out, a hand's glide started 1.2 m ahead of it).
+ */
 export function sampleGrabTargets(c: ClothState): void {
+  if (c.budget.frozen) return
   const G = c.grab
   for (let g = 0; g < G.count; g++) {
     const o = GRAB_STRIDE * g
