@@ -109,7 +109,7 @@ export function noteShownAnchors(state: ClothWorldState): void {
 export function carryShownAnchor(state: ClothWorldState, c: ClothState, m: Float64Array): void {
   const slot = anchorSlot(state, c), lod = c.budget
   if (slot < 0 || lod.frozen) return
-  const shown = (c.idle || lod.shownCarried) && lod.shownSlot === slot
+  const shown = (lod.shownStale || lod.shownCarried) && lod.shownSlot === slot
   for (let j = 0; j < 7; j++) t[j] = shown ? lod.shownPose[j] : state.kinematics.stepTo[7 * slot + j]
   // p' = centre + R·(p − centre) + d, q' = R·q
   for (let a = 0; a < 3; a++) t[10 + a] = t[a] - m[a]

@@ -109,10 +109,8 @@ export function setFrame(state: ClothWorldState, c: ClothState, ch: ClothCharact
   if (ch.frameSlot >= 0) trackedPose(state, ch.frameSlot, m, M_POSE)
   // (the world, or a frame gone: the last pose stays)
   m.copyWithin(M_BIND, M_POSE, M_POSE + 10)
-  // a new frame entity of a cloth at rest stood still until now (the world as the frame stands
-  // still anyway): a character that starts running in its cape's first frame in it is an
-  // acceleration the cape feels by its shares (taken as steady, a cape with shares 0 swung 18.8 cm
-  // RMS out of its shape)
+  // a new frame entity has no motion history: its first step asks the cloth's motion whether the
+  // frame stood still until now (see `frameFromCloth`; the world as the frame stands still anyway)
   m[M_PRIMED] = ch.frameSlot >= 0 ? FROM_CLOTH : 0
   if (onPins) fitToPins(state, c, ch, eid)
   else {
