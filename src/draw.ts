@@ -1,8 +1,8 @@
 import { entityExists, hasComponent } from 'bitecs'
 import { checkOut } from './core/errors'
-import { multiplyQuatAt, quatToMatrix, rotateVecAt } from './core/math'
+import { quatToMatrix } from './core/math'
 import { getCloth, getClothWorld } from './world/access'
-import { readPoseInto } from './world/kinematics'
+import { applyJump, readPoseInto } from './world/kinematics'
 import type { ClothState, ClothWorldState } from './world/state'
 
 /**
@@ -110,12 +110,8 @@ export function carryShownAnchor(state: ClothWorldState, c: ClothState, m: Float
   const slot = anchorSlot(state, c), lod = c.budget
   if (slot < 0 || lod.frozen) return
   const shown = (lod.shownStale || lod.shownCarried) && lod.shownSlot === slot
-  for (let j = 0; j < 7; j++) t[j] = shown ? lod.shownPose[j] : state.kinematics.stepTo[7 * slot + j]
-  // p' = centre + R·(p − centre) + d, q' = R·q
-  for (let a = 0; a < 3; a++) t[10 + a] = t[a] - m[a]
-  rotateVecAt(m, 3, t, 10, t, 10)
-  for (let a = 0; a < 3; a++) lod.shownPose[a] = m[a] + t[10 + a] + m[7 + a]
-  multiplyQuatAt(m, 3, t, 3, lod.shownPose, 3)
+  if (!shown) { for (let j = 0; j < 7; j++) lod.shownPose[j] = state.kinematics.stepTo[7 * slot + j] }
+  applyJump(m, 0, lod.shownPose, 0)
   lod.shownSlot = slot
   lod.shownCarried = true
 }

@@ -52,8 +52,9 @@ export function clothSync<W extends object>(world: W): W {
       // of what it follows makes it step now, so that it handles the jump (as a teleport) when
       // it happens rather than being dragged across it by its next step
       const jumped = frameStart && (jumpedPinTarget(state, c) >= 0 || characterJumped(state, c))
-      // (a cloth about to freeze steps now too, to freeze where its pins and frame are)
-      if (++lod.phase < lod.stepEvery && !jumped && !lod.freezing) {
+      // (a cloth about to freeze steps now too, to freeze where its pins and frame are, and one just
+      // thawed, from where the thaw carried it, whatever level it thawed into: `dueNow`)
+      if (++lod.phase < lod.stepEvery && !jumped && !lod.freezing && !lod.dueNow) {
         idle = true
         lod.waited++
       } else lod.phase = 0

@@ -31,13 +31,13 @@ function outsideFrame(world: object): void {
   }
 }
 
-/** `phase`, first checking that no frame is open; it keeps the phase's name. */
-function checked(phase: <W extends object>(world: W) => W): <W extends object>(world: W) => W {
+/** `phase`, first checking that no frame is open; it keeps the phase's name (or takes `name`). */
+function checked(phase: <W extends object>(world: W) => W, name = phase.name): <W extends object>(world: W) => W {
   const run = <W extends object>(world: W): W => {
     outsideFrame(world)
     return phase(world)
   }
-  Object.defineProperty(run, 'name', { value: phase.name })
+  Object.defineProperty(run, 'name', { value: name })
   return run
 }
 
@@ -49,8 +49,7 @@ export const clothSync = checked(<W extends object>(world: W): W => {
   sync(world)
   getClothWorld(world).scheduledWritebacks = 0
   return world
-})
-Object.defineProperty(clothSync, 'name', { value: sync.name })
+}, sync.name)
 /** The forces phase of a substep (wind and other accelerations). Throws a ClothError between `beginClothStep` and `endClothStep`. */
 export const clothForces = checked(forces)
 /** The predict phase of a substep (integration; pinned and held particles placed). Throws a ClothError between `beginClothStep` and `endClothStep`. */
@@ -67,8 +66,7 @@ export const clothWriteback = checked(<W extends object>(world: W): W => {
   const state = getClothWorld(world)
   if (state.scheduledWritebacks >= 0) state.scheduledWritebacks++
   return world
-})
-Object.defineProperty(clothWriteback, 'name', { value: writeback.name })
+}, writeback.name)
 /**
  * The guard phase, once after the substeps (explosion guard). Throws a ClothError between
  * `beginClothStep` and `endClothStep`, and when the substep phases ran fewer rounds since
@@ -88,8 +86,7 @@ export const clothGuard = checked(<W extends object>(world: W): W => {
     )
   }
   return guard(world)
-})
-Object.defineProperty(clothGuard, 'name', { value: guard.name })
+}, guard.name)
 /** The events phase, after the step (tear and reset listeners). Throws a ClothError between `beginClothStep` and `endClothStep`. */
 export const clothEvents = checked(events)
 

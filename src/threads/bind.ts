@@ -24,11 +24,10 @@ let warned = false
  */
 export function resolveThreadOptions(o: ClothPluginOptions): { count: number; url: URL | string; inlineNs: number } | null {
   const count = o.threads === undefined ? 0 : checkInteger('options.threads', o.threads, 0, MAX_THREADS)
+  // (typed as anything with an href, so that the declarations need no DOM or Node types for URL)
   const given: unknown = o.workerUrl
-  if (
-    given !== undefined && typeof given !== 'string' &&
-    !(typeof given === 'object' && given !== null && typeof (given as { href?: unknown }).href === 'string')
-  ) {
+  const href = typeof given === 'object' && given !== null ? (given as { href?: unknown }).href : given
+  if (given !== undefined && typeof href !== 'string') {
     throw new ClothError('options.workerUrl', given, 'must be a URL or a string (the cloth worker script)')
   }
   if (o.requireThreads !== undefined && typeof o.requireThreads !== 'boolean') {
@@ -44,9 +43,7 @@ export function resolveThreadOptions(o: ClothPluginOptions): { count: number; ur
     warned = true
     return null
   }
-  // (typed as anything with an href, so that the declarations need no DOM or Node types for URL)
-  const url = o.workerUrl === undefined ? defaultWorkerUrl()
-    : typeof o.workerUrl === 'string' || o.workerUrl instanceof URL ? o.workerUrl : o.workerUrl.href
+  const url = given === undefined ? defaultWorkerUrl() : given instanceof URL ? given : (href as string)
   return { count, url, inlineNs: min * 1e6 }
 }
 

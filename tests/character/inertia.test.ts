@@ -243,7 +243,9 @@ describe('the first step in a new frame', () => {
       } cm; shares 1 ${(100 * world).toFixed(2)} cm`,
     )
     expect(Math.abs(first - later)).toBeLessThan(0.1 * later)
-    expect(later).toBeLessThan(0.75 * world)
+    // measured 9.00 cm against 18.82: half (the felt half of the start)
+    expect(later / world).toBeGreaterThan(0.4)
+    expect(later / world).toBeLessThan(0.6)
   })
 
   it('shares 0: a swaying cape whose hero starts at 5 m/s in its first frame moves in the frame as with the hero standing', () => {
@@ -274,17 +276,23 @@ describe('the first step in a new frame', () => {
   })
 
   it('a cape running along in world space, given a frame mid-run, is not jolted', () => {
+    // (the cloth moves with its frame: the frame's motion in that step is taken as steady; taken as
+    // a start from rest, shares 0 would add the whole 5 m/s)
     const { world, hero, cape } = capeOnCharacter(undefined, makeWorld({ sleep: false }))
     const c = getClothState(world, cape)
     const mean: number[] = []
     for (let f = 1; f <= 150; f++) {
       if (f === 120) setClothInertia(world, cape, { frame: hero, linear: 0, angular: 0, centrifugal: 0 })
-      setTransform(world, hero, [0, 1.6, 5 * Math.min(f * DT, 1)])
+      const t = f * DT
+      setTransform(world, hero, [0, 1.6, t < 1 ? 2.5 * t * t : 5 * t - 2.5]) // up to 5 m/s in 1 s, then steady
       stepCloth(world, DT)
       mean.push(meanFreeVz(c))
     }
-    // (the hero stopped dead at frame 60 and the cape swings on: compare the change to the frames before)
-    const before = Math.max(...mean.slice(110, 119).map((v, k) => Math.abs(mean[110 + k + 1] - v)))
-    expect(Math.abs(mean[119] - mean[118])).toBeLessThan(2 * before + 0.05)
+    expect(mean[118]).toBeGreaterThan(4) // (running along)
+    // the change at the frame it got the frame, against the swing's own frame to frame
+    // (frames 111–119 against 110–118; frame 120, mean[119], got the frame)
+    const before = Math.max(...mean.slice(110, 118).map((v, k) => Math.abs(mean[110 + k + 1] - v)))
+    // measured 0.064 m/s at the frame against 0.028 before; a start from rest gave 2.9 m/s
+    expect(Math.abs(mean[119] - mean[118])).toBeLessThan(3 * before + 0.05)
   })
 })

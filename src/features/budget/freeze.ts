@@ -57,7 +57,7 @@ export function thaw(state: ClothWorldState, c: ClothState, poses: Float64Array)
   glideThawingPins(state, c, poses, poses === k.stepFrom ? k.scaleStepFrom : k.scaleStepTo)
   lod.frozen = false
   lod.phase = lod.stepEvery - 1 // a far cloth steps at once: where it was carried to is this step's start
-  lod.dueNow = true // (at whatever rate its level this allocation gives: see `applyConfig`)
+  lod.dueNow = true // (at whatever level this allocation gives it: a phase alone was undone by a new level's, and a cape thawed into a far level sat out 3 steps, drawn 3 m off its character)
   lod.waited = 0 // (so its step is one fixed step long)
   lod.refPin = -1
   lod.refSlot = -1

@@ -113,10 +113,8 @@ export function applyConfig(state: ClothWorldState, c: ClothState, s: number, i:
   c.substeps = si
   c.iterations = ii
   // the steps waited since the cloth's last step carry over (reset, a level changing more often than
-  // it steps kept a far cloth from stepping at all, and undid a thaw's step at once), and a cloth
-  // just thawed steps at once at its new rate too (a cape thawed into a far level sat out 3 steps
-  // more, drawn 3 m off its character, found by a hunt)
-  if (c.budget.phase > ei - 1 || c.budget.dueNow) c.budget.phase = ei - 1
+  // it steps kept a far cloth from stepping at all, and undid a thaw's step at once)
+  if (c.budget.phase > ei - 1) c.budget.phase = ei - 1
   c.budget.stepEvery = ei
   c.h = (state.fixedTimeStep * ei) / si
 }

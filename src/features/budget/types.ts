@@ -110,7 +110,7 @@ export interface ClothBudget {
    * mesh shows an older step, whose anchor pose is `shownPose`.
    */
   shownStale: boolean
-  /** True from a thaw to the sync's choice of the cloth's step: it steps at once, at whatever level it gets (see `applyConfig`). */
+  /** True from a thaw to the sync's choice of the cloth's step: it steps at once, at whatever level it gets. */
   dueNow: boolean
   /** Measurement scratch: the particles' bounds (6), then the largest edge strain. */
   measure: Float64Array

@@ -116,7 +116,8 @@ function frameFromCloth(c: ClothState, w: Float64Array): void {
   const uy = w[W_V + 1] + w[W_W + 2] * rx - w[W_W] * rz
   const uz = w[W_V + 2] + w[W_W] * ry - w[W_W + 1] * rx
   const vx = w[W_MEAN + 3], vy = w[W_MEAN + 4], vz = w[W_MEAN + 5]
-  const still = vx * vx + vy * vy + vz * vz, along = (vx - ux) ** 2 + (vy - uy) ** 2 + (vz - uz) ** 2
+  const dx = vx - ux, dy = vy - uy, dz = vz - uz
+  const still = vx * vx + vy * vy + vz * vz, along = dx * dx + dy * dy + dz * dz
   if (!(still <= along)) return
   for (let j = 0; j < 3; j++) {
     w[W_PV + j] = 0
