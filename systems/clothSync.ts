@@ -7,7 +7,7 @@ import { advanceWind } from '../src/features/wind/step'
 import { sweepColliders } from '../src/features/collision/step'
 import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
 import { wakeSleepers } from '../src/features/sleep/step'
-import { markCarriedSlots } from '../src/features/character/carry'
+import { carryWithFrames, markCarriedSlots } from '../src/features/character/carry'
 import { beginCharacterStep, characterJumped, markFrameTeleports, noteIdle, wakeMovedCharacters } from '../src/features/character/step'
 
 /**
@@ -26,8 +26,9 @@ export function clothSync<W extends object>(world: W): W {
   const frameStart = !k.framed || k.newFrame
   if (frameStart) {
     markFrameTeleports(state) // per-cloth teleport thresholds (nothing without character cloths)
-    markCarriedSlots(state) // what dropped frame time's motion carries (nothing without a hitch)
+    const withFrames = markCarriedSlots(state) // what dropped frame time's motion carries (nothing without a hitch)
     sampleFrame(state)
+    if (withFrames) carryWithFrames(state) // a skinned cloth's bones, by its frame's carry
     // inside a frame, its later steps interpolate this sample; a step outside frames
     // (`clothFixedStep`, the phases run by hand) leaves the next frame to sample anew (it took
     // none, and its pins stood still for its first step: 6.7 cm behind at 4 m/s)

@@ -35,7 +35,7 @@ export function createKinematics(): Kinematics {
     jumped: new Uint8Array(0),
     moved: new Uint8Array(0),
     forceJump: new Uint8Array(0),
-    carry: new Uint8Array(0),
+    carry: new Int32Array(0),
     jump: new Float64Array(0),
     time: Float64Array.from([0, 1, 0, 1]),
     newFrame: true,
@@ -304,7 +304,7 @@ export function sampleFrame(state: ClothWorldState): void {
       applyJump(k.jump, j, k.sampleTo, o)
       applyJump(k.jump, j, k.stepTo, o)
       applyJump(k.jump, j, k.stepFrom, o)
-    } else if (carry > 0 && k.carry[slot] !== CARRY_PART) {
+    } else if (carry > 0 && k.carry[slot] < CARRY_PART) {
       // the dropped time's share of the motion, carried: a jump to `carry` of the way to the pose
       const j = 10 * slot
       k.jump[j] = k.sampleTo[o]

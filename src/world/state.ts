@@ -390,10 +390,11 @@ export interface Kinematics {
   /**
    * Per slot, at a sample after dropped frame time: whether its motion in that time is swept
    * (CARRY_PART: a cloth follows it and something else) or carried (0: nothing follows it, a
-   * collider's body; CARRY_WHOLE: cloths following it follow nothing else). Set by
+   * collider's body; CARRY_WHOLE: cloths following it follow nothing else; CARRY_WITH + f: a bone
+   * of a skinned cloth carried as a whole by its frame at slot f, moved by f's jump). Set by
    * `markCarriedSlots` (features/character) before the sample.
    */
-  carry: Uint8Array
+  carry: Int32Array
   /** 1 when the entity's pose or scale changes during the current fixed step (or it jumped): wakes sleepers. */
   moved: Uint8Array
   /** 1 to treat the next sample as a jump whatever its distance (set by teleportCloth). */
