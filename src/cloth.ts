@@ -25,7 +25,7 @@ import { EMPTY_TETHERS, buildTethers, loosenTethers, type TetherMode } from './m
 import { buildGridTopology, buildMeshTopology } from './model/builders'
 import { checkUvs, gridUvs, planarUvs } from './model/uvs'
 import type { BendSide, BendingModel, ClothTopology, ShearModel } from './model/topology'
-import { getCloth, getClothWorld, getClothWorldForChange } from './world/access'
+import { getCloth, getClothWorld, getClothWorldForChange, getClothWorldForRead } from './world/access'
 import type { ClothState, ClothWorldState } from './world/state'
 import { wakeClothState } from './world/wake'
 import { createClothBudget, setWantedQuality } from './features/budget/api'
@@ -496,7 +496,7 @@ export function setClothTethers(world: object, cloth: number, tethers: boolean |
  * (0.01 = 1 % longer than rest).
  */
 export function getClothStretch(world: object, cloth: number, out = { mean: 0, max: 0 }): { mean: number; max: number } {
-  const c = getCloth(getClothWorldForChange(world), cloth)
+  const c = getCloth(getClothWorldForRead(world, 'getClothStretch'), cloth)
   checkOutObject('out', out)
   const t = c.topology
   return measureStretch(c.pos, t.stretchIds, t.stretchRest, t.stretchCount, out)

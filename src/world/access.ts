@@ -36,6 +36,25 @@ export function deliverToListeners(state: ClothWorldState, deliver: (state: Clot
 }
 
 /**
+ * The plugin state of a world whose particles are about to be read (`what`, the reader); throws
+ * ClothError between `beginClothStep` and `endClothStep`, while the step in flight moves them (in
+ * every mode, as changes are refused). Between a fixed step's phases run by hand, the step is
+ * the caller's own: allowed.
+ */
+export function getClothWorldForRead(world: object, what: string): ClothWorldState {
+  const state = getClothWorld(world)
+  const f = state.frame
+  if (f.open && !f.delivering) {
+    throw new ClothError(
+      'world',
+      world,
+      `is between beginClothStep and endClothStep, where the step in flight moves the particles: call ${what} after endClothStep`,
+    )
+  }
+  return state
+}
+
+/**
  * The plugin state of a world about to be changed; throws ClothError between `beginClothStep` and
  * `endClothStep`, while the workers may be reading and writing the cloths (in every mode, so that a
  * game behaves the same with and without workers), and between a fixed step's `clothSync` and its

@@ -13,6 +13,7 @@ import {
   endClothStep,
   endClothStepAsync,
   getClothMesh,
+  getClothStretch,
   getClothTearCount,
   getGrabForce,
   grabParticle,
@@ -163,5 +164,33 @@ describe('counters read between begin and end', () => {
   it('getClothTearCount and getGrabForce give the last finished step, the same with 0 and 2 workers', () => {
     const plain = run(0)
     expect(run(2)).toEqual(plain)
+  })
+})
+
+describe('getClothStretch reads the particles, which the step in flight moves', () => {
+  it('between begin and end: a ClothError naming the world that says to read after endClothStep (it said to change cloths there), with 0 and 2 workers; after end, the measure', () => {
+    for (const threads of [0, 2]) {
+      const world = threadedWorld(threads)
+      const cape = createCloth(world, { width: 0.6, height: 0.9, resolution: [8, 10], position: [0, 1.5, 0] })
+      pinRow(world, cape, 0)
+      stepCloth(world, 1 / 60)
+      const before = getClothStretch(world, cape).max
+      beginClothStep(world, 1 / 60)
+      let err: unknown
+      try {
+        getClothStretch(world, cape)
+      } catch (e) {
+        err = e
+      }
+      endClothStep(world)
+      expect(err).toBeInstanceOf(ClothError)
+      expect((err as ClothError).argument).toBe('world')
+      expect((err as Error).message).toMatch(/getClothStretch after endClothStep/)
+      expect((err as Error).message).not.toMatch(/change cloths/)
+      const after = getClothStretch(world, cape).max
+      expect(after).toBeGreaterThan(0)
+      expect(after).not.toBe(before) // (the step moved the sheet: measured anew)
+      disposeClothWorld(world)
+    }
   })
 })
