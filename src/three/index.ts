@@ -64,7 +64,11 @@ export type ClothGeometry = BufferGeometry<ClothGeometryAttributes>
 
 /** What an update needs to remember about a geometry made by createClothGeometry. */
 interface GeometryState {
-  /** The mesh views last copied (getClothMesh hands out new ones when the topology changes). */
+  /**
+   * The mesh views last copied (getClothMesh hands out new ones when the topology changes). This
+   * and the cloth's state are let go when the geometry is disposed (`release`): a pooled mesh of a
+   * removed cloth kept the dead cloth's arrays alive, 235 kB for a 14×24 cape.
+   */
   mesh: ClothMesh | null
   /** The cloth last copied (its entity and its state: an id a removed cloth left may name another). */
   cloth: number
@@ -78,6 +82,23 @@ interface GeometryState {
 }
 
 const states = /* @__PURE__ */ new WeakMap<object, GeometryState>()
+
+/** Set while copyTopology disposes a geometry it grows (not a release). */
+let growing = false
+
+/**
+ * A geometry made by createClothGeometry was disposed: it lets go of its cloth, so a pooled mesh
+ * keeps nothing of a removed cloth alive and may take any cloth next (a recycled id included: the
+ * safeguard against a forgotten mesh drawing a new cloth holds for meshes still in use).
+ */
+function release(event: { target: unknown }): void {
+  const state = growing ? undefined : states.get(event.target as object)
+  if (state === undefined) return
+  state.mesh = null
+  state.cloth = -1
+  state.clothState = null
+  state.version = -1
+}
 
 /** The vertex and index room of a new array: the count now, and half as much again when it grows. */
 function roomFor(needed: number, current: number): number {
@@ -122,7 +143,12 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
   const indexRoom = state.index.count
   const old = state
   if (vertices > vertexRoom || indices > indexRoom) {
-    geometry.dispose() // the renderer frees the old buffers and uploads the new ones at the next draw
+    growing = true
+    try {
+      geometry.dispose() // the renderer frees the old buffers and uploads the new ones at the next draw
+    } finally {
+      growing = false
+    }
     state = attributes(
       geometry,
       vertices > vertexRoom ? roomFor(vertices, vertexRoom) : vertexRoom,
@@ -221,6 +247,7 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
   const geometry = new BufferGeometry<ClothGeometryAttributes>()
   geometry.name = 'cloth'
   states.set(geometry, attributes(geometry, mesh.vertexCount, 3 * mesh.triangleCount))
+  geometry.addEventListener('dispose', release)
   return updateClothGeometry(world, cloth, geometry)
 }
 
@@ -233,7 +260,8 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
  * another cloth: the next update copies that cloth's topology. A ClothError when the cloth it
  * showed was removed and its id now names another cloth: the old mesh, left in a scene, would
  * silently draw the new one twice (make a mesh for the new cloth, as a render proxy must be made
- * again).
+ * again). A disposed geometry (`geometry.dispose()`, as a pool does) has let go of its cloth and
+ * takes any cloth, a recycled id too.
  *
  * @param world A bitECS world with the cloth plugin installed.
  * @param cloth A cloth entity of that world.
