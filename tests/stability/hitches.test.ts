@@ -368,57 +368,99 @@ describe('hitches: what is carried and what sweeps', () => {
     expect(hitched).toBeLessThan(allowed(base))
   })
 
-  it("a skinned cape is carried with its frame and sweeps only its bones' motion against it (a 250 ms hitch at 4 m/s changed its speed by 13 m/s in a frame: 39 % stretch)", () => {
-    // the scene's cape skinned by the hero and a hip bone below it, the hip rigid with the hero or swaying 0.4 rad
-    const skinned = (h: number, sway: number) => {
-      const s = capeScene()
-      const { world, hero, cape } = s
-      const hip = addEntity(world)
-      setTransform(world, hip, [0, 0.95, 0])
-      const c = getClothState(world, cape)
+  /**
+   * The scene's cape skinned by the hero and a hip bone below it (the hip rigid with the hero or
+   * swaying about x); with `tied`, an apron framed by and pinned to the hip, skinned to the hip and
+   * a thigh, and a scarf hung between the hip and a chest entity. Runs along z at 4 m/s with a
+   * hitch of h s at frame 180; per cloth, the worst stretch and largest one-frame velocity change after.
+   */
+  function skinnedRun(h: number, sway: number, tied = false) {
+    const s = capeScene()
+    const { world, hero, cape } = s
+    const bone = (p: [number, number, number]) => {
+      const e = addEntity(world)
+      setTransform(world, e, p)
+      return e
+    }
+    const hip = bone([0, 0.95, 0]), thigh = bone([0, 0.5, 0.1]), chest = bone([0, 1.4, 0])
+    const skin = (cloth: number, cols: number, bones: number[]) => {
+      const c = getClothState(world, cloth)
       const joints: number[] = [], weights: number[] = []
       for (let i = 0; i < c.count; i++) {
-        const u = Math.floor(i / 14) / 23
+        const u = Math.floor(i / cols) / (c.count / cols - 1)
         joints.push(0, 1, 0, 0)
         weights.push(1 - u, u, 0, 0)
       }
-      setClothSkinning(world, cape, { bones: [hero, hip], joints, weights })
-      const motion = runZ(4)
-      const dts = [...fill(180, 1 / 60), h || 1 / 60, ...fill(59, 1 / 60)]
-      const last = Float64Array.from(c.vel)
-      let t = 0, stretch = 0, dv = 0
-      for (let f = 0; f < dts.length; f++) {
-        t += dts[f]
-        const m = motion(t)
-        setTransform(world, hero, m.p, yq(m.yaw))
-        const a = sway * Math.sin(5 * t) // about x, in the hero's frame (yaw 0)
-        setTransform(world, hip, [m.p[0], 0.95, m.p[2]], [Math.sin(a / 2), 0, 0, Math.cos(a / 2)])
-        stepCloth(world, dts[f])
-        for (let i = 0; i < c.count; i++) {
-          const j = 3 * i
-          if (f >= 180) dv = Math.max(dv, Math.hypot(c.vel[j] - last[j], c.vel[j + 1] - last[j + 1], c.vel[j + 2] - last[j + 2]))
-        }
-        last.set(c.vel)
-        if (f >= 180) stretch = Math.max(stretch, getClothStretch(world, cape).max)
-      }
-      return { stretch, dv }
+      setClothSkinning(world, cloth, { bones, joints, weights })
     }
+    skin(cape, 14, [hero, hip])
+    const cloths = [cape]
+    if (tied) {
+      const apron = createCloth(world, { width: 0.4, height: 0.5, resolution: [8, 10], position: [0, 1.0, 0.3], material: 'wool' })
+      pinRow(world, apron, 0, hip)
+      setClothInertia(world, apron, { frame: hip, linear: 0.5, angular: 0.5, centrifugal: 0.5 })
+      skin(apron, 8, [hip, thigh])
+      const scarf = createCloth(world, { width: 0.3, height: 0.3, resolution: [6, 6], position: [0.3, 1.2, 0.2], material: 'wool' })
+      pinParticle(world, scarf, 0, hip)
+      pinParticle(world, scarf, 5, chest)
+      cloths.push(apron, scarf)
+    }
+    const motion = runZ(4)
+    const dts = [...fill(180, 1 / 60), h || 1 / 60, ...fill(59, 1 / 60)]
+    const last = cloths.map((e) => Float64Array.from(getClothState(world, e).vel))
+    const stretch = cloths.map(() => 0), dv = cloths.map(() => 0)
+    let t = 0
+    for (let f = 0; f < dts.length; f++) {
+      t += dts[f]
+      const m = motion(t)
+      setTransform(world, hero, m.p, yq(m.yaw))
+      const a = sway * Math.sin(5 * t) // about x, in the hero's frame (yaw 0)
+      setTransform(world, hip, [m.p[0], 0.95, m.p[2]], [Math.sin(a / 2), 0, 0, Math.cos(a / 2)])
+      setTransform(world, thigh, [m.p[0], 0.5, m.p[2] + 0.1])
+      setTransform(world, chest, [m.p[0], 1.4, m.p[2]])
+      stepCloth(world, dts[f])
+      cloths.forEach((e, n) => {
+        const c = getClothState(world, e)
+        for (let i = 0; i < 3 * c.count; i += 3) {
+          if (f >= 180)
+            dv[n] = Math.max(dv[n], Math.hypot(c.vel[i] - last[n][i], c.vel[i + 1] - last[n][i + 1], c.vel[i + 2] - last[n][i + 2]))
+        }
+        last[n].set(c.vel)
+        if (f >= 180) stretch[n] = Math.max(stretch[n], getClothStretch(world, e).max)
+      })
+    }
+    return { stretch, dv }
+  }
+
+  it("a skinned cape is carried with its frame and sweeps only its bones' motion against it (a 250 ms hitch at 4 m/s changed its speed by 13 m/s in a frame: 39 % stretch)", () => {
     for (const sway of [0, 0.4]) {
-      const base = skinned(0, sway), hitched = skinned(0.25, sway)
+      const base = skinnedRun(0, sway), hitched = skinnedRun(0.25, sway)
       console.log(
-        `skinned cape, sway ${sway} rad: 250 ms hitch: stretch ${pct(hitched.stretch)}, largest 1-frame dv ${
-          hitched.dv.toFixed(2)
-        } m/s; unhitched ${pct(base.stretch)}, ${base.dv.toFixed(2)} m/s`,
+        `skinned cape, sway ${sway} rad: 250 ms hitch: stretch ${pct(hitched.stretch[0])}, largest 1-frame dv ${
+          hitched.dv[0].toFixed(2)
+        } m/s; unhitched ${pct(base.stretch[0])}, ${base.dv[0].toFixed(2)} m/s`,
       )
       if (sway === 0) {
-        expect(hitched.stretch).toBeLessThan(allowed(base.stretch)) // was 42.9 % against 1.5 %
-        expect(hitched.dv).toBeLessThan(base.dv + 1) // was 16.7 m/s against 1.4
+        expect(hitched.stretch[0]).toBeLessThan(allowed(base.stretch[0])) // was 42.9 % against 1.5 %
+        expect(hitched.dv[0]).toBeLessThan(base.dv[0] + 1) // was 16.7 m/s against 1.4
       } else {
         // the hip's sway in the dropped time is swept into the steps that run (measured 31 % and
         // 6.3 m/s against 13 % and 4.5 unhitched; swept with the whole motion, 62 % and 21 m/s)
-        expect(hitched.stretch).toBeLessThan(0.4)
-        expect(hitched.dv).toBeLessThan(base.dv + 3)
+        expect(hitched.stretch[0]).toBeLessThan(0.4)
+        expect(hitched.dv[0]).toBeLessThan(base.dv[0] + 3)
       }
+    }
+  })
+
+  it("cloths tied by shared entities are carried by one jump: an apron framed by the cape's hip bone and a scarf between the hip and the chest, through 0.25 and 1 s hitches (the apron was torn 133 %, the cape 17 %)", () => {
+    const base = skinnedRun(0, 0, true)
+    for (const h of [0.25, 1]) {
+      const hitched = skinnedRun(h, 0, true)
+      console.log(
+        `tied cloths, ${h} s hitch: stretch ${hitched.stretch.map(pct).join(', ')} against ${base.stretch.map(pct).join(', ')} unhitched`,
+      )
+      hitched.stretch.forEach((x, n) => expect(x, `cloth ${n}`).toBeLessThan(allowed(base.stretch[n])))
+      hitched.dv.forEach((x, n) => expect(x, `cloth ${n}`).toBeLessThan(base.dv[n] + 1))
     }
   })
 

@@ -6,44 +6,119 @@ const CARRY_WITH = 3
 
 /**
  * Sync phase, before a frame sample after dropped frame time (a hitch longer than the steps a frame
- * may run): which tracked entities' motion in that time is swept rather than carried
- * (`Kinematics.carry`, read by `sampleFrame`): those a cloth follows only in part (pins on it and
- * on the world or another entity). Carried, such a cloth would be torn between the carried and the
- * uncarried (a sheet pinned to the world and to a turning corner was swung 0.7 rad about the
- * corner: 39 % stretch). Every other entity is carried: one a cloth follows as a whole (every pin
- * on it, its character frame it or none) with the cloth, and a collider's body with it (a leg on
- * its own entity, swept while the cape was carried, ran through it: 347 %). A skinned cloth with a
- * frame follows the frame as a whole: its bones (and pins on them) are carried by the frame's jump
- * (`carryWithFrames`), and sweep only their motion against it (each bone swept whole, a skinned
- * cape after a 0.25 s hitch at 4 m/s changed speed by 13 m/s in a frame, with 39 % stretch).
- * Returns whether some slot is carried with a frame.
+ * may run): how each tracked entity's motion in that time is taken (`Kinematics.carry`, read by
+ * `sampleFrame`). Entities that cloths tie together (the pins, frame and bones of one cloth; two
+ * cloths sharing one) form a group. A group also tied to the world (a pin in place, a skinned or
+ * constrained cloth with the world as its frame) sweeps its whole motion (CARRY_PART): carried,
+ * its cloths would be torn between the carried and the uncarried (a sheet pinned to the world and to
+ * a turning corner was swung 0.7 rad about the corner: 39 % stretch). Any other group is carried by
+ * one member's share of the motion, its root (the first skinned cloth's frame, else the first
+ * cloth's first entity: CARRY_WHOLE), the rest by the root's jump (CARRY_WITH, `carryWithFrames`),
+ * sweeping only their motion against it, so every cloth of the group is carried by one jump (a
+ * skinned cape with each bone swept whole changed speed by 13 m/s in a frame after a 0.25 s hitch
+ * at 4 m/s, 39 % stretch; an apron framed by the cape's hip bone, carried by the hip's own share
+ * while its other bone swept, 133 %). An entity no cloth follows, a collider's body, is carried by
+ * its own share (a leg on its own entity, swept while the cape was carried, ran through it: 347 %).
+ * Returns whether some slot is carried with a root.
  */
 export function markCarriedSlots(state: ClothWorldState): boolean {
   const k = state.kinematics
   if (!k.framed || !(k.time[K_DROPPED] > 0)) return false
   k.carry.fill(0, 0, k.count)
-  const P = state.components.Pin
-  const cloths = state.cloths
-  for (let ci = 0; ci < cloths.length; ci++) {
-    const c = cloths[ci]
-    const whole = wholeSlot(state, c)
-    const pins = c.pins.list
-    for (let q = 0; q < pins.length; q++) if (P.target[pins[q]] !== 0) mark(k.carry, P.slot[pins[q]], whole)
-    const ch = c.character
-    if (ch === null) continue
-    mark(k.carry, ch.frameSlot, whole)
-    if (ch.skin !== null) { for (let b = 0; b < ch.skin.slots.length; b++) mark(k.carry, ch.skin.slots[b], whole) }
+  if (group.length < k.count) {
+    group = new Int32Array(Math.max(k.count, 2 * group.length))
+    root = new Int32Array(group.length)
   }
-  // carried with a frame that is itself swept or carried with another: swept
+  for (let s = 0; s < k.count; s++) {
+    group[s] = s
+    root[s] = -1
+  }
+  const cloths = state.cloths
+  // the groups (k.carry marks the entities cloths follow, and CARRY_PART the groups tied to the world)
+  for (let ci = 0; ci < cloths.length; ci++) tie(state, cloths[ci])
+  for (let s = 0; s < k.count; s++) if (k.carry[s] === CARRY_PART) k.carry[find(s)] = CARRY_PART
+  // each group's root: a skinned cloth's frame first
+  for (let pass = 0; pass < 2; pass++) {
+    for (let ci = 0; ci < cloths.length; ci++) {
+      const ch = cloths[ci].character
+      const skinned = ch !== null && ch.skin !== null && ch.frameSlot >= 0
+      if (pass === 0 && !skinned) continue
+      const s = skinned ? ch!.frameSlot : firstSlot(state, cloths[ci])
+      if (s >= 0 && root[find(s)] < 0) root[find(s)] = s
+    }
+  }
   let any = false
   const live = k.live
   for (let q = 0; q < live.length; q++) {
-    const slot = live[q], f = k.carry[slot] - CARRY_WITH
-    if (f < 0) continue
-    if (k.carry[f] !== CARRY_WHOLE) k.carry[slot] = CARRY_PART
-    else any = true
+    const s = live[q]
+    if (k.carry[s] === 0) continue // followed by no cloth: its own share
+    const g = find(s)
+    if (k.carry[g] === CARRY_PART) k.carry[s] = CARRY_PART
+    else if (root[g] === s) k.carry[s] = CARRY_WHOLE
+    else {
+      k.carry[s] = CARRY_WITH + root[g]
+      any = true
+    }
   }
   return any
+}
+
+/** Union-find over tracked slots: each slot's parent (`find` gives the group). */
+let group = new Int32Array(64)
+/** Per group (at its representative), the slot whose share carries it, or −1. */
+let root = new Int32Array(64)
+
+function find(s: number): number {
+  while (group[s] !== s) {
+    group[s] = group[group[s]]
+    s = group[s]
+  }
+  return s
+}
+
+function join(a: number, b: number): void {
+  a = find(a)
+  b = find(b)
+  if (a !== b) group[b] = a
+}
+
+/** Ties the entities the cloth follows into one group, marked followed (CARRY_WHOLE) or tied to the world (CARRY_PART). */
+function tie(state: ClothWorldState, c: ClothState): void {
+  const k = state.kinematics, P = state.components.Pin
+  const first = firstSlot(state, c)
+  let world = false
+  const pins = c.pins.list
+  for (let q = 0; q < pins.length; q++) {
+    const s = P.slot[pins[q]]
+    if (P.target[pins[q]] === 0 || s < 0) world = true
+    else follow(k.carry, first, s)
+  }
+  const ch = c.character
+  if (ch !== null) {
+    if (ch.frameSlot >= 0) follow(k.carry, first, ch.frameSlot)
+    else if (ch.skin !== null || ch.constrained) world = true
+    if (ch.skin !== null) {
+      for (let b = 0; b < ch.skin.slots.length; b++) if (ch.skin.slots[b] >= 0) follow(k.carry, first, ch.skin.slots[b])
+    }
+  }
+  if (world && first >= 0) k.carry[first] = CARRY_PART
+}
+
+function follow(carry: Int32Array, first: number, s: number): void {
+  if (carry[s] === 0) carry[s] = CARRY_WHOLE
+  join(first, s)
+}
+
+/** The first entity the cloth follows (a pin's target, its frame, a bone), or −1. */
+function firstSlot(state: ClothWorldState, c: ClothState): number {
+  const P = state.components.Pin
+  const pins = c.pins.list
+  for (let q = 0; q < pins.length; q++) if (P.target[pins[q]] !== 0 && P.slot[pins[q]] >= 0) return P.slot[pins[q]]
+  const ch = c.character
+  if (ch === null) return -1
+  if (ch.frameSlot >= 0) return ch.frameSlot
+  if (ch.skin !== null) { for (let b = 0; b < ch.skin.slots.length; b++) if (ch.skin.slots[b] >= 0) return ch.skin.slots[b] }
+  return -1
 }
 
 /**
@@ -65,42 +140,4 @@ export function carryWithFrames(state: ClothWorldState): void {
     applyJump(k.jump, j, k.stepFrom, o)
     k.jumped[slot] = K_CARRIED
   }
-}
-
-/**
- * A slot a cloth follows: carried if it is the one the cloth follows as a whole (`whole`), carried
- * with `whole` if it is another of a skinned cloth's (a bone, or a pin on one), unless another
- * cloth follows it otherwise (a slot one cloth follows as a whole can be carried with a frame: any
- * rigid jump of it carries that cloth along).
- */
-function mark(carry: Int32Array, slot: number, whole: number): void {
-  if (slot < 0) return
-  const want = slot === whole ? CARRY_WHOLE : whole >= 0 ? CARRY_WITH + whole : CARRY_PART
-  const had = carry[slot]
-  if (had === 0 || had === want || (had === CARRY_WHOLE && want >= CARRY_WITH)) carry[slot] = want
-  else if (!(had >= CARRY_WITH && want === CARRY_WHOLE)) carry[slot] = CARRY_PART
-}
-
-/**
- * The slot the cloth follows as a whole (all its pins, and its character frame), or −1. A skinned
- * cloth's pins on its bones count as on its frame; with the world as its frame, it has none.
- */
-function wholeSlot(state: ClothWorldState, c: ClothState): number {
-  const P = state.components.Pin
-  const ch = c.character, skin = ch === null ? null : ch.skin
-  let slot = -1
-  const pins = c.pins.list
-  for (let q = 0; q < pins.length; q++) {
-    const pin = pins[q], s = P.slot[pin]
-    if (P.target[pin] === 0 || s < 0) return -1 // held by the world too
-    if (skin !== null && ch!.frameSlot >= 0 && skin.slots.indexOf(s) >= 0) continue // a bone: carried with the frame
-    if (slot < 0) slot = s
-    else if (s !== slot) return -1
-  }
-  if (ch !== null) {
-    if (skin !== null && ch.frameSlot < 0) return -1
-    if (slot < 0) slot = ch.frameSlot
-    else if (ch.frameSlot !== slot && (ch.frameSlot >= 0 || ch.constrained)) return -1
-  }
-  return slot
 }
