@@ -11,11 +11,11 @@ import {
   checkKeys,
   keysOf,
 } from '../../core/errors'
-import { rotateVec3 } from '../../core/math'
+import { relativeRotationAt, rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
-import { trackEntity, untrackEntity } from '../../world/kinematics'
-import { carryFrozen, listLoosePieces } from '../../world/rigid'
+import { readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
+import { carryFrozen, listLoosePieces, moveClothRigidly } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { pinOffsetAhead } from './step'
@@ -73,6 +73,7 @@ export function pinParticle(
   // the pin continues from the target's pose at the end of the last step (the simulation's now)
   const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
   const k = state.kinematics
+  if (slot >= 0 && c.version === 0 && !heldByEntity(state, c)) backdateNewCloth(state, c, slot, tgt)
   if (slot >= 0) { for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j] }
   // where the particle is now, in the target's frame
   toLocal(state, slot, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
@@ -117,6 +118,35 @@ export function pinParticle(
     c.tethers.loosen = true
   }
   return pin
+}
+
+/** Whether a pin on an entity holds the cloth. */
+function heldByEntity(state: ClothWorldState, c: ClothState): boolean {
+  const P = state.components.Pin
+  for (let q = 0; q < c.pins.list.length; q++) if (P.target[c.pins.list[q]] !== 0) return true
+  return false
+}
+
+/**
+ * The first pin on an entity of a cloth as created (never stepped or moved: `version` 0): its
+ * particles were placed where the game's Transforms are now, which run ahead of the simulation's
+ * now (the last step) by the motion since, when the game animates before it spawns (or draws
+ * above 60 Hz). The cloth is moved rigidly back by the target's motion since its last step, so the
+ * pin holds it as it was placed (taken against the last step's pose instead, a cape spawned on a
+ * hero running at 5 m/s sat 83 mm off its shoulders for good, 111 mm at 144 Hz), and its mesh is
+ * drawn from that pose until it steps (`getClothDrawTransform`; drawn from the world's later steps,
+ * a cape spawned at a far level was 83–167 mm off before its first step).
+ */
+function backdateNewCloth(state: ClothWorldState, c: ClothState, slot: number, eid: number): void {
+  const to = state.kinematics.stepTo, o = 7 * slot
+  readPoseInto(state, eid, tmp)
+  relativeRotationAt(to, o + 3, tmp, 3, tmp, 7)
+  let moved = false
+  for (let j = 0; j < 7; j++) moved ||= tmp[j] !== to[o + j]
+  if (moved) moveClothRigidly(c, tmp[0], tmp[1], tmp[2], tmp[7], tmp[8], tmp[9], tmp[10], to[o], to[o + 1], to[o + 2], true)
+  const lod = c.budget
+  lod.shownSlot = slot
+  for (let j = 0; j < 7; j++) lod.shownPose[j] = to[o + j]
 }
 
 /**
