@@ -295,12 +295,28 @@ export function configureBudget(world: object, options: ClothBudgetOptions | nul
   const farStepEvery = options.farStepEvery === undefined ? 1 : options.farStepEvery
   if (farStepEvery !== 1 && farStepEvery !== 2 && farStepEvery !== 4)
     throw new ClothError('options.farStepEvery', farStepEvery, 'must be 1, 2 or 4')
-  if (options.calibration !== undefined) q.calibration = checkCalibration(options.calibration, 'options.calibration')
+  const freezeInvisible = options.freezeInvisible ?? true
+  const cal = options.calibration === undefined ? null : checkCalibration(options.calibration, 'options.calibration')
+  const was = q.settings
+  // the budget it runs, set again: kept as it runs (its timing and countdown reset, a game setting
+  // its options again after a restore replayed 2.19 m off from 9 frames on)
+  if (
+    was !== null && (cal === null || sameCalibration(cal, q.calibration)) && was.msPerFrame === msPerFrame && was.adapt === adapt
+    && was.farStepEvery === farStepEvery && was.viewer === viewer && was.near === near && was.far === far && was.cull === cull
+    && was.freezeInvisible === freezeInvisible && was.interval === interval
+  ) return
+  if (cal !== null) q.calibration = cal
   else if (msPerFrame > 0 && q.calibration === null) q.calibration = measure()
   q.timing[Q_FACTOR] = 1
   q.timing[Q_MEASURED] = 0
-  q.settings = { msPerFrame, adapt, farStepEvery, viewer, near, far, cull, freezeInvisible: options.freezeInvisible ?? true, interval }
+  q.settings = { msPerFrame, adapt, farStepEvery, viewer, near, far, cull, freezeInvisible, interval }
   q.countdown = 0
+}
+
+function sameCalibration(a: Float64Array, b: Float64Array | null): boolean {
+  if (b === null || a.length !== b.length) return false
+  for (let j = 0; j < a.length; j++) if (a[j] !== b[j]) return false
+  return true
 }
 
 /**
