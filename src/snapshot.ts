@@ -55,6 +55,7 @@ import { checkGuard, restoreGuard, saveGuard, type GuardSnapshot } from './featu
 import { checkCharacter, restoreCharacter, saveCharacter, type CharacterSnapshot } from './features/character/snapshot'
 import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearSnapshot } from './features/tearing/snapshot'
 import { touchLayout } from './core/shared'
+import { wakeClothState } from './world/wake'
 
 /**
  * A saved cloth state (see `saveClothState`). Plain data: structured-clone it, keep it, reuse it.
@@ -199,13 +200,16 @@ function restoreChecked(world: object, state: ClothWorldState, c: ClothState, s:
   restoreCore(state, c, s)
   restorePins(state, c, s)
   restoreGrabs(state, c, s)
-  restoreBodies(state, s)
+  const bodyGone = restoreBodies(state, s)
   restoreWind(state, s)
   restoreCollision(c, s)
   restoreCharacter(state, c, s) // (before the budget: a frozen cloth may be carried by its frame or bone)
   restoreBudget(state, c, s)
   c.budget.shownCarried = false // (a teleportCloth since the save moved the mesh this restore replaced)
   restoreSleep(state, c, s)
+  // a collider or zone body gone since the save may have been what it lay on: restored asleep, a
+  // sheet whose box was removed hung in the air for good (its wake test sees moved colliders only)
+  if (bodyGone && c.sleep.asleep) wakeClothState(state, c)
   c.collision.bounds[B_REFRESH] = 1 // (an idle cloth's collision bounds and hash are made again from the restored positions)
   restoreGuard(c, s)
   restoreTearing(state, c, s)
@@ -435,18 +439,20 @@ function checkBodies(s: ClothSnapshot, arg: string): void {
 
 /**
  * Restores the bodies still tracked (a collider or zone removed since has nothing to restore, nor
- * does an entity that got a removed body's id since).
+ * does an entity that got a removed body's id since). Returns whether some saved body is gone.
  */
-function restoreBodies(state: ClothWorldState, s: ClothSnapshot): void {
+function restoreBodies(state: ClothWorldState, s: ClothSnapshot): boolean {
   const k = state.kinematics
+  let gone = false
   for (let b = 0; b < s.bodies.length; b++) {
     const e = s.bodies[b]
-    if (s.bodyGenerations !== undefined && generationChanged(k, s.bodyGenerations[b], e)) continue
-    if (e < k.slotOf.length && k.slotOf[e] >= 0) {
+    if (s.bodyGenerations !== undefined && generationChanged(k, s.bodyGenerations[b], e)) gone = true
+    else if (e < k.slotOf.length && k.slotOf[e] >= 0) {
       restoreSlot(k, k.slotOf[e], s.bodyData, SLOT_DATA * b)
       restoreSlotScale(state, k.slotOf[e], s.bodyScales ?? null, SLOT_SCALE_DATA * b)
-    }
+    } else gone = true
   }
+  return gone
 }
 
 /** The entity followed by collider q (q < colliders) or wind zone q − colliders, or −1 when untracked. */
