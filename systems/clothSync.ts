@@ -1,5 +1,6 @@
 import { rebuildTethers } from '../src/cloth'
 import { beginKinematicStep, sampleFrame } from '../src/world/kinematics'
+import { markScaleLeaps } from '../src/world/scaleJump'
 import { getClothWorld } from '../src/world/access'
 import { followTargetJumps, jumpedPinTarget } from '../src/features/pins/step'
 import { advanceGrabs, beginGrabFrame, sampleGrabTargets } from '../src/features/grab/step'
@@ -29,6 +30,7 @@ export function clothSync<W extends object>(world: W): W {
     const withFrames = markCarriedSlots(state) // what dropped frame time's motion carries (nothing without a hitch)
     sampleFrame(state)
     if (withFrames) carryWithFrames(state) // a skinned cloth's bones, by its frame's carry
+    markScaleLeaps(state) // scales that snapped: taken at once, not swept
     // inside a frame, its later steps interpolate this sample; a step outside frames
     // (`clothFixedStep`, the phases run by hand) leaves the next frame to sample anew (it took
     // none, and its pins stood still for its first step: 6.7 cm behind at 4 m/s)

@@ -1,6 +1,6 @@
 import { ClothError, MAX_COORDINATE, MAX_SCALE } from '../core/errors'
 import { multiplyQuatAt, normalizeQuatAt, relativeRotationAt, rotateVecAt } from '../core/math'
-import { K_DROPPED, K_LAST_SPAN, K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
+import { K_DROPPED, K_LAST_SPAN, K_SCALED, K_SINCE_SAMPLE, K_STEP_FRACTION, type ClothWorldState, type Kinematics } from './state'
 import { newArray, newArrayLike, type TypedArray } from '../core/shared'
 
 export { K_DROPPED, K_LAST_SPAN, K_SINCE_SAMPLE, K_STEP_FRACTION }
@@ -436,11 +436,11 @@ export function beginKinematicStep(k: Kinematics): void {
     interpolatePose(k.sampleFrom, k.sampleTo, o, k.time, K_STEP_FRACTION, k.stepTo, o)
     let moved = k.jumped[slot] !== 0 ? 1 : 0
     for (let c = 0; c < 7 && moved === 0; c++) if (k.stepFrom[o + c] !== k.stepTo[o + c]) moved = 1
-    const so = 3 * slot
+    const so = 3 * slot, snap = k.jumped[slot] === K_SCALED // (taken at once, unswept)
     for (let c = 0; c < 3; c++) {
-      k.scaleStepFrom[so + c] = k.scaleStepTo[so + c]
       const a = k.scaleSampleFrom[so + c], b = k.scaleSampleTo[so + c]
-      k.scaleStepTo[so + c] = f >= 1 ? b : a + (b - a) * f
+      k.scaleStepFrom[so + c] = snap ? b : k.scaleStepTo[so + c]
+      k.scaleStepTo[so + c] = snap || f >= 1 ? b : a + (b - a) * f
       if (k.scaleStepFrom[so + c] !== k.scaleStepTo[so + c]) moved = 1
     }
     k.moved[slot] = moved

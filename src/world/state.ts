@@ -422,6 +422,12 @@ export const K_DROPPED = 2
 /** `Kinematics.time`: the last frame sample's span, in fixed steps (what a leap repeated at the next frame is scaled by, `landsBeyond`). */
 export const K_LAST_SPAN = 3
 
+/**
+ * `Kinematics.jumped`: the scale leapt at this frame sample (`markScaleLeaps`): the frame's steps
+ * take the new scale at once, unswept; the jump record is the identity.
+ */
+export const K_SCALED = 3
+
 /** The frame `beginClothStep` opened (`ClothWorldState.frame`). */
 export interface ClothFrame {
   /** Between `beginClothStep` and `endClothStep`: cloths may not change. */
