@@ -392,7 +392,7 @@ function spawnCloth(
       mesh: null,
     },
     sleep: createClothSleep(state.sleep.defaults),
-    pins: { list: [], skipTeleport: false, hand: new Float64Array(HAND) },
+    pins: { list: [], skipTeleport: false, hand: new Float64Array(HAND), fresh: true, backdate: new Float64Array(12) },
     grab: createClothGrabs(),
     wind: null,
     collision: createClothCollision(Math.max(4, state.collision.colliders.length)),

@@ -81,6 +81,7 @@ export function clothSync<W extends object>(world: W): W {
     if (c.character !== null) beginCharacterStep(state, c, frameStart, pinJump)
     // (a teleportCloth is taken by now as its target's jump: the mesh moves on from the step's start)
     lod.shownCarried = false
+    c.pins.fresh = false
     // (after the jumps carried the cloth and its grabs' targets so far: the hand's new target is not
     // carried again; a cape held by its frame alone had its hand's target moved twice by a 10 m jump)
     if (c.grab.count > 0) advanceGrabs(state, c)

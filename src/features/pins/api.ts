@@ -15,7 +15,7 @@ import { relativeRotationAt, rotateVec3 } from '../../core/math'
 import { getCloth, getClothWorld, getClothWorldForChange } from '../../world/access'
 import { growStores } from '../../world/capacity'
 import { readPoseInto, trackEntity, untrackEntity } from '../../world/kinematics'
-import { carryFrozen, listLoosePieces, moveClothRigidly } from '../../world/rigid'
+import { carryFrozen, listLoosePieces, moveClothBy } from '../../world/rigid'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { pinOffsetAhead } from './step'
@@ -73,7 +73,8 @@ export function pinParticle(
   // the pin continues from the target's pose at the end of the last step (the simulation's now)
   const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
   const k = state.kinematics
-  if (slot >= 0 && c.version === 0 && !heldByEntity(state, c)) backdateNewCloth(state, c, slot, tgt)
+  if (c.pins.backdate[10] > 0 && slot !== c.pins.backdate[10] - 1) undoBackdate(state, c)
+  else if (slot >= 0 && c.pins.fresh && c.character === null && c.pins.list.length === 0) backdateNewCloth(state, c, slot, tgt)
   if (slot >= 0) { for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j] }
   // where the particle is now, in the target's frame
   toLocal(state, slot, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
@@ -120,33 +121,69 @@ export function pinParticle(
   return pin
 }
 
-/** Whether a pin on an entity holds the cloth. */
-function heldByEntity(state: ClothWorldState, c: ClothState): boolean {
-  const P = state.components.Pin
-  for (let q = 0; q < c.pins.list.length; q++) if (P.target[c.pins.list[q]] !== 0) return true
-  return false
-}
-
 /**
- * The first pin on an entity of a cloth as created (never stepped or moved: `version` 0): its
- * particles were placed where the game's Transforms are now, which run ahead of the simulation's
- * now (the last step) by the motion since, when the game animates before it spawns (or draws
- * above 60 Hz). The cloth is moved rigidly back by the target's motion since its last step, so the
- * pin holds it as it was placed (taken against the last step's pose instead, a cape spawned on a
- * hero running at 5 m/s sat 83 mm off its shoulders for good, 111 mm at 144 Hz), and its mesh is
- * drawn from that pose until it steps (`getClothDrawTransform`; drawn from the world's later steps,
- * a cape spawned at a far level was 83–167 mm off before its first step).
+ * The first pin of a cloth that never stepped (`ClothPins.fresh`) and has no character settings
+ * yet, when it is on an entity: its particles were placed where the game's Transforms are now, which
+ * run ahead of the simulation's now (the last step) by the motion since, when the game animates
+ * before it spawns (or draws above 60 Hz). The cloth is moved rigidly back by the target's motion
+ * since its last step, so the pin holds it as it was placed (taken against the last step's pose
+ * instead, a cape spawned on a tracked hero running at 5 m/s sat 83 mm off its shoulders for good,
+ * 111 mm at 144 Hz), and its mesh is drawn from that pose until it steps (`getClothDrawTransform`;
+ * drawn from the world's later steps, a cape spawned at a far level was 83–167 mm off before its
+ * first step). Character settings given later bind to the cloth where it now is; ones given before
+ * bound it at the last step (no move, as before).
  */
 function backdateNewCloth(state: ClothWorldState, c: ClothState, slot: number, eid: number): void {
   const to = state.kinematics.stepTo, o = 7 * slot
-  readPoseInto(state, eid, tmp)
-  relativeRotationAt(to, o + 3, tmp, 3, tmp, 7)
-  let moved = false
-  for (let j = 0; j < 7; j++) moved ||= tmp[j] !== to[o + j]
-  if (moved) moveClothRigidly(c, tmp[0], tmp[1], tmp[2], tmp[7], tmp[8], tmp[9], tmp[10], to[o], to[o + 1], to[o + 2], true)
   const lod = c.budget
   lod.shownSlot = slot
   for (let j = 0; j < 7; j++) lod.shownPose[j] = to[o + j]
+  readPoseInto(state, eid, tmp)
+  let moved = false
+  for (let j = 0; j < 7; j++) moved ||= tmp[j] !== to[o + j]
+  if (!moved) return
+  const bd = c.pins.backdate
+  // x' = to + R·(x − now): the record of `moveClothBy` (centre, rotation, translation)
+  bd[0] = tmp[0]
+  bd[1] = tmp[1]
+  bd[2] = tmp[2]
+  relativeRotationAt(to, o + 3, tmp, 3, bd, 3)
+  bd[7] = to[o] - tmp[0]
+  bd[8] = to[o + 1] - tmp[1]
+  bd[9] = to[o + 2] - tmp[2]
+  moveClothBy(c, bd, 0)
+  bd[10] = slot + 1
+  bd[11] = c.version
+}
+
+/**
+ * A pin on another entity or in place, on a cloth `backdateNewCloth` moved for its first target
+ * (or one moved since): no one rigid motion places it for both, so it goes back where the game
+ * placed it and its pins so far are measured there against their targets' last step, as every pin
+ * is (pinned elsewhere as well, a running hero's cape held a world pin, or one on a standing
+ * character, 83 mm off where it was placed).
+ */
+function undoBackdate(state: ClothWorldState, c: ClothState): void {
+  const bd = c.pins.backdate
+  bd[10] = 0
+  if (!c.pins.fresh || bd[11] !== c.version) return // (stepped or moved since: it stands)
+  moveClothBy(c, bd, 0, true)
+  c.budget.shownSlot = -1
+  const P = state.components.Pin, k = state.kinematics
+  for (let q = 0; q < c.pins.list.length; q++) {
+    const pin = c.pins.list[q], slot = P.slot[pin], i = 3 * P.particle[pin]
+    if (slot < 0) continue
+    toLocal(state, slot, k.stepTo, 7 * slot, c.pos[i], c.pos[i + 1], c.pos[i + 2], tmp, 0)
+    const b = 3 * pin
+    // (a pin given no offset holds the particle where it was: its offset is that place)
+    const plain = P.ox[pin] === P.blendFrom[b] && P.oy[pin] === P.blendFrom[b + 1] && P.oz[pin] === P.blendFrom[b + 2]
+    for (let a = 0; a < 3; a++) P.blendFrom[b + a] = tmp[a]
+    if (plain) {
+      P.ox[pin] = tmp[0]
+      P.oy[pin] = tmp[1]
+      P.oz[pin] = tmp[2]
+    }
+  }
 }
 
 /**

@@ -185,6 +185,8 @@ export function restorePinEntities(world: object, state: ClothWorldState, c: Clo
 export function restorePins(state: ClothWorldState, c: ClothState, s: PinsSnapshot): void {
   const P = state.components.Pin
   const pins = c.pins.list
+  c.pins.fresh = false // (its particles are the simulation's, as saved)
+  c.pins.backdate[10] = 0
   c.pinCount.set(s.pinCount)
   for (let q = 0; q < pins.length; q++) {
     const pin = pins[q]

@@ -13,4 +13,12 @@ export interface ClothPins {
    * known, from an older snapshot).
    */
   hand: Float64Array
+  /** True until the cloth's first step (or a restore): its particles lie where the game placed them. */
+  fresh: boolean
+  /**
+   * A fresh cloth moved back by its first pin's target's motion since the last step
+   * (`backdateNewCloth`): the record of 10 (see `hand`), then that target's slot + 1 (0: none), then
+   * the cloth's `version` after the move.
+   */
+  backdate: Float64Array
 }
