@@ -9,6 +9,9 @@ import {
   addPlaneCollider,
   addSphereCollider,
   createCloth,
+  getClothState,
+  getClothStats,
+  pinRow,
   removeCollider,
   restoreClothState,
   saveClothState,
@@ -67,5 +70,45 @@ describe('swept collider bounds', () => {
       check(`frame ${f} (${t.toFixed(2)} s)`)
     }
     expect(checked).toBe(480)
+  })
+})
+
+describe('a body whose scale leaps', () => {
+  /**
+   * A curtain (top row pinned) with a ball in front of it on an offset (0, 0, −0.5) of a body at
+   * z = +1; over one frame the body's scale goes 1 → `to` (6 puts the ball 2.5 m on, behind the
+   * curtain), or over 30 frames. Returns the curtain's fastest particle and its farthest back.
+   */
+  function grow(to: number, frames: number) {
+    const world = makeWorld({ sleep: false })
+    const rail = addEntity(world)
+    setTransform(world, rail, [0, 2, 0])
+    const sheet = createCloth(world, { width: 1, height: 1, resolution: 16, position: [0, 1.5, 0], material: 'cotton' })
+    pinRow(world, sheet, 0, rail)
+    const body = addEntity(world)
+    setTransform(world, body, [0, 1, 1])
+    addSphereCollider(world, addEntity(world), { body, offset: [0, 0, -0.5], radius: 0.2 })
+    for (let f = 0; f < 120; f++) stepCloth(world, 1 / 60)
+    const c = getClothState(world, sheet)
+    let vmax = 0, zmin = Infinity
+    for (let f = 1; f <= 60; f++) {
+      const s = 1 + (to - 1) * Math.min(1, f / frames)
+      setTransform(world, body, [0, 1, 1], [0, 0, 0, 1], [s, s, s])
+      stepCloth(world, 1 / 60)
+      for (let i = 0; i < c.count; i++) {
+        vmax = Math.max(vmax, Math.hypot(c.vel[3 * i], c.vel[3 * i + 1], c.vel[3 * i + 2]))
+        zmin = Math.min(zmin, c.pos[3 * i + 2])
+      }
+    }
+    return { vmax, zmin, resets: getClothStats(world).guardResets }
+  }
+  it('is taken at once, as a jump of position is: the ball does not sweep through the curtain (99 m/s, 2596 % stretch); grown over half a second it pushes it', () => {
+    const snap = grow(6, 1)
+    expect(snap.vmax).toBeLessThan(0.5) // measured 0.00 m/s
+    expect(snap.resets).toBe(0)
+    const smooth = grow(6, 30) // 8 cm a frame: swept, the curtain is pushed back
+    expect(smooth.zmin).toBeLessThan(-0.2)
+    const small = grow(1.9, 1) // not a leap (under twice): swept, a push
+    expect(small.zmin).toBeLessThan(-0.05)
   })
 })
