@@ -1,4 +1,5 @@
-import { CARRY_PART, CARRY_WHOLE, K_CARRIED, K_DROPPED, applyJump } from '../../world/kinematics'
+import { CARRY_PART, CARRY_WHOLE, K_CARRIED, K_DROPPED, applyJump, readPoseInto } from '../../world/kinematics'
+import { rotateVecAt } from '../../core/math'
 import type { ClothState, ClothWorldState } from '../../world/state'
 
 /** `Kinematics.carry`: CARRY_WITH + f, carried by slot f's jump after the sample (`carryWithFrames`). */
@@ -54,8 +55,15 @@ function markGroups(state: ClothWorldState): boolean {
       if (s >= 0 && root[find(s)] < 0) root[find(s)] = s
     }
   }
-  let any = false
   const live = k.live
+  // a member that moved against its root since the last sample (two carriers circling with
+  // unturned Transforms): no one jump carries the group, which sweeps as a whole (carried with the
+  // root, the other swept twice its own motion, 27 m/s against 15 swept)
+  for (let q = 0; q < live.length; q++) {
+    const s = live[q], g = k.carry[s] === 0 ? -1 : find(s)
+    if (g >= 0 && k.carry[g] !== CARRY_PART && root[g] >= 0 && root[g] !== s && !movesWith(state, s, root[g])) k.carry[g] = CARRY_PART
+  }
+  let any = false
   for (let q = 0; q < live.length; q++) {
     const s = live[q]
     if (k.carry[s] === 0) continue // followed by no cloth: its own share
@@ -69,6 +77,44 @@ function markGroups(state: ClothWorldState): boolean {
   }
   return any
 }
+
+/** How far (m) a member may move against its group's root, in the root's frame, and still be carried with it. */
+const WITH_TOLERANCE = 0.25
+
+/**
+ * Whether slot `s` kept its place in the frame of slot `r` between their last samples and their
+ * Transforms now, within WITH_TOLERANCE (a bone on its skeleton: its turn against it is free).
+ */
+function movesWith(state: ClothWorldState, s: number, r: number): boolean {
+  const k = state.kinematics, t = rigid
+  for (let when = 0; when < 2; when++) {
+    const o = 10 * when
+    if (when === 0) {
+      for (let j = 0; j < 7; j++) {
+        t[20 + j] = k.sampleTo[7 * s + j]
+        t[30 + j] = k.sampleTo[7 * r + j]
+      }
+    } else {
+      readPoseInto(state, k.eid[s], pose)
+      t.set(pose, 20)
+      readPoseInto(state, k.eid[r], pose)
+      t.set(pose, 30)
+    }
+    // the offset turned into the root's frame: conj(q_r)·(p_s − p_r)
+    for (let a = 0; a < 3; a++) t[40 + a] = t[20 + a] - t[30 + a]
+    t[43] = -t[33]
+    t[44] = -t[34]
+    t[45] = -t[35]
+    t[46] = t[36]
+    rotateVecAt(t, 43, t, 40, t, o)
+  }
+  const dx = t[10] - t[0], dy = t[11] - t[1], dz = t[12] - t[2]
+  return dx * dx + dy * dy + dz * dz <= WITH_TOLERANCE * WITH_TOLERANCE
+}
+
+/** Scratch of `movesWith`: the offsets then and now (0..2, 10..12), two poses (20.., 30..), a vector and a rotation (40..46). */
+const rigid = new Float64Array(47)
+const pose = new Float64Array(7)
 
 /** Union-find over tracked slots: each slot's parent (`find` gives the group). */
 let group = new Int32Array(64)
