@@ -73,8 +73,12 @@ export function pinParticle(
   // the pin continues from the target's pose at the end of the last step (the simulation's now)
   const slot = tgt !== 0 ? trackEntity(state, tgt) : -1
   const k = state.kinematics
-  if (c.pins.backdate[10] > 0 && slot !== c.pins.backdate[10] - 1) undoBackdate(state, c)
-  else if (slot >= 0 && c.pins.fresh && c.character === null && c.pins.list.length === 0) backdateNewCloth(state, c, slot, tgt)
+  // (with character settings bound to the cloth where the move left it, the move stays: undone
+  // under them, a collar held at max distance 0 was pulled 83 mm off its pins for good)
+  const bd = c.pins.backdate, bare = c.pins.list.length === 0
+  if (bd[10] > 0 && c.character === null && (bare || slot !== bd[10] - 1)) undoBackdate(state, c)
+  // (again after every pin went: a cape unpinned and pinned again was moved back twice, 167 mm)
+  if (slot >= 0 && bare && bd[10] === 0 && c.pins.fresh && c.character === null) backdateNewCloth(state, c, slot, tgt)
   if (slot >= 0) { for (let j = 0; j < 7; j++) tmp[8 + j] = k.stepTo[7 * slot + j] }
   // where the particle is now, in the target's frame
   toLocal(state, slot, tmp, 8, c.pos[3 * index], c.pos[3 * index + 1], c.pos[3 * index + 2], tmp, 0)
