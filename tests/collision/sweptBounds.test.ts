@@ -79,7 +79,7 @@ describe('a body whose scale leaps', () => {
    * z = +1; over one frame the body's scale goes 1 → `to` (6 puts the ball 2.5 m on, behind the
    * curtain), or over 30 frames. Returns the curtain's fastest particle and its farthest back.
    */
-  function grow(to: number, frames: number) {
+  function grow(to: number, frames: number, teleport = false) {
     const world = makeWorld({ sleep: false })
     const rail = addEntity(world)
     setTransform(world, rail, [0, 2, 0])
@@ -93,7 +93,13 @@ describe('a body whose scale leaps', () => {
     let vmax = 0, zmin = Infinity
     for (let f = 1; f <= 60; f++) {
       const s = 1 + (to - 1) * Math.min(1, f / frames)
-      setTransform(world, body, [0, 1, 1], [0, 0, 0, 1], [s, s, s])
+      // (with `teleport`, the body is also put 3 m aside and back in the same frame: a jump as well)
+      const x = teleport && f === 1 ? 3 : 0
+      if (teleport && f === 1) {
+        setTransform(world, body, [x, 1, 1], [0, 0, 0, 1], [1, 1, 1])
+        stepCloth(world, 1 / 60)
+        setTransform(world, body, [0, 1, 1], [0, 0, 0, 1], [s, s, s])
+      } else setTransform(world, body, [0, 1, 1], [0, 0, 0, 1], [s, s, s])
       stepCloth(world, 1 / 60)
       for (let i = 0; i < c.count; i++) {
         vmax = Math.max(vmax, Math.hypot(c.vel[3 * i], c.vel[3 * i + 1], c.vel[3 * i + 2]))
@@ -110,5 +116,7 @@ describe('a body whose scale leaps', () => {
     expect(smooth.zmin).toBeLessThan(-0.2)
     const small = grow(1.9, 1) // not a leap (under twice): swept, a push
     expect(small.zmin).toBeLessThan(-0.05)
+    // the leap in the frame its body teleports back (a respawn as a giant): unswept too (99 m/s)
+    expect(grow(6, 1, true).vmax).toBeLessThan(0.5)
   })
 })
