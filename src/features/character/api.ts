@@ -9,6 +9,7 @@ import type { ClothState, ClothWorldState } from '../../world/state'
 import { checkEntity } from '../../world/transform'
 import { wakeClothState } from '../../world/wake'
 import { releaseAnchor } from '../budget/freeze'
+import { placeNewCloth } from '../pins/api'
 import { BLEND, LIMITS, L_BACK, L_MAX, L_RADIUS, RIGID } from '../../kernels/motion'
 import { clampFeltVelocities } from './frame'
 import { blankCharacter, blankSkin, unconstrained } from './state'
@@ -107,6 +108,7 @@ export function setClothInertia(world: object, cloth: number, options: ClothIner
       angle = t.angle
     }
   }
+  if (frame !== undefined) placeNewCloth(state, c, frame) // (spawned mid-run: taken as placed)
   const ch = ensureCharacter(state, c)
   if (frame !== undefined) {
     setFrame(state, c, ch, frame)
@@ -246,6 +248,7 @@ export function setClothSkinning(world: object, cloth: number, skinning: ClothSk
     if (!(Math.abs(sum - 1) <= 1e-3) && !(sum === 0 && unused !== null && unused[i] === 1))
       throw new ClothError('skinning.weights', weights, `of particle ${i} sum to ${sum}; each particle's 4 weights must sum to 1`)
   }
+  placeNewCloth(state, c, bones[0]) // (its default frame; spawned mid-run: taken as placed)
   const ch = ensureCharacter(state, c)
   rebindRest(state, c, ch)
   releaseBones(state, c, ch)
