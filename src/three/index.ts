@@ -83,16 +83,13 @@ interface GeometryState {
 
 const states = /* @__PURE__ */ new WeakMap<object, GeometryState>()
 
-/** Set while copyTopology disposes a geometry it grows (not a release). */
-let growing = false
-
 /**
  * A geometry made by createClothGeometry was disposed: it lets go of its cloth, so a pooled mesh
  * keeps nothing of a removed cloth alive and may take any cloth next (a recycled id included: the
  * safeguard against a forgotten mesh drawing a new cloth holds for meshes still in use).
  */
 function release(event: { target: unknown }): void {
-  const state = growing ? undefined : states.get(event.target as object)
+  const state = states.get(event.target as object)
   if (state === undefined) return
   state.mesh = null
   state.cloth = -1
@@ -141,22 +138,18 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
   const indices = 3 * mesh.triangleCount
   const vertexRoom = state.position.count
   const indexRoom = state.index.count
-  const old = state
   if (vertices > vertexRoom || indices > indexRoom) {
-    growing = true
-    try {
-      geometry.dispose() // the renderer frees the old buffers and uploads the new ones at the next draw
-    } finally {
-      growing = false
-    }
+    // (what it showed, kept across the dispose, which `release` answers by forgetting it)
+    const { cloth, clothState, version } = state
+    geometry.dispose() // the renderer frees the old buffers and uploads the new ones at the next draw
     state = attributes(
       geometry,
       vertices > vertexRoom ? roomFor(vertices, vertexRoom) : vertexRoom,
       indices > indexRoom ? roomFor(indices, indexRoom) : indexRoom,
     )
-    state.cloth = old.cloth
-    state.clothState = old.clothState
-    state.version = old.version
+    state.cloth = cloth
+    state.clothState = clothState
+    state.version = version
     states.set(geometry, state)
   }
   const index = state.index.array as Uint32Array

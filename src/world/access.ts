@@ -43,15 +43,14 @@ export function deliverToListeners(state: ClothWorldState, deliver: (state: Clot
  */
 export function getClothWorldForRead(world: object, what: string): ClothWorldState {
   const state = getClothWorld(world)
-  const f = state.frame
-  if (f.open && !f.delivering) {
-    throw new ClothError(
-      'world',
-      world,
-      `is between beginClothStep and endClothStep, where the step in flight moves the particles: call ${what} after endClothStep`,
-    )
-  }
+  refuseOpenFrame(state, world, `, where the step in flight moves the particles: call ${what} after endClothStep`)
   return state
+}
+
+/** A ClothError naming the world (its message: the frame, then `rest`) while a frame is open, outside the step's listeners. */
+function refuseOpenFrame(state: ClothWorldState, world: object, rest: string): void {
+  const f = state.frame
+  if (f.open && !f.delivering) throw new ClothError('world', world, `is between beginClothStep and endClothStep${rest}`)
 }
 
 /**
@@ -62,14 +61,8 @@ export function getClothWorldForRead(world: object, what: string): ClothWorldSta
  */
 export function getClothWorldForChange(world: object): ClothWorldState {
   const state = getClothWorld(world)
+  refuseOpenFrame(state, world, ': change cloths, pins, colliders and settings after endClothStep')
   const f = state.frame
-  if (f.open && !f.delivering) {
-    throw new ClothError(
-      'world',
-      world,
-      'is between beginClothStep and endClothStep: change cloths, pins, colliders and settings after endClothStep',
-    )
-  }
   if (f.stepping && !f.delivering) {
     // (motion constraints switched on there ran against a reference the sync had not set up: 491 %
     // stretch; a pin made there took the target's pose at the step's end for its start)
