@@ -169,13 +169,14 @@ const bounds = /* @__PURE__ */ new Float64Array(7)
 const BOUNDS_RUN = 192
 
 /**
- * Box and sphere around the live vertices (three's own compute* would also count the spare room).
- * The loops go in runs of BOUNDS_RUN floats, one call each: a single loop over every vertex,
+ * Box and sphere around the live vertices (three's own compute* would also count the spare room),
+ * but those no triangle uses (`unused`: a stray vertex of an imported mesh stays where it was made,
+ * and a cape run 100 m from it had a 50 m sphere). The loops go in runs of BOUNDS_RUN floats, one call each: a single loop over every vertex,
  * entered once per frame, is one V8 may only ever optimize on the stack (OSR), starting it
  * unoptimized every frame, where its doubles are boxed; a short loop called many times is
  * optimized as a whole.
  */
-function fitBounds(geometry: ClothGeometry, positions: Float32Array, vertices: number): void {
+function fitBounds(geometry: ClothGeometry, positions: Float32Array, vertices: number, unused: Uint8Array | null): void {
   const box = (geometry.boundingBox ??= new Box3())
   const sphere = (geometry.boundingSphere ??= new Sphere())
   if (vertices === 0) {
@@ -188,18 +189,24 @@ function fitBounds(geometry: ClothGeometry, positions: Float32Array, vertices: n
   b[3] = b[4] = b[5] = -Infinity
   b[6] = 0
   const n = 3 * vertices
-  for (let s = 0; s < n; s += BOUNDS_RUN) boxRun(positions, s, s + BOUNDS_RUN < n ? s + BOUNDS_RUN : n, b)
-  for (let s = 0; s < n; s += BOUNDS_RUN) sphereRun(positions, s, s + BOUNDS_RUN < n ? s + BOUNDS_RUN : n, b)
+  for (let s = 0; s < n; s += BOUNDS_RUN) boxRun(positions, s, s + BOUNDS_RUN < n ? s + BOUNDS_RUN : n, b, unused)
+  if (!(b[0] <= b[3])) {
+    box.makeEmpty()
+    sphere.makeEmpty()
+    return
+  }
+  for (let s = 0; s < n; s += BOUNDS_RUN) sphereRun(positions, s, s + BOUNDS_RUN < n ? s + BOUNDS_RUN : n, b, unused)
   box.min.set(b[0], b[1], b[2])
   box.max.set(b[3], b[4], b[5])
   sphere.center.set(0.5 * (b[0] + b[3]), 0.5 * (b[1] + b[4]), 0.5 * (b[2] + b[5]))
   sphere.radius = Math.sqrt(b[6])
 }
 
-/** Grows the box in b[0..5] by positions [from, to). */
-function boxRun(positions: Float32Array, from: number, to: number, b: Float64Array): void {
+/** Grows the box in b[0..5] by positions [from, to), but the vertices marked in `unused`. */
+function boxRun(positions: Float32Array, from: number, to: number, b: Float64Array, unused: Uint8Array | null): void {
   let minX = b[0], minY = b[1], minZ = b[2], maxX = b[3], maxY = b[4], maxZ = b[5]
   for (let i = from; i < to; i += 3) {
+    if (unused !== null && unused[i / 3] === 1) continue
     const x = positions[i], y = positions[i + 1], z = positions[i + 2]
     if (x < minX) minX = x
     if (x > maxX) maxX = x
@@ -216,11 +223,12 @@ function boxRun(positions: Float32Array, from: number, to: number, b: Float64Arr
   b[5] = maxZ
 }
 
-/** Grows b[6], the largest squared distance from the box's centre, by positions [from, to). */
-function sphereRun(positions: Float32Array, from: number, to: number, b: Float64Array): void {
+/** Grows b[6], the largest squared distance from the box's centre, by positions [from, to), but the vertices marked in `unused`. */
+function sphereRun(positions: Float32Array, from: number, to: number, b: Float64Array, unused: Uint8Array | null): void {
   const cx = 0.5 * (b[0] + b[3]), cy = 0.5 * (b[1] + b[4]), cz = 0.5 * (b[2] + b[5])
   let r2 = b[6]
   for (let i = from; i < to; i += 3) {
+    if (unused !== null && unused[i / 3] === 1) continue
     const dx = positions[i] - cx, dy = positions[i + 1] - cy, dz = positions[i + 2] - cz
     const d2 = dx * dx + dy * dy + dz * dz
     if (d2 > r2) r2 = d2
@@ -285,7 +293,7 @@ export function updateClothGeometry(world: object, cloth: number, geometry: Buff
   ;(state.normal.array as Float32Array).set(mesh.normals)
   state.position.needsUpdate = true
   state.normal.needsUpdate = true
-  fitBounds(clothGeometry, mesh.positions, mesh.vertexCount)
+  fitBounds(clothGeometry, mesh.positions, mesh.vertexCount, clothState.topology.unused)
   return clothGeometry
 }
 
@@ -346,7 +354,7 @@ export function createProxyGeometry(world: object, proxy: ClothRenderProxy): Clo
   geometry.setIndex(index)
   const version = getClothState(world, proxy.cloth).version
   proxyStates.set(geometry, { proxy, indexVersion: mesh.indexVersion, version, position, normal, index })
-  fitBounds(geometry, mesh.positions, mesh.vertexCount)
+  fitBounds(geometry, mesh.positions, mesh.vertexCount, null)
   return geometry
 }
 
@@ -376,7 +384,7 @@ export function updateProxyGeometry(world: object, proxy: ClothRenderProxy, geom
     state.indexVersion = mesh.indexVersion
     state.index.needsUpdate = true
   }
-  fitBounds(clothGeometry, mesh.positions, mesh.vertexCount)
+  fitBounds(clothGeometry, mesh.positions, mesh.vertexCount, null)
   return clothGeometry
 }
 
