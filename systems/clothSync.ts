@@ -41,7 +41,7 @@ export function clothSync<W extends object>(world: W): W {
   advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   wakeSleepers(state) // nothing while no cloth sleeps
   wakeMovedCharacters(state) // likewise
-  updateBudget(state) // quality targets and the world budget (nothing without them)
+  updateBudget(state, frameStart) // quality targets and the world budget (nothing without them)
   wantStepTiming(state)
   let total = 0
   const cloths = state.cloths

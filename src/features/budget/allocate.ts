@@ -10,12 +10,13 @@ const M_STRAIN = 6
 
 /**
  * Sync phase: every `interval` steps, runs the cloths' quality targets and the world budget and
- * applies the chosen levels. Nothing (one comparison) without a budget or a target.
+ * applies the chosen levels. Nothing (one comparison) without a budget or a target. `sampled`: the
+ * step took a frame sample (its targets' jumps are this step's).
  */
-export function updateBudget(state: ClothWorldState): void {
+export function updateBudget(state: ClothWorldState, sampled: boolean): void {
   const q = state.budget
   if (q.settings === null && q.targets === 0) return
-  if (q.settings !== null) freezeCaughtUp(state)
+  if (q.settings !== null) freezeCaughtUp(state, sampled)
   if (--q.countdown > 0) return
   const b = q.settings
   q.countdown = b !== null ? b.interval : 15
@@ -38,7 +39,7 @@ export function updateBudget(state: ClothWorldState): void {
     r = r < 0.5 ? 0.5 : r > 2 ? 2 : r
     t[Q_FACTOR] *= 1 + 0.3 * (r - 1)
   }
-  allocate(state, b)
+  allocate(state, b, sampled)
 }
 
 /**
@@ -95,7 +96,7 @@ function runTarget(state: ClothWorldState, c: ClothState): void {
 }
 
 /** The world budget: freezing, distance levels, then the time budget, then apply. */
-function allocate(state: ClothWorldState, b: BudgetSettings): void {
+function allocate(state: ClothWorldState, b: BudgetSettings, sampled: boolean): void {
   const q = state.budget
   const cloths = state.cloths
   const pose = q.pose
@@ -120,7 +121,7 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
       // freezes at the next, where it is (frozen with the lag, it thawed with it undone at once:
       // 67 % stretch on a cape whose camera cut to it)
       if (lod.waited > 0 && !c.sleep.asleep) lod.freezing = true
-      else freezeCloth(state, c, state.kinematics.stepFrom)
+      else freezeCloth(state, c, sampled)
     } else if (!freeze) {
       lod.freezing = false
       if (lod.frozen) thaw(state, c, state.kinematics.stepFrom)
@@ -166,14 +167,14 @@ function allocate(state: ClothWorldState, b: BudgetSettings): void {
 }
 
 /** Sync phase, every step with a world budget: freezes the cloths that took their catch-up step (`ClothBudget.freezing`). */
-function freezeCaughtUp(state: ClothWorldState): void {
+function freezeCaughtUp(state: ClothWorldState, sampled: boolean): void {
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) {
     const c = cloths[ci]
     const lod = c.budget
     if (!lod.freezing || (lod.waited > 0 && !c.sleep.asleep)) continue
     lod.freezing = false
-    freezeCloth(state, c, state.kinematics.stepFrom)
+    freezeCloth(state, c, sampled)
   }
 }
 

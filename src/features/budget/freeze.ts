@@ -1,7 +1,7 @@
 import { particleBounds } from '../../kernels/mesh'
 import { carryFrozen } from '../../world/rigid'
 import { applyJump } from '../../world/kinematics'
-import { normalizeQuatAt } from '../../core/math'
+import { multiplyQuatAt, normalizeQuatAt, rotateVecAt } from '../../core/math'
 import { glideThawingPins } from '../pins/api'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -34,16 +34,44 @@ export function anchorSlot(c: ClothState, skip = -1): number {
 }
 
 /**
- * Freezes a cloth, taking its first pin with a target as the reference, at its target's pose in
- * `poses`: `stepFrom` in the sync phase (where the cloth's last step left it: the step about to
- * run is the first it misses), `stepTo` between steps.
+ * Sync phase: freezes a cloth, taking its first pin with a target as the reference, at its
+ * target's pose at the step's start (`stepFrom`: where the cloth's last step left it, the step
+ * about to run the first it misses). When the step took a frame sample (`sampled`) at which the
+ * target jumped (a teleport, or dropped frame time carried), that pose has jumped already while
+ * the cloth, frozen before it followed, has not: the pose before the jump is taken (from after it,
+ * a cape frozen in a 0.5 s frame of a hero running at 4 m/s thawed 1.71 m behind its pins).
  */
-export function freezeCloth(state: ClothWorldState, c: ClothState, poses: Float64Array): void {
+export function freezeCloth(state: ClothWorldState, c: ClothState, sampled: boolean): void {
   const lod = c.budget
+  const k = state.kinematics
   lod.frozen = true
   lod.frozenCentre.set(lod.centre)
-  pickReference(state, c, -1, -1, poses)
+  pickReference(state, c, -1, -1, k.stepFrom)
+  const slot = lod.refSlot
+  if (sampled && slot >= 0 && k.jumped[slot] !== 0) undoJump(k.jump, 10 * slot, lod.refPose)
 }
+
+/** Moves the pose at poses[0..6] back by the jump at `j` (the inverse of `applyJump`). */
+function undoJump(jump: Float64Array, j: number, pose: Float64Array): void {
+  const cx = jump[j], cy = jump[j + 1], cz = jump[j + 2]
+  // R⁻¹ = conj(R): p₀ = centre + R⁻¹(p − centre − d), q₀ = R⁻¹·q
+  back[0] = -jump[j + 3]
+  back[1] = -jump[j + 4]
+  back[2] = -jump[j + 5]
+  back[3] = jump[j + 6]
+  back[4] = pose[0] - cx - jump[j + 7]
+  back[5] = pose[1] - cy - jump[j + 8]
+  back[6] = pose[2] - cz - jump[j + 9]
+  rotateVecAt(back, 0, back, 4, back, 4)
+  pose[0] = cx + back[4]
+  pose[1] = cy + back[5]
+  pose[2] = cz + back[6]
+  multiplyQuatAt(back, 0, pose, 3, pose, 3)
+  normalizeQuatAt(pose, 3)
+}
+
+/** Scratch of `undoJump`: the inverse rotation (0..3), a vector (4..6). */
+const back = new Float64Array(7)
 
 /**
  * Thaws a frozen cloth, carried rigidly by its reference pin's target since the freeze, to the
