@@ -70,7 +70,8 @@ interface GeometryState {
    * removed cloth kept the dead cloth's arrays alive, 235 kB for a 14×24 cape.
    */
   mesh: ClothMesh | null
-  /** The cloth last copied (its entity and its state: an id a removed cloth left may name another). */
+  /** The cloth last copied (its world, entity and state: an id a removed cloth left may name another). */
+  world: object | null
   cloth: number
   clothState: object | null
   /** The cloth's `version` at the last copy (a sleeping or frozen cloth is not uploaded again). */
@@ -92,6 +93,7 @@ function release(event: { target: unknown }): void {
   const state = states.get(event.target as object)
   if (state === undefined) return
   state.mesh = null
+  state.world = null
   state.cloth = -1
   state.clothState = null
   state.version = -1
@@ -126,7 +128,7 @@ function attributes(geometry: ClothGeometry, vertices: number, indices: number):
   geometry.setAttribute('normal', normal)
   geometry.setAttribute('uv', uv)
   geometry.setIndex(index)
-  return { mesh: null, cloth: -1, clothState: null, version: -1, position, normal, uv, index }
+  return { mesh: null, world: null, cloth: -1, clothState: null, version: -1, position, normal, uv, index }
 }
 
 /**
@@ -140,13 +142,14 @@ function copyTopology(geometry: ClothGeometry, state: GeometryState, mesh: Cloth
   const indexRoom = state.index.count
   if (vertices > vertexRoom || indices > indexRoom) {
     // (what it showed, kept across the dispose, which `release` answers by forgetting it)
-    const { cloth, clothState, version } = state
+    const { world, cloth, clothState, version } = state
     geometry.dispose() // the renderer frees the old buffers and uploads the new ones at the next draw
     state = attributes(
       geometry,
       vertices > vertexRoom ? roomFor(vertices, vertexRoom) : vertexRoom,
       indices > indexRoom ? roomFor(indices, indexRoom) : indexRoom,
     )
+    state.world = world
     state.cloth = cloth
     state.clothState = clothState
     state.version = version
@@ -258,7 +261,7 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
  * ran no step, uploads nothing); after a tear also the new vertices, the rewritten index and the
  * draw range. It
  * allocates nothing unless a tear outgrew the geometry's arrays. The geometry may be moved to
- * another cloth: the next update copies that cloth's topology. A ClothError when the cloth it
+ * another cloth, of this world or another: the next update copies that cloth's topology. A ClothError when the cloth it
  * showed was removed and its id now names another cloth: the old mesh, left in a scene, would
  * silently draw the new one twice (make a mesh for the new cloth, as a render proxy must be made
  * again). A disposed geometry (`geometry.dispose()`, as a pool does) has let go of its cloth and
@@ -275,7 +278,8 @@ export function updateClothGeometry(world: object, cloth: number, geometry: Buff
   if (state === undefined) throw new ClothError('geometry', geometry, 'must be a geometry made by createClothGeometry')
   const mesh = getClothMesh(world, cloth)
   const clothState = getClothState(world, cloth)
-  if (state.cloth === cloth && state.clothState !== clothState) {
+  // (the same id in another world is another cloth, as another id is: a level reloaded into a new world keeps its meshes)
+  if (state.world === world && state.cloth === cloth && state.clothState !== clothState) {
     throw new ClothError(
       'cloth',
       cloth,
@@ -285,6 +289,7 @@ export function updateClothGeometry(world: object, cloth: number, geometry: Buff
   const clothGeometry = geometry as ClothGeometry // it is: createClothGeometry made it
   // unchanged since the last copy (asleep, frozen, between steps): nothing to upload again
   if (state.clothState === clothState && mesh === state.mesh && state.version === clothState.version) return clothGeometry
+  state.world = world
   state.cloth = cloth
   state.clothState = clothState
   if (mesh !== state.mesh) state = copyTopology(clothGeometry, state, mesh)

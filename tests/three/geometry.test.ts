@@ -171,6 +171,20 @@ describe('bitecs-cloth/three', () => {
     expectFollows(world, small, geometry)
   })
 
+  it('a geometry moved to a cloth of another world with the same id takes it (a level reloaded into a new world keeps its meshes)', () => {
+    // found by a hunt: it was refused as a removed cloth whose id names a new one
+    const make = () => {
+      const world = makeWorld()
+      return { world, cloth: createCloth(world, { width: 1, height: 1, resolution: 6 }) }
+    }
+    const a = make(), b = make()
+    expect(b.cloth).toBe(a.cloth)
+    const geometry = createClothGeometry(a.world, a.cloth)
+    stepCloth(b.world, 1 / 60)
+    expect(updateClothGeometry(b.world, b.cloth, geometry)).toBe(geometry)
+    expectFollows(b.world, b.cloth, geometry)
+  })
+
   it('the geometry of a removed cloth does not silently show a new cloth that took its id (a ClothError, as a proxy gives)', () => {
     // observed: the old mesh, left in the scene, drew the respawned cloth a second time
     const world = makeWorld()
