@@ -156,29 +156,51 @@ export function checkPins(world: object, state: ClothWorldState, s: PinsSnapshot
 
 /**
  * Makes the cloth's pins those of the snapshot (same particles, targets, order): pins added since
- * are removed, pins removed since are created again. Runs before the particles are restored.
+ * are removed, pins removed since are created again, and the pins still there keep their entities,
+ * so the game's handles to them still hold (made all anew, the pins got their recycled ids back in
+ * another order: a replay releasing "the left corner" by its handle released the right one). Runs
+ * before the particles are restored.
  */
 export function restorePinEntities(world: object, state: ClothWorldState, c: ClothState, s: PinsSnapshot): void {
   const P = state.components.Pin
   const np = s.pins.length / 3
   const pins = c.pins.list
   let same = pins.length === np
-  for (let q = 0; same && q < np; q++) {
-    const pin = pins[q]
-    same = pin === s.pins[3 * q] && P.particle[pin] === s.pins[3 * q + 1] && P.target[pin] === s.pins[3 * q + 2]
-  }
+  for (let q = 0; same && q < np; q++) same = pins[q] === s.pins[3 * q] && savedAs(P, pins[q], s, q)
   if (same) return
+  // the saved pins still held as saved, by their entity; the rest go
+  const kept = new Int32Array(np).fill(-1)
+  for (let q = 0; q < np; q++) {
+    const pin = s.pins[3 * q]
+    if (pins.includes(pin) && savedAs(P, pin, s, q)) kept[q] = pin
+  }
   for (let q = pins.length - 1; q >= 0; q--) {
     const pin = pins[q]
-    if (entityExists(world as never, pin)) removeEntity(world as never, pin)
+    if (!kept.includes(pin) && entityExists(world as never, pin)) removeEntity(world as never, pin)
   }
   for (let q = 0; q < np; q++) {
+    if (kept[q] >= 0) continue
     const target = s.pins[3 * q + 2]
     const d = PIN_DATA * q
-    pinParticle(world, c.eid, s.pins[3 * q + 1], target === 0 ? null : target, [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]], {
-      blendTime: 0,
-    })
+    kept[q] = pinParticle(
+      world,
+      c.eid,
+      s.pins[3 * q + 1],
+      target === 0 ? null : target,
+      [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]],
+      {
+        blendTime: 0,
+      },
+    )
   }
+  // in the saved order (what the pins' data and the steps follow)
+  pins.length = 0
+  for (let q = 0; q < np; q++) pins.push(kept[q])
+}
+
+/** Whether pin entity `pin` holds the particle and target the snapshot's q-th pin held. */
+function savedAs(P: ClothWorldState['components']['Pin'], pin: number, s: PinsSnapshot, q: number): boolean {
+  return P.particle[pin] === s.pins[3 * q + 1] && P.target[pin] === s.pins[3 * q + 2]
 }
 
 /** Restores the pins' data, the particles' pin counts and the targets' motion history. */
