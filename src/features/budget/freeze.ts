@@ -39,7 +39,11 @@ export function anchorSlot(c: ClothState, skip = -1): number {
  * about to run the first it misses). When the step took a frame sample (`sampled`) at which the
  * target jumped (a teleport, or dropped frame time carried), that pose has jumped already while
  * the cloth, frozen before it followed, has not: the pose before the jump is taken (from after it,
- * a cape frozen in a 0.5 s frame of a hero running at 4 m/s thawed 1.71 m behind its pins).
+ * a cape frozen in a 0.5 s frame of a hero running at 4 m/s thawed 1.71 m behind its pins). A
+ * cloth `teleportCloth` moved for that jump was moved by hand instead (`ClothPins.hand`): that
+ * pose moved as the cloth was, and the hand move is no longer pending (as `teleportCloth` does for
+ * a frozen cloth; left pending and the jump undone, a cape moved with its hero by 10 m thawed
+ * 9.9 m off its pins).
  */
 export function freezeCloth(state: ClothWorldState, c: ClothState, sampled: boolean): void {
   const lod = c.budget
@@ -47,8 +51,15 @@ export function freezeCloth(state: ClothWorldState, c: ClothState, sampled: bool
   lod.frozen = true
   lod.frozenCentre.set(lod.centre)
   pickReference(state, c, -1, -1, k.stepFrom)
-  const slot = lod.refSlot
-  if (sampled && slot >= 0 && k.jumped[slot] !== 0) undoJump(k.jump, 10 * slot, lod.refPose)
+  const slot = lod.refSlot, hand = c.pins.hand
+  if (!sampled || slot < 0 || k.jumped[slot] === 0) return
+  if (c.pins.skipTeleport && hand[10] !== 1) return // (moved by a motion not known: as it jumped)
+  undoJump(k.jump, 10 * slot, lod.refPose)
+  if (!c.pins.skipTeleport) return
+  applyJump(hand, 0, lod.refPose, 0)
+  normalizeQuatAt(lod.refPose, 3)
+  c.pins.skipTeleport = false
+  hand[10] = 0
 }
 
 /** Moves the pose at poses[0..6] back by the jump at `j` (the inverse of `applyJump`). */
