@@ -293,17 +293,16 @@ export function solvePairs(
  * 80 m/s that way. A pinned cloth trades momentum with its pins anyway and lets it go: given back,
  * it pushed the whole heap of a cape against its pins and the ground every substep.
  */
-/** Scratch of `clampRelativeMotion`: the free particles' centre (0..2), mean motion (3..5), turn ω (6..8) and mass (9). */
-const RIGID_FIT = new Float64Array(10)
+/** Scratch of `clampRelativeMotion`: the free particles' centre (0..2), mean motion (3..5) and turn ω (6..8). */
+const RIGID_FIT = new Float64Array(9)
 
 /**
  * The rigid motion of the free particles from `prev` to `pos` into out (see RIGID_FIT): their
  * centre, mean motion and the turn ω = I⁻¹L carrying their angular momentum about the centre, or
  * none when that turn is under TURN_SHARE of their motion within the cloth, or the cloth too thin
- * to turn (a point, a straight line), and their mass (0: none free). (Into `out`, not returned: a
- * number returned by a call V8 does not inline is boxed, once a substep.)
+ * to turn (a point, a straight line). Returns their mass (0: none free).
  */
-function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, out: Float64Array): void {
+function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, out: Float64Array): number {
   // mass, moments of the start positions (about the first free particle's, o) and of the motion
   let m = 0, ox = 0, oy = 0, oz = 0
   let sx = 0, sy = 0, sz = 0, mx = 0, my = 0, mz = 0, ax = 0, ay = 0, az = 0
@@ -338,8 +337,7 @@ function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64A
     xz += mi * x * z
     yz += mi * y * z
   }
-  out[9] = m
-  if (!(m > 0)) return
+  if (!(m > 0)) return 0
   const cx = sx / m, cy = sy / m, cz = sz / m
   mx /= m
   my /= m
@@ -373,6 +371,7 @@ function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64A
   out[6] = wx
   out[7] = wy
   out[8] = wz
+  return m
 }
 
 /** The share of the motion within a cloth its turn must be for `clampRelativeMotion` to count it as rigid. */
@@ -387,8 +386,7 @@ export function clampRelativeMotion(
   conserve: boolean,
 ): void {
   const f0 = RIGID_FIT
-  fitRigidMotion(pos, prev, invMass, count, f0)
-  const m = f0[9]
+  const m = fitRigidMotion(pos, prev, invMass, count, f0)
   if (!(m > 0)) return
   const ox = f0[0], oy = f0[1], oz = f0[2], mx = f0[3], my = f0[4], mz = f0[5], wx = f0[6], wy = f0[7], wz = f0[8]
   const lim = p[S_LIMIT], lim2 = lim * lim
