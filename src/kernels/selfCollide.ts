@@ -293,16 +293,17 @@ export function solvePairs(
  * 80 m/s that way. A pinned cloth trades momentum with its pins anyway and lets it go: given back,
  * it pushed the whole heap of a cape against its pins and the ground every substep.
  */
-/** Scratch of `clampRelativeMotion`: the free particles' centre (0..2), mean motion (3..5) and turn ω (6..8). */
-const RIGID_FIT = new Float64Array(9)
+/** The share of the motion within a cloth its turn must be for `clampRelativeMotion` to count it as rigid. */
+const TURN_SHARE = 0.5
 
-/**
- * The rigid motion of the free particles from `prev` to `pos` into out (see RIGID_FIT): their
- * centre, mean motion and the turn ω = I⁻¹L carrying their angular momentum about the centre, or
- * none when that turn is under TURN_SHARE of their motion within the cloth, or the cloth too thin
- * to turn (a point, a straight line). Returns their mass (0: none free).
- */
-function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64Array, count: number, out: Float64Array): number {
+export function clampRelativeMotion(
+  pos: Float64Array,
+  prev: Float64Array,
+  invMass: Float64Array,
+  count: number,
+  p: Float64Array,
+  conserve: boolean,
+): void {
   // mass, moments of the start positions (about the first free particle's, o) and of the motion
   let m = 0, ox = 0, oy = 0, oz = 0
   let sx = 0, sy = 0, sz = 0, mx = 0, my = 0, mz = 0, ax = 0, ay = 0, az = 0
@@ -337,7 +338,7 @@ function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64A
     xz += mi * x * z
     yz += mi * y * z
   }
-  if (!(m > 0)) return 0
+  if (!(m > 0)) return
   const cx = sx / m, cy = sy / m, cz = sz / m
   mx /= m
   my /= m
@@ -347,7 +348,7 @@ function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64A
   const qxx = xx - m * cx * cx, qyy = yy - m * cy * cy, qzz = zz - m * cz * cz
   const qxy = xy - m * cx * cy, qxz = xz - m * cx * cz, qyz = yz - m * cy * cz
   const i00 = qyy + qzz, i11 = qxx + qzz, i22 = qxx + qyy, i01 = -qxy, i02 = -qxz, i12 = -qyz
-  // ω = I⁻¹L (adjugate over determinant)
+  // ω = I⁻¹L (adjugate over determinant); none for a cloth too thin to turn (a point, a straight line)
   const c00 = i11 * i22 - i12 * i12, c01 = i02 * i12 - i01 * i22, c02 = i01 * i12 - i02 * i11
   const c11 = i00 * i22 - i02 * i02, c12 = i01 * i02 - i00 * i12, c22 = i00 * i11 - i01 * i01
   const det = i00 * c00 + i01 * c01 + i02 * c02
@@ -362,40 +363,13 @@ function fitRigidMotion(pos: Float64Array, prev: Float64Array, invMass: Float64A
     const turn = wx * lx + wy * ly + wz * lz, within = dd - m * (mx * mx + my * my + mz * mz)
     if (!(turn > TURN_SHARE * within)) wx = wy = wz = 0
   }
-  out[0] = ox + cx
-  out[1] = oy + cy
-  out[2] = oz + cz
-  out[3] = mx
-  out[4] = my
-  out[5] = mz
-  out[6] = wx
-  out[7] = wy
-  out[8] = wz
-  return m
-}
-
-/** The share of the motion within a cloth its turn must be for `clampRelativeMotion` to count it as rigid. */
-const TURN_SHARE = 0.5
-
-export function clampRelativeMotion(
-  pos: Float64Array,
-  prev: Float64Array,
-  invMass: Float64Array,
-  count: number,
-  p: Float64Array,
-  conserve: boolean,
-): void {
-  const f0 = RIGID_FIT
-  const m = fitRigidMotion(pos, prev, invMass, count, f0)
-  if (!(m > 0)) return
-  const ox = f0[0], oy = f0[1], oz = f0[2], mx = f0[3], my = f0[4], mz = f0[5], wx = f0[6], wy = f0[7], wz = f0[8]
   const lim = p[S_LIMIT], lim2 = lim * lim
   // momentum taken out by the clamp (Σ m·Δx)
   let tx = 0, ty = 0, tz = 0
   for (let i = 0; i < count; i++) {
     if (invMass[i] === 0) continue
     const j = 3 * i
-    const x = prev[j] - ox, y = prev[j + 1] - oy, z = prev[j + 2] - oz
+    const x = prev[j] - ox - cx, y = prev[j + 1] - oy - cy, z = prev[j + 2] - oz - cz
     // the rigid motion here, and the motion beyond it
     const ux = mx + wy * z - wz * y, uy = my + wz * x - wx * z, uz = mz + wx * y - wy * x
     const dx = pos[j] - prev[j] - ux, dy = pos[j + 1] - prev[j + 1] - uy, dz = pos[j + 2] - prev[j + 2] - uz
