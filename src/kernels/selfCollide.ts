@@ -277,25 +277,17 @@ export function solvePairs(
 }
 
 /**
- * Clamps each free particle's motion this substep, relative to the rigid motion of the cloth's free
- * particles, to p[S_LIMIT] metres: the speed limit under which the step's pair list stays complete.
- * The rigid motion is their mass-weighted mean motion plus the turn ω × (x − centre) that carries
- * their angular momentum about their centre (ω = I⁻¹L, I their inertia there): a linear field that
- * brings no two particles closer (|Δ + ω × Δ| ≥ |Δ|), so with each particle within the limit of it,
- * no two close in by more than twice the limit and the pair list still holds. A cloth carried along
- * by a running or turning character is not slowed; only fast motion within the cloth is. (Relative
- * to the mean motion alone, a cape on a character spinning at 12 rad/s flared to 0.51 m instead of
- * 1.18, and a free sheet spinning at 15 rad/s kept 31 % of its angular momentum in a second.) With
- * `conserve` (a cloth nothing pins), the momentum the clamped particles lose is given back to all
- * free particles as one common motion (which changes no relative motion, so the limit still holds
- * between any two of them): clamping only the fast side of an uneven spread would otherwise shift
- * the cloth's mean motion every substep, and a crumpled self-colliding sheet propelled itself to
- * 80 m/s that way. A pinned cloth trades momentum with its pins anyway and lets it go: given back,
- * it pushed the whole heap of a cape against its pins and the ground every substep.
+ * Clamps each free particle's motion this substep, relative to the mass-weighted mean motion of the
+ * cloth's free particles, to p[S_LIMIT] metres: the speed limit under which the step's pair list
+ * stays complete. A cloth carried along by a running character is not slowed; only fast motion
+ * within the cloth is. With `conserve` (a cloth nothing pins), the momentum the clamped particles
+ * lose is given back to all free particles as one common motion (which changes no relative motion,
+ * so the limit still holds between any two of them): clamping only the fast side of an uneven
+ * spread would otherwise shift the cloth's mean motion every substep, and a crumpled
+ * self-colliding sheet propelled itself to 80 m/s that way. A pinned cloth trades momentum with its
+ * pins anyway and lets it go: given back, it pushed the whole heap of a cape against its pins and
+ * the ground every substep.
  */
-/** The share of the motion within a cloth its turn must be for `clampRelativeMotion` to count it as rigid. */
-const TURN_SHARE = 0.5
-
 export function clampRelativeMotion(
   pos: Float64Array,
   prev: Float64Array,
@@ -304,95 +296,48 @@ export function clampRelativeMotion(
   p: Float64Array,
   conserve: boolean,
 ): void {
-  // mass, moments of the start positions (about the first free particle's, o) and of the motion
-  let m = 0, ox = 0, oy = 0, oz = 0
-  let sx = 0, sy = 0, sz = 0, mx = 0, my = 0, mz = 0, ax = 0, ay = 0, az = 0
-  let xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0, dd = 0
+  let mx = 0, my = 0, mz = 0, m = 0
   for (let i = 0; i < count; i++) {
     const w = invMass[i]
     if (w === 0) continue
     const j = 3 * i
-    if (m === 0) {
-      ox = prev[j]
-      oy = prev[j + 1]
-      oz = prev[j + 2]
-    }
     const mi = 1 / w
-    const x = prev[j] - ox, y = prev[j + 1] - oy, z = prev[j + 2] - oz
-    const dx = pos[j] - prev[j], dy = pos[j + 1] - prev[j + 1], dz = pos[j + 2] - prev[j + 2]
+    mx += mi * (pos[j] - prev[j])
+    my += mi * (pos[j + 1] - prev[j + 1])
+    mz += mi * (pos[j + 2] - prev[j + 2])
     m += mi
-    sx += mi * x
-    sy += mi * y
-    sz += mi * z
-    mx += mi * dx
-    my += mi * dy
-    mz += mi * dz
-    ax += mi * (y * dz - z * dy)
-    ay += mi * (z * dx - x * dz)
-    az += mi * (x * dy - y * dx)
-    dd += mi * (dx * dx + dy * dy + dz * dz)
-    xx += mi * x * x
-    yy += mi * y * y
-    zz += mi * z * z
-    xy += mi * x * y
-    xz += mi * x * z
-    yz += mi * y * z
   }
   if (!(m > 0)) return
-  const cx = sx / m, cy = sy / m, cz = sz / m
   mx /= m
   my /= m
   mz /= m
-  // angular momentum and inertia about the centre
-  const lx = ax - m * (cy * mz - cz * my), ly = ay - m * (cz * mx - cx * mz), lz = az - m * (cx * my - cy * mx)
-  const qxx = xx - m * cx * cx, qyy = yy - m * cy * cy, qzz = zz - m * cz * cz
-  const qxy = xy - m * cx * cy, qxz = xz - m * cx * cz, qyz = yz - m * cy * cz
-  const i00 = qyy + qzz, i11 = qxx + qzz, i22 = qxx + qyy, i01 = -qxy, i02 = -qxz, i12 = -qyz
-  // ω = I⁻¹L (adjugate over determinant); none for a cloth too thin to turn (a point, a straight line)
-  const c00 = i11 * i22 - i12 * i12, c01 = i02 * i12 - i01 * i22, c02 = i01 * i12 - i02 * i11
-  const c11 = i00 * i22 - i02 * i02, c12 = i01 * i02 - i00 * i12, c22 = i00 * i11 - i01 * i01
-  const det = i00 * c00 + i01 * c01 + i02 * c02
-  const tr = i00 + i11 + i22
-  let wx = 0, wy = 0, wz = 0
-  if (det > 1e-9 * tr * tr * tr) {
-    wx = (c00 * lx + c01 * ly + c02 * lz) / det
-    wy = (c01 * lx + c11 * ly + c12 * lz) / det
-    wz = (c02 * lx + c12 * ly + c22 * lz) / det
-    // only a turn that is most of the motion within the cloth (a spin, not a heap's churning: its
-    // turn taken out, a crumpled cape boiled at 148 % stretch)
-    const turn = wx * lx + wy * ly + wz * lz, within = dd - m * (mx * mx + my * my + mz * mz)
-    if (!(turn > TURN_SHARE * within)) wx = wy = wz = 0
-  }
   const lim = p[S_LIMIT], lim2 = lim * lim
   // momentum taken out by the clamp (Σ m·Δx)
-  let tx = 0, ty = 0, tz = 0
+  let lx = 0, ly = 0, lz = 0
   for (let i = 0; i < count; i++) {
     if (invMass[i] === 0) continue
     const j = 3 * i
-    const x = prev[j] - ox - cx, y = prev[j + 1] - oy - cy, z = prev[j + 2] - oz - cz
-    // the rigid motion here, and the motion beyond it
-    const ux = mx + wy * z - wz * y, uy = my + wz * x - wx * z, uz = mz + wx * y - wy * x
-    const dx = pos[j] - prev[j] - ux, dy = pos[j + 1] - prev[j + 1] - uy, dz = pos[j + 2] - prev[j + 2] - uz
+    const dx = pos[j] - prev[j] - mx, dy = pos[j + 1] - prev[j + 1] - my, dz = pos[j + 2] - prev[j + 2] - mz
     const d2 = dx * dx + dy * dy + dz * dz
     if (d2 <= lim2) continue
     const f = lim / Math.sqrt(d2)
     const g = (1 - f) / invMass[i]
-    tx += dx * g
-    ty += dy * g
-    tz += dz * g
-    pos[j] = prev[j] + ux + dx * f
-    pos[j + 1] = prev[j + 1] + uy + dy * f
-    pos[j + 2] = prev[j + 2] + uz + dz * f
+    lx += dx * g
+    ly += dy * g
+    lz += dz * g
+    pos[j] = prev[j] + mx + dx * f
+    pos[j + 1] = prev[j + 1] + my + dy * f
+    pos[j + 2] = prev[j + 2] + mz + dz * f
   }
-  if (!conserve || (tx === 0 && ty === 0 && tz === 0)) return
-  tx /= m
-  ty /= m
-  tz /= m
+  if (!conserve || (lx === 0 && ly === 0 && lz === 0)) return
+  lx /= m
+  ly /= m
+  lz /= m
   for (let i = 0; i < count; i++) {
     if (invMass[i] === 0) continue
     const j = 3 * i
-    pos[j] += tx
-    pos[j + 1] += ty
-    pos[j + 2] += tz
+    pos[j] += lx
+    pos[j + 1] += ly
+    pos[j + 2] += lz
   }
 }

