@@ -173,11 +173,11 @@ const BOUNDS_RUN = 192
 
 /**
  * Box and sphere around the live vertices (three's own compute* would also count the spare room),
- * but those no triangle uses (`unused`: a stray vertex of an imported mesh stays where it was made,
- * and a cape run 100 m from it had a 50 m sphere). The loops go in runs of BOUNDS_RUN floats, one call each: a single loop over every vertex,
- * entered once per frame, is one V8 may only ever optimize on the stack (OSR), starting it
- * unoptimized every frame, where its doubles are boxed; a short loop called many times is
- * optimized as a whole.
+ * but those no triangle uses (`unused`: a stray vertex of an imported mesh stays where it was
+ * made, and a cape run 100 m from it had a 50 m sphere). The loops go in runs of BOUNDS_RUN floats,
+ * one call each: a single loop over every vertex, entered once per frame, is one V8 may only ever
+ * optimize on the stack (OSR), starting it unoptimized every frame, where its doubles are boxed; a
+ * short loop called many times is optimized as a whole.
  */
 function fitBounds(geometry: ClothGeometry, positions: Float32Array, vertices: number, unused: Uint8Array | null): void {
   const box = (geometry.boundingBox ??= new Box3())
@@ -261,8 +261,9 @@ export function createClothGeometry(world: object, cloth: number): ClothGeometry
  * ran no step, uploads nothing); after a tear also the new vertices, the rewritten index and the
  * draw range. It
  * allocates nothing unless a tear outgrew the geometry's arrays. The geometry may be moved to
- * another cloth, of this world or another: the next update copies that cloth's topology. A ClothError when the cloth it
- * showed was removed and its id now names another cloth: the old mesh, left in a scene, would
+ * another cloth, of this world or another: the next update copies that cloth's topology. A
+ * ClothError when the cloth it showed was removed and its id now names another cloth of the same
+ * world: the old mesh, left in a scene, would
  * silently draw the new one twice (make a mesh for the new cloth, as a render proxy must be made
  * again). A disposed geometry (`geometry.dispose()`, as a pool does) has let go of its cloth and
  * takes any cloth, a recycled id too.
@@ -278,7 +279,8 @@ export function updateClothGeometry(world: object, cloth: number, geometry: Buff
   if (state === undefined) throw new ClothError('geometry', geometry, 'must be a geometry made by createClothGeometry')
   const mesh = getClothMesh(world, cloth)
   const clothState = getClothState(world, cloth)
-  // (the same id in another world is another cloth, as another id is: a level reloaded into a new world keeps its meshes)
+  // (the same id in another world is another cloth, as another id is: a level reloaded into a new
+  // world keeps its meshes)
   if (state.world === world && state.cloth === cloth && state.clothState !== clothState) {
     throw new ClothError(
       'cloth',

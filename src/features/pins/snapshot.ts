@@ -182,16 +182,8 @@ export function restorePinEntities(world: object, state: ClothWorldState, c: Clo
     if (kept[q] >= 0) continue
     const target = s.pins[3 * q + 2]
     const d = PIN_DATA * q
-    kept[q] = pinParticle(
-      world,
-      c.eid,
-      s.pins[3 * q + 1],
-      target === 0 ? null : target,
-      [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]],
-      {
-        blendTime: 0,
-      },
-    )
+    const offset = [s.pinData[d], s.pinData[d + 1], s.pinData[d + 2]]
+    kept[q] = pinParticle(world, c.eid, s.pins[3 * q + 1], target === 0 ? null : target, offset, { blendTime: 0 })
   }
   // in the saved order (what the pins' data and the steps follow)
   pins.length = 0
