@@ -24,8 +24,7 @@ export function markScaleLeaps(state: ClothWorldState): void {
     for (let c = 0; c < 3 && !leapt; c++) {
       const predicted = k.scaleSampleFrom[so + c] + (k.scaleStepTo[so + c] - k.scaleStepFrom[so + c]) * span
       const now = k.scaleSampleTo[so + c]
-      const d = now - predicted
-      leapt = d + d > (predicted > now ? predicted : now) || -(d + d) > (predicted > now ? predicted : now)
+      leapt = 2 * Math.abs(now - predicted) > Math.max(predicted, now)
     }
     if (!leapt) continue
     if (k.jumped[slot] !== 0) {

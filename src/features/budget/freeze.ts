@@ -1,7 +1,7 @@
 import { particleBounds } from '../../kernels/mesh'
 import { carryFrozen } from '../../world/rigid'
 import { applyJump } from '../../world/kinematics'
-import { multiplyQuatAt, normalizeQuatAt, rotateVecAt } from '../../core/math'
+import { normalizeQuatAt } from '../../core/math'
 import { glideThawingPins } from '../pins/api'
 import type { ClothState, ClothWorldState } from '../../world/state'
 import { wakeClothState } from '../../world/wake'
@@ -62,27 +62,20 @@ export function freezeCloth(state: ClothWorldState, c: ClothState, sampled: bool
   hand[10] = 0
 }
 
-/** Moves the pose at poses[0..6] back by the jump at `j` (the inverse of `applyJump`). */
+/** Moves the pose at pose[0..6] back by the jump at `j`: `applyJump` by its inverse record (centre + d, R⁻¹, −d). */
 function undoJump(jump: Float64Array, j: number, pose: Float64Array): void {
-  const cx = jump[j], cy = jump[j + 1], cz = jump[j + 2]
-  // R⁻¹ = conj(R): p₀ = centre + R⁻¹(p − centre − d), q₀ = R⁻¹·q
-  back[0] = -jump[j + 3]
-  back[1] = -jump[j + 4]
-  back[2] = -jump[j + 5]
-  back[3] = jump[j + 6]
-  back[4] = pose[0] - cx - jump[j + 7]
-  back[5] = pose[1] - cy - jump[j + 8]
-  back[6] = pose[2] - cz - jump[j + 9]
-  rotateVecAt(back, 0, back, 4, back, 4)
-  pose[0] = cx + back[4]
-  pose[1] = cy + back[5]
-  pose[2] = cz + back[6]
-  multiplyQuatAt(back, 0, pose, 3, pose, 3)
+  for (let a = 0; a < 3; a++) {
+    back[a] = jump[j + a] + jump[j + 7 + a]
+    back[3 + a] = -jump[j + 3 + a]
+    back[7 + a] = -jump[j + 7 + a]
+  }
+  back[6] = jump[j + 6]
+  applyJump(back, 0, pose, 0)
   normalizeQuatAt(pose, 3)
 }
 
-/** Scratch of `undoJump`: the inverse rotation (0..3), a vector (4..6). */
-const back = new Float64Array(7)
+/** Scratch of `undoJump`: the inverse jump record. */
+const back = new Float64Array(10)
 
 /**
  * Thaws a frozen cloth, carried rigidly by its reference pin's target since the freeze, to the
