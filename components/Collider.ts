@@ -54,6 +54,18 @@ export interface ColliderStore {
    * at that pose keeps its bounds (see `sweepColliders`).
    */
   sweptAt: Float64Array
+  /**
+   * Creation order: the collider's serial number, increasing along `CollisionWorld.colliders` (a
+   * removal finds its place there by binary search).
+   */
+  serial: Float64Array
+  /**
+   * The colliders following each body, as a list threaded through entity ids + 1 (0 ends it):
+   * `firstOnBody[body]`, then `nextOnBody[collider]` (removing a body's Transform removes its
+   * colliders without a pass over all of them).
+   */
+  firstOnBody: Uint32Array
+  nextOnBody: Uint32Array
   /** Convex hull data of SHAPE_HULL colliders. */
   hulls: (ConvexHull | undefined)[]
 }
@@ -75,6 +87,9 @@ export function createColliderStore(capacity: number): ColliderStore {
     mask: newArray(Uint32Array, capacity),
     swept: newArray(Float64Array, 8 * capacity),
     sweptAt: newArray(Float64Array, 11 * capacity),
+    serial: newArray(Float64Array, capacity),
+    firstOnBody: newArray(Uint32Array, capacity),
+    nextOnBody: newArray(Uint32Array, capacity),
     hulls: [],
   }
 }

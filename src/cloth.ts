@@ -37,6 +37,7 @@ import { createClothGrabs } from './features/grab/api'
 import { HAND } from './features/pins/types'
 import { rebuildTearTethers } from './features/tearing/tethers'
 import { arrayOf, newArray, touchLayout } from './core/shared'
+import { liveColliders } from './features/collision/list'
 
 /**
  * Long-range attachment settings (Kim, Chentanez and Müller-Fischer 2012). Each free particle is
@@ -395,7 +396,7 @@ function spawnCloth(
     pins: { list: [], skipTeleport: false, hand: new Float64Array(HAND), fresh: true, backdate: new Float64Array(12) },
     grab: createClothGrabs(),
     wind: null,
-    collision: createClothCollision(Math.max(4, state.collision.colliders.length)),
+    collision: createClothCollision(Math.max(4, liveColliders(state.collision).length)),
     budget: createClothBudget(o.substeps, o.iterations),
     guard: createClothGuard(topology, pos, o.guard),
     character: null,

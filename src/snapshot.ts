@@ -56,6 +56,7 @@ import { checkCharacter, restoreCharacter, saveCharacter, type CharacterSnapshot
 import { checkTearing, checkTearingFits, restoreTearing, saveTearing, type TearSnapshot } from './features/tearing/snapshot'
 import { touchLayout } from './core/shared'
 import { wakeClothState } from './world/wake'
+import { liveColliders } from './features/collision/list'
 
 /**
  * A saved cloth state (see `saveClothState`). Plain data: structured-clone it, keep it, reuse it.
@@ -392,7 +393,7 @@ function restoreCore(state: ClothWorldState, c: ClothState, s: ClothSnapshot): v
 
 function saveBodies(state: ClothWorldState, s: Writable): void {
   const k = state.kinematics
-  const total = state.collision.colliders.length + state.wind.zones.length
+  const total = liveColliders(state.collision).length + state.wind.zones.length
   // each body once, at its first entry (marked per slot: a scan of the entries before each made a
   // save quadratic in the colliders, 141 ms with 4,000)
   if (firstSeen.length < k.count) firstSeen = new Int32Array(Math.max(k.count, 2 * firstSeen.length))
@@ -458,8 +459,8 @@ function restoreBodies(state: ClothWorldState, s: ClothSnapshot): boolean {
 /** The entity followed by collider q (q < colliders) or wind zone q − colliders, or −1 when untracked. */
 function bodyAt(state: ClothWorldState, q: number): number {
   const cw = state.collision
-  const nc = cw.colliders.length
-  const e = q < nc ? cw.Collider.body[cw.colliders[q]] : state.wind.zones[q - nc]
+  const list = liveColliders(cw), nc = list.length
+  const e = q < nc ? cw.Collider.body[list[q]] : state.wind.zones[q - nc]
   return e < state.kinematics.slotOf.length && state.kinematics.slotOf[e] >= 0 ? e : -1
 }
 

@@ -12,7 +12,8 @@ import type { ClothState, ClothWorldState } from '../src/world/state'
 export function clothCollide<W extends object>(world: W): W {
   const state = getClothWorld(world)
   const cw = state.collision
-  if (cw.colliders.length === 0 && cw.selfCloths.length === 0) return world
+  // (entries not yet compacted count too: the step's broadphase reads the live ones)
+  if (cw.entries.length === 0 && cw.selfCloths.length === 0) return world
   if (state.substep === 0) beginCollisionStep(state)
   collideSubstep(state)
   return world
@@ -23,7 +24,7 @@ export function clothCollide<W extends object>(world: W): W {
  * substep (the cloths that do run together: see `runSubsteps` in pipeline.ts).
  */
 export function collideOfCloth(state: ClothWorldState, c: ClothState): void {
-  if (state.collision.colliders.length === 0) return
+  if (state.collision.entries.length === 0) return
   if (state.substep === 0) beginClothCollision(state, c)
   collideClothColliders(state, c)
 }

@@ -1,5 +1,6 @@
 import { isShared, sharedCopy, type TypedArray } from '../core/shared'
 import type { ClothState, ClothWorldState } from '../world/state'
+import { liveColliders } from '../features/collision/list'
 
 /**
  * What a worker needs to know of a cloth besides its numbers: which arrays it holds. A cloth's
@@ -100,7 +101,7 @@ export function worldDescriptor(state: ClothWorldState): Record<string, unknown>
     Pin: state.components.Pin,
     Tearable: state.components.Tearable,
     Collider: state.collision.Collider,
-    colliders: state.collision.colliders,
+    colliders: liveColliders(state.collision),
     stepFrom: k.stepFrom,
     stepTo: k.stepTo,
     scaleStepFrom: k.scaleStepFrom,

@@ -103,7 +103,7 @@ export function bindWorld(ww: WorkerWorld, d: WorldMessage): void {
   s.components.Pin = d.Pin
   s.components.Tearable = d.Tearable
   s.collision.Collider = d.Collider
-  s.collision.colliders = d.colliders
+  s.collision.entries = d.colliders
   s.kinematics.stepFrom = d.stepFrom
   s.kinematics.stepTo = d.stepTo
   s.kinematics.scaleStepFrom = d.scaleStepFrom

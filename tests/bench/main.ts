@@ -4,7 +4,7 @@ import { allocation, sheets, throughput } from './core'
 import { windCost } from './wind'
 import { tearCost } from './tearing'
 import { guardCost, snapshotCost } from './stability'
-import { outOfRange, perCollider, selfShare } from './collision'
+import { outOfRange, perCollider, selfShare, unload } from './collision'
 import { capes, clothByCloth, payForUse, sleepingCost } from './budget'
 import { demoScenes } from './demo'
 import { threeCost } from './three'
@@ -60,6 +60,7 @@ const suites: Record<string, { run: () => void | Promise<void>; byDefault: boole
       perCollider()
       selfShare()
       outOfRange()
+      unload()
     },
   },
   render: { byDefault: true, run: () => proxyCost() },

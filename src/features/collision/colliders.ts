@@ -1,7 +1,9 @@
 import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, type ConvexHull } from '../../core/shapes'
+import type { ColliderStore } from '../../../components/Collider'
 import { clearActiveColliders, reserveActiveColliders, wakeAroundCollider } from './reach'
+import { liveColliders, markReleased } from './list'
 import {
   ClothError,
   MAX_COORDINATE,
@@ -151,7 +153,8 @@ function spawnCollider(
   hull?: ConvexHull,
 ): number {
   const cw = state.collision
-  growStores(state, eid)
+  const list = liveColliders(cw) // (released entries gone first: eid may be one of theirs)
+  growStores(state, Math.max(eid, o.body)) // (a body's Transform may come from another store)
   const C = cw.Collider
   C.shape[eid] = shape
   C.body[eid] = o.body
@@ -168,7 +171,10 @@ function spawnCollider(
   C.mask[eid] = o.mask
   C.hulls[eid] = hull
   C.slot[eid] = trackEntity(state, o.body)
-  cw.colliders.push(eid)
+  C.serial[eid] = cw.serials++
+  C.nextOnBody[eid] = C.firstOnBody[o.body]
+  C.firstOnBody[o.body] = eid + 1
+  list.push(eid)
   touchLayout()
   reserveActiveColliders(state)
   addComponent(world as never, eid, C)
@@ -293,22 +299,37 @@ export function removeCollider(world: object, eid: number): void {
 
 /** Collider entities in creation order (a copy). */
 export function getColliders(world: object): number[] {
-  return getClothWorld(world).collision.colliders.slice()
+  return liveColliders(getClothWorld(world).collision).slice()
 }
 
 /** Called when a Collider component goes away: stops tracking its body and forgets it. */
 export function releaseCollider(state: ClothWorldState, eid: number): void {
   const cw = state.collision
-  const k = cw.colliders.indexOf(eid)
-  if (k < 0) return
+  if (!markReleased(cw, eid)) return
   wakeAroundCollider(state, eid) // a cloth sleeping on it must fall
-  cw.colliders.splice(k, 1)
   touchLayout()
   const C = cw.Collider
+  unlinkFromBody(C, eid)
   if (C.slot[eid] >= 0) untrackEntity(state, C.body[eid])
   C.slot[eid] = -1
   C.hulls[eid] = undefined
   clearActiveColliders(state)
+}
+
+/** Takes collider `eid` out of its body's list. */
+function unlinkFromBody(C: ColliderStore, eid: number): void {
+  const body = C.body[eid], next = C.nextOnBody[eid]
+  C.nextOnBody[eid] = 0
+  if (C.firstOnBody[body] === eid + 1) {
+    C.firstOnBody[body] = next
+    return
+  }
+  for (let e = C.firstOnBody[body] - 1; e >= 0; e = C.nextOnBody[e] - 1) {
+    if (C.nextOnBody[e] === eid + 1) {
+      C.nextOnBody[e] = next
+      return
+    }
+  }
 }
 
 /**

@@ -6,6 +6,7 @@ import { wakeClothState } from '../../world/wake'
 import type { ClothCollision } from './types'
 import { newArray } from '../../core/shared'
 import { particleBounds } from '../../kernels/mesh'
+import { liveColliders } from './list'
 
 /** Which colliders reach which cloths: layers, swept bounds, per-cloth collider lists. */
 
@@ -142,7 +143,7 @@ export function clearActiveColliders(state: ClothWorldState): void {
 
 /** Grows every cloth's collider list to hold all colliders (at collider creation, never in a step). */
 export function reserveActiveColliders(state: ClothWorldState): void {
-  const n = state.collision.colliders.length
+  const n = liveColliders(state.collision).length
   for (let ci = 0; ci < state.cloths.length; ci++) {
     const cc = state.cloths[ci].collision!
     if (cc.active.length < n) {

@@ -8,6 +8,7 @@ import { fillColliderFrame, sweepColliderBounds, sweptAtRest } from './colliders
 import { colliderLayersMatch, colliderReaches } from './reach'
 import { buildSelfCollisionPairs, solveSelfCollision } from './selfCollision'
 import { B_MAX_DEV, B_MEAN_V, B_REFRESH } from './types'
+import { liveColliders } from './list'
 
 /**
  * Once per fixed step (the sync phase): each collider's bounds swept over the step, from its
@@ -18,7 +19,7 @@ import { B_MAX_DEV, B_MEAN_V, B_REFRESH } from './types'
 export function sweepColliders(state: ClothWorldState): void {
   const C = state.collision.Collider
   const moved = state.kinematics.moved
-  const colliders = state.collision.colliders
+  const colliders = liveColliders(state.collision)
   for (let q = 0; q < colliders.length; q++) {
     const eid = colliders[q]
     if (moved[C.slot[eid]] === 0 && sweptAtRest(state, eid)) continue
@@ -47,7 +48,7 @@ export function beginCollisionStep(state: ClothWorldState): void {
 export function beginClothCollision(state: ClothWorldState, c: ClothState): void {
   const cw = state.collision
   const C = cw.Collider
-  const colliders = cw.colliders
+  const colliders = liveColliders(cw)
   const cc = c.collision
   cc.activeCount = 0
   const b = cc.bounds
@@ -98,7 +99,7 @@ export function collideSubstep(state: ClothWorldState): void {
 function collideColliders(state: ClothWorldState): void {
   const cw = state.collision
   // with no collider a self-colliding cloth still forgets its collider contacts below
-  if (cw.colliders.length === 0 && cw.selfCloths.length === 0) return
+  if (liveColliders(cw).length === 0 && cw.selfCloths.length === 0) return
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) collideClothColliders(state, cloths[ci])
 }

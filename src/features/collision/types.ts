@@ -10,8 +10,14 @@ import type { SelfCollisionStore } from '../../../components/SelfCollision'
 export interface CollisionWorld<Cloth = unknown> {
   Collider: ColliderStore
   SelfCollision: SelfCollisionStore
-  /** Collider entities in creation order. */
-  colliders: number[]
+  /**
+   * Collider entities in creation order, with those released since the last read still in place
+   * (`released` of them): read it through `liveColliders`.
+   */
+  entries: number[]
+  released: number
+  /** The next collider's serial number (`Collider.serial`). */
+  serials: number
   /** Cloths with self-collision, in creation order. */
   selfCloths: Cloth[]
   /** Kernel frame block (see `kernels/collide.ts`). */

@@ -14,6 +14,7 @@ import {
 } from '../collision/reach'
 import { windReaches } from '../wind/step'
 import { B_REFRESH } from '../collision/types'
+import { liveColliders } from '../collision/list'
 
 /**
  * Writeback phase, after a cloth's last substep: advances its stillness timer from the fastest
@@ -72,7 +73,7 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
   }
   const b = c.sleep.bounds
   const cw = state.collision
-  const colliders = cw.colliders
+  const colliders = liveColliders(cw)
   if (colliders.length > 0) {
     const C = cw.Collider
     const cc = c.collision
