@@ -113,6 +113,27 @@ describe('plugin', () => {
     expect(getClothStats(world).steps).toBe(606)
   })
 
+  it('by default keeps up with frames of up to 1/15 s at any fixed step: a free sheet falls ½gt² at 30 Hz with 1/240 s steps (it ran at half speed, 1.23 m instead of 4.9)', () => {
+    for (const [fixedTimeStep, hz] of [[1 / 240, 30], [1 / 240, 15], [1 / 120, 20], [1 / 60, 15], [1 / 20, 10]]) {
+      const world = makeWorld({ fixedTimeStep, gravity: [0, -9.81, 0], sleep: false, guard: false })
+      const sheet = createCloth(world, { width: 0.2, height: 0.2, resolution: 3, damping: 0 })
+      const c = getClothState(world, sheet)
+      const y0 = c.pos[1]
+      let steps = 0
+      for (let f = 0; f < hz; f++) steps += stepCloth(world, 1 / hz)
+      const t = steps * fixedTimeStep
+      expect(t, `${1 / fixedTimeStep} Hz steps, ${hz} Hz frames: simulated time`).toBeCloseTo(1, 6)
+      // (symplectic Euler: ½g·t·(t + h))
+      expect(y0 - c.pos[1], `${1 / fixedTimeStep} Hz steps, ${hz} Hz frames`).toBeCloseTo(
+        0.5 * 9.81 * t * (t + fixedTimeStep / c.substeps),
+        3,
+      )
+    }
+    // a frame longer than 1/15 s still drops the rest, and an explicit cap is kept
+    expect(stepCloth(makeWorld({ fixedTimeStep: 1 / 240 }), 0.5)).toBe(16)
+    expect(stepCloth(makeWorld({ fixedTimeStep: 1 / 240, maxStepsPerFrame: 4 }), 0.5)).toBe(4)
+  })
+
   it('grows its stores when entity ids exceed the initial capacity', () => {
     const world = installClothPlugin(createWorld(), { capacity: 4 })
     const cloth = createCloth(world, { width: 1, height: 1, resolution: 4 })

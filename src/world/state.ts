@@ -53,7 +53,8 @@ export interface ClothPluginOptions {
   fixedTimeStep?: number
   /**
    * Most fixed steps one `stepCloth` call may run (the accumulator keeps the rest, and time beyond
-   * this many steps is dropped, so a 10 s hitch never becomes one giant step). Default 4.
+   * this many steps is dropped, so a 10 s hitch never becomes one giant step). Default: the steps of
+   * a 1/15 s frame, at least 4 (4 at the default 1/60 s step, 16 at 1/240 s).
    */
   maxStepsPerFrame?: number
   /** Read transforms from the host engine's stores instead of the plugin's `Transform`. */
