@@ -184,8 +184,11 @@ export function setClothMotionConstraints(world: object, cloth: number, constrai
   }
   ch.constrained = true
   ch.settings[S_EVERY] = every
+  const unused = c.topology.unused
   for (let i = 0; i < n; i++) {
-    const hold = maxDistance[i] === 0
+    // (a vertex no triangle uses is no part of the cloth: held, it was placed on a reference its
+    // no weights give, 1000 m away, and kept moving at the speed cap)
+    const hold = maxDistance[i] === 0 && (unused === null || unused[i] === 0)
     if (hold && ch.held[i] === 0) holdParticle(c, ch, i)
     else if (!hold && ch.held[i] === 1) release(c, ch, i)
   }
