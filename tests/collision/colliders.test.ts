@@ -9,6 +9,7 @@ import {
   addPlaneCollider,
   addSphereCollider,
   createCloth,
+  getClothComponents,
   getClothState,
   getClothStats,
   getColliderHull,
@@ -261,6 +262,26 @@ describe('colliders', () => {
     const expectR = quat.multiply(quat.create(), q, local)
     for (let k = 0; k < 3; k++) expect(p[k]).toBeCloseTo(expectP[k], 12)
     for (let k = 0; k < 4; k++) expect(r[k]).toBeCloseTo(expectR[k], 12)
+  })
+
+  it('getColliderPose takes a scale of 0 as the last one, where the cloth meets the collider (it took 1: drawn 0.5 m off)', () => {
+    const world = makeWorld({ sleep: false })
+    const hero = addEntity(world)
+    setTransform(world, hero, [0, 0, 0], [0, 0, 0, 1], [2, 2, 2])
+    const arm = addEntity(world)
+    addSphereCollider(world, arm, { body: hero, offset: [0.5, 0, 0], radius: 0.1 })
+    stepCloth(world, 1 / 60)
+    const T = getClothComponents(world).Transform // (setTransform refuses 0; a scene graph hides a body so)
+    T.sx[hero] = T.sy[hero] = T.sz[hero] = 0
+    stepCloth(world, 1 / 60)
+    const p = [0, 0, 0]
+    expect(getColliderPose(world, arm, p)).toBe(true)
+    expect(p[0]).toBeCloseTo(1, 12)
+    // the cloth meets it there: a patch dropped over x = 1 rests on it, one over x = 0.5 falls past
+    const over = flatSheet(world, 1, 0.3, 0, 0.1, 4), beside = flatSheet(world, 0.5, 0.3, 0, 0.1, 4)
+    for (let f = 0; f < 40; f++) stepCloth(world, 1 / 60)
+    expect(lowestY(world, over)).toBeGreaterThan(0.05)
+    expect(lowestY(world, beside)).toBeLessThan(-0.5)
   })
 
   it('removal: removeCollider, removing the collider entity or its body’s entity lets the cloth through', () => {

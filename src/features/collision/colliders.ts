@@ -344,7 +344,11 @@ export function getColliderPose(world: object, eid: number, outPosition?: vec3 |
   if (typeof eid !== 'number' || !hasComponent(world as never, eid, C)) return false
   const t = state.collision.poses
   readPoseInto(state, C.body[eid], t)
-  readScaleInto(state, C.body[eid], scales, 0)
+  // a scale of 0 counts as the last one, as the step takes it (the tracked sample's; it was 1 here,
+  // the drawn collider 0.5 m from where the cloth met it)
+  const slot = C.slot[eid]
+  for (let k = 0; k < 3; k++) scales[k] = slot >= 0 ? state.kinematics.scaleSampleTo[3 * slot + k] : 1
+  readScaleInto(state, C.body[eid], scales, 0, true)
   composePose(state, eid, t, 0, scales, 0, t, 7)
   if (outPosition) { for (let k = 0; k < 3; k++) outPosition[k] = t[7 + k] }
   if (outRotation) { for (let k = 0; k < 4; k++) outRotation[k] = t[10 + k] }
