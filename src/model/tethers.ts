@@ -62,15 +62,7 @@ export function buildTethers(
     fillAdjacency(s, count, edges, edgeCount)
     bestAnchor.fill(-1)
     bestDist.fill(Infinity)
-    const island = islands(count, s.adjStart, s.adjList)
-    for (let i = 0; i < count; i++) {
-      if (isAnchor[i]) continue
-      for (const a of uniqueAnchors) {
-        if (island[a] !== island[i]) continue
-        const d = distance(rest, i, a)
-        insertBest(bestAnchor, bestDist, i * K, K, a, d)
-      }
-    }
+    nearestAnchorsInSpace(rest, count, isAnchor, islands(count, s.adjStart, s.adjList), uniqueAnchors, K, bestAnchor, bestDist)
   }
 
   let total = 0
@@ -118,24 +110,93 @@ export function loosenTethers(set: TetherSet, pos: Float64Array): void {
   }
 }
 
-function distance(p: ArrayLike<number>, a: number, b: number): number {
-  const x = p[3 * b] - p[3 * a], y = p[3 * b + 1] - p[3 * a + 1], z = p[3 * b + 2] - p[3 * a + 2]
-  return Math.sqrt(x * x + y * y + z * z)
-}
-
-/** Keeps the K smallest (distance, anchor) entries in a sorted slot list, without duplicates. */
-function insertBest(anchor: Int32Array, dist: Float64Array, base: number, K: number, a: number, d: number): boolean {
-  for (let k = 0; k < K; k++) if (anchor[base + k] === a) return false
-  if (d >= dist[base + K - 1]) return false
-  let k = K - 1
-  while (k > 0 && dist[base + k - 1] > d) {
-    dist[base + k] = dist[base + k - 1]
-    anchor[base + k] = anchor[base + k - 1]
-    k--
+/**
+ * The K anchors nearest each particle in a straight line, on its own piece of the mesh, into
+ * `best` / `dist` (filled with −1 / Infinity), nearest first and ties to the lower anchor index: the
+ * anchors sorted along the axis they spread most on, each particle's scan run out both ways from
+ * its place there and stopped where the distance along that axis, with the particle's distance from
+the anchors' box across it, puts every anchor further on beyond its K-th best. (Every
+ * pair through a call and a sorted insert, a pin change on a 53,000-particle mesh with 230 pins
+ * rebuilt in 0.9 s.)
+ */
+function nearestAnchorsInSpace(
+  rest: ArrayLike<number>,
+  count: number,
+  isAnchor: Uint8Array,
+  island: Int32Array,
+  anchors: number[],
+  K: number,
+  best: Int32Array,
+  dist: Float64Array,
+): void {
+  const A = anchors.length
+  // the axis of the anchors' largest extent
+  let axis = 0, spread = -1
+  const box = new Float64Array(6) // the anchors' box: min xyz, max xyz
+  for (let d = 0; d < 3; d++) {
+    let lo = Infinity, hi = -Infinity
+    for (const a of anchors) {
+      lo = Math.min(lo, rest[3 * a + d])
+      hi = Math.max(hi, rest[3 * a + d])
+    }
+    box[d] = lo
+    box[3 + d] = hi
+    if (hi - lo > spread) {
+      spread = hi - lo
+      axis = d
+    }
   }
-  dist[base + k] = d
-  anchor[base + k] = a
-  return true
+  const order = anchors.slice().sort((a, b) => rest[3 * a + axis] - rest[3 * b + axis] || a - b)
+  const ax = new Float64Array(A), ay = new Float64Array(A), az = new Float64Array(A), key = new Float64Array(A)
+  const ai = new Int32Array(A), id = new Int32Array(A)
+  for (let q = 0; q < A; q++) {
+    const a = order[q]
+    id[q] = a
+    ax[q] = rest[3 * a]
+    ay[q] = rest[3 * a + 1]
+    az[q] = rest[3 * a + 2]
+    key[q] = rest[3 * a + axis]
+    ai[q] = island[a]
+  }
+  for (let i = 0; i < count; i++) {
+    if (isAnchor[i]) continue
+    const x = rest[3 * i], y = rest[3 * i + 1], z = rest[3 * i + 2], own = island[i], base = i * K, last = base + K - 1
+    const at = rest[3 * i + axis]
+    // how far the particle is from the anchors' box across the axis: no anchor is nearer than that
+    let across = 0
+    for (let d = 0; d < 3; d++) {
+      const v = rest[3 * i + d], out = d === axis ? 0 : v < box[d] ? box[d] - v : v > box[3 + d] ? v - box[3 + d] : 0
+      across += out * out
+    }
+    let lo = 0, hi = A // the first anchor at or past the particle along the axis
+    while (lo < hi) {
+      const mid = (lo + hi) >> 1
+      if (key[mid] < at) lo = mid + 1
+      else hi = mid
+    }
+    let worst = Infinity // the K-th best distance so far, squared, with a margin (the exact test follows)
+    for (let side = 0; side < 2; side++) {
+      for (let q = side === 0 ? lo : lo - 1; side === 0 ? q < A : q >= 0; q += side === 0 ? 1 : -1) {
+        const da = key[q] - at
+        if (da * da + across > worst) break
+        if (ai[q] !== own) continue
+        const dx = ax[q] - x, dy = ay[q] - y, dz = az[q] - z
+        const d2 = dx * dx + dy * dy + dz * dz
+        if (d2 > worst) continue
+        const d = Math.sqrt(d2), a = id[q]
+        if (!(d < dist[last] || (d === dist[last] && a < best[last]))) continue
+        let k = last
+        while (k > base && (dist[k - 1] > d || (dist[k - 1] === d && best[k - 1] > a))) {
+          dist[k] = dist[k - 1]
+          best[k] = best[k - 1]
+          k--
+        }
+        dist[k] = d
+        best[k] = a
+        worst = dist[last] * dist[last] * (1 + 1e-12)
+      }
+    }
+  }
 }
 
 /** Connected-component label per particle, from a CSR adjacency. */
