@@ -422,7 +422,8 @@ export function createProxyMesh<M extends Material = MeshStandardMaterial>(
  * `matrixAutoUpdate` off. Call it each frame after the geometry update, on an object whose parent
  * has no transform of its own (cloth positions are world positions). On displays faster than the
  * 60 Hz step, with uneven frame times or a pipelined frame, the pinned edge then stays on its
- * character every frame.
+ * character every frame. Pieces torn off that nothing carries are written into the geometry of
+ * createClothGeometry moved back by the matrix, so they stay where they lie.
  *
  * @param world A bitECS world with the cloth plugin installed.
  * @param cloth A cloth entity of that world.
@@ -436,5 +437,39 @@ export function updateClothDrawMatrix(world: object, cloth: number, object: Obje
   object.matrixAutoUpdate = false
   getClothDrawTransform(world, cloth, object.matrix.elements)
   object.matrixWorldNeedsUpdate = true
+  holdLoosePieces(world, cloth, object)
   return object
+}
+
+/**
+ * The draw matrix carries the cloth with its anchor; pieces torn off that nothing carries (the
+ * cloth's `detached` particles, which teleports and thaws leave where they are too) are written
+ * into a geometry of createClothGeometry moved back by it, so they are drawn where they lie (a rag
+ * on the ground was drawn following the character, 61 mm at 144 Hz and 6 m for a hidden cape).
+ * Nothing to do for a cloth in one piece.
+ */
+function holdLoosePieces(world: object, cloth: number, object: Object3D): void {
+  const geometry = (object as Partial<Mesh>).geometry
+  const state = geometry === undefined ? undefined : states.get(geometry)
+  if (state === undefined) return
+  const c = getClothState(world, cloth)
+  const list = c.detached
+  if (state.clothState !== c || list[0] === 0) return
+  const m = object.matrix.elements // rigid: x = R·l + t, so l = Rᵀ·(x − t), and normals Rᵀ·n
+  const mesh = getClothMesh(world, cloth)
+  const to = state.position.array as Float32Array, normals = state.normal.array as Float32Array
+  for (let q = 1; q <= list[0]; q++) {
+    const j = 3 * list[q]
+    const x = mesh.positions[j] - m[12], y = mesh.positions[j + 1] - m[13], z = mesh.positions[j + 2] - m[14]
+    to[j] = m[0] * x + m[1] * y + m[2] * z
+    to[j + 1] = m[4] * x + m[5] * y + m[6] * z
+    to[j + 2] = m[8] * x + m[9] * y + m[10] * z
+    const nx = mesh.normals[j], ny = mesh.normals[j + 1], nz = mesh.normals[j + 2]
+    normals[j] = m[0] * nx + m[1] * ny + m[2] * nz
+    normals[j + 1] = m[4] * nx + m[5] * ny + m[6] * nz
+    normals[j + 2] = m[8] * nx + m[9] * ny + m[10] * nz
+  }
+  state.position.needsUpdate = true
+  state.normal.needsUpdate = true
+  fitBounds(geometry as ClothGeometry, to, mesh.vertexCount, c.topology.unused)
 }

@@ -5,6 +5,7 @@ import {
   ClothError,
   createCloth,
   createClothFromMesh,
+  getClothLod,
   getClothMesh,
   getClothState,
   getClothTearCount,
@@ -13,10 +14,13 @@ import {
   pinParticle,
   pinRow,
   removeCloth,
+  setClothBudget,
+  setClothVisible,
   setTransform,
   stepCloth,
 } from '../../src/index'
-import { createClothGeometry, createClothMesh, updateClothGeometry } from '../../src/three/index'
+import { createClothGeometry, createClothMesh, updateClothDrawMatrix, updateClothGeometry } from '../../src/three/index'
+import { tornCapeOnGround } from '../character/scenes'
 import { pinSidesToBars } from '../fixtures/bars'
 import { makeWorld } from '../helpers'
 
@@ -315,5 +319,38 @@ describe('bitecs-cloth/three', () => {
     named(() => createClothMesh(world, cloth, null as never), 'material')
     removeCloth(world, cloth)
     named(() => updateClothGeometry(world, cloth, geometry), 'cloth')
+  })
+})
+
+describe('a torn cloth under the draw matrix', () => {
+  it('draws a piece torn off where it lies while its character walks on at 144 Hz, or hides, and the rest of it on the character (the piece followed the character: 61 mm between steps, 4 m hidden for a second)', () => {
+    const s = tornCapeOnGround(null)
+    expect(s.off.length).toBeGreaterThan(0)
+    const mesh = createClothMesh(s.world, s.cape)
+    const drawn = (i: number) => new Vector3().fromBufferAttribute(mesh.geometry.getAttribute('position'), i).applyMatrix4(mesh.matrix)
+    let z = s.z, worstOff = 0, worstPin = 0, moving = 0
+    const frame = (dt: number) => {
+      z += 4 * dt
+      setTransform(s.world, s.hero, [0, 0, z])
+      stepCloth(s.world, dt)
+      updateClothGeometry(s.world, s.cape, mesh.geometry)
+      updateClothDrawMatrix(s.world, s.cape, mesh)
+      for (const i of s.off) worstOff = Math.max(worstOff, drawn(i).distanceTo(new Vector3().fromArray(s.c.pos, 3 * i)))
+      // the pinned row is drawn on the character now (the draw matrix's job), a step's motion ahead of the mesh
+      for (let col = 0; col < s.cols; col++) worstPin = Math.max(worstPin, Math.abs(drawn(col).z - (z - 0.2)))
+      for (let k = 0; k < 16; k++) moving = Math.max(moving, Math.abs(mesh.matrix.elements[k] - (k % 5 === 0 ? 1 : 0)))
+    }
+    for (let f = 0; f < 144; f++) frame(1 / 144)
+    expect(moving, 'the draw matrix moved the cloth between steps').toBeGreaterThan(0.01)
+    expect(worstOff).toBeLessThan(1e-5) // (float32 vertices)
+    expect(worstPin).toBeLessThan(1e-5)
+    // hidden under a budget, frozen: drawn carried with its character, but not its piece
+    const viewer = addEntity(s.world)
+    setTransform(s.world, viewer, [0, 0, 0])
+    setClothBudget(s.world, { viewer, near: 100, far: 200 })
+    setClothVisible(s.world, s.cape, false)
+    for (let f = 0; f < 60; f++) frame(1 / 60)
+    expect(getClothLod(s.world, s.cape).frozen).toBe(true)
+    expect(worstOff).toBeLessThan(1e-5)
   })
 })
