@@ -54,7 +54,8 @@ export const NOISE_SCRATCH = 24
 /**
  * Adds zone `z` (its block starts at `zones[z]`) to the air of particles [0, count): velocity into
  * air[4i..4i+2] and, when the zone sets its own density, the density blend into air[4i+3]
- * (ρ += weight·(ρ_zone − ρ_world)). `scratch` holds NOISE_SCRATCH doubles.
+ * (ρ_world + weight·(ρ_zone − ρ_world), where that differs from ρ_world more than what other zones
+ * set there: zone velocities add, densities do not). `scratch` holds NOISE_SCRATCH doubles.
  *
  * One long function on purpose: it is the per-particle loop of turbulent wind, and the zone shape
  * test, falloff and lattice-noise lookup are written inline so that no double crosses a call
@@ -177,6 +178,11 @@ export function addZoneAir(
     air[k] += w * ux
     air[k + 1] += w * uy
     air[k + 2] += w * uz
-    if (dRho !== 0) air[k + 3] += w * dRho
+    if (dRho !== 0) {
+      // (overlapping zones: the one that changes the density most decides; added, two zones of
+      // 2.4 kg/m³ made 3.6)
+      const now = air[k + 3] - worldDensity[0], here = w * dRho
+      if ((here < 0 ? -here : here) > (now < 0 ? -now : now)) air[k + 3] = worldDensity[0] + here
+    }
   }
 }

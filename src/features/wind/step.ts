@@ -282,7 +282,8 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
       ux += P[o + Z_VX]
       uy += P[o + Z_VY]
       uz += P[o + Z_VZ]
-      if (P[o + Z_DENSITY] >= 0) r += P[o + Z_DENSITY] - rho
+      // (the zone that changes the density most decides, as per particle: see addZoneAir)
+      if (P[o + Z_DENSITY] >= 0 && Math.abs(P[o + Z_DENSITY] - rho) > Math.abs(r - rho)) r = P[o + Z_DENSITY]
     }
     air[0] = ux
     air[1] = uy
