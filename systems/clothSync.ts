@@ -10,7 +10,6 @@ import { updateBudget, wantStepTiming } from '../src/features/budget/allocate'
 import { wakeSleepers } from '../src/features/sleep/step'
 import { carryWithFrames, markCarriedSlots } from '../src/features/character/carry'
 import { beginCharacterStep, characterJumped, markFrameTeleports, noteIdle, wakeMovedCharacters } from '../src/features/character/step'
-import { liveColliders } from '../src/features/collision/list'
 
 /**
  * Sync phase, once per fixed step before the substeps: advances the tracked transforms (pin
@@ -38,7 +37,7 @@ export function clothSync<W extends object>(world: W): W {
     if (k.framed) k.newFrame = false
   }
   beginKinematicStep(k)
-  if (liveColliders(state.collision).length > 0) sweepColliders(state)
+  if (state.collision.entries.length > 0) sweepColliders(state) // (compacts the list first)
   advanceWind(state) // wind time, gusts and zone poses for this step (nothing without zones)
   wakeSleepers(state) // nothing while no cloth sleeps
   wakeMovedCharacters(state) // likewise

@@ -19,7 +19,9 @@ import { liveColliders } from './list'
 export function sweepColliders(state: ClothWorldState): void {
   const C = state.collision.Collider
   const moved = state.kinematics.moved
-  const colliders = liveColliders(state.collision)
+  // the list compacted once a step, here in the sync phase (a call at each reader made V8 allocate)
+  if (state.collision.released > 0) liveColliders(state.collision)
+  const colliders = state.collision.entries
   for (let q = 0; q < colliders.length; q++) {
     const eid = colliders[q]
     if (moved[C.slot[eid]] === 0 && sweptAtRest(state, eid)) continue
@@ -48,7 +50,9 @@ export function beginCollisionStep(state: ClothWorldState): void {
 export function beginClothCollision(state: ClothWorldState, c: ClothState): void {
   const cw = state.collision
   const C = cw.Collider
-  const colliders = liveColliders(cw)
+  // (read as the sync phase left them: a collider removed since, between phases run by hand, is
+  // skipped by its slot; compacting here, a call per cloth and step, made V8 allocate in the step)
+  const colliders = cw.entries
   const cc = c.collision
   cc.activeCount = 0
   const b = cc.bounds
@@ -82,7 +86,7 @@ export function beginClothCollision(state: ClothWorldState, c: ClothState): void
   if (!candidates) return
   for (let k = 0; k < colliders.length; k++) {
     const e = colliders[k]
-    if (colliderLayersMatch(C, e, cc) && colliderReaches(C, e, b, c)) cc.active[cc.activeCount++] = e
+    if (C.slot[e] >= 0 && colliderLayersMatch(C, e, cc) && colliderReaches(C, e, b, c)) cc.active[cc.activeCount++] = e
   }
 }
 
@@ -99,7 +103,7 @@ export function collideSubstep(state: ClothWorldState): void {
 function collideColliders(state: ClothWorldState): void {
   const cw = state.collision
   // with no collider a self-colliding cloth still forgets its collider contacts below
-  if (liveColliders(cw).length === 0 && cw.selfCloths.length === 0) return
+  if (cw.entries.length === 0 && cw.selfCloths.length === 0) return
   const cloths = state.cloths
   for (let ci = 0; ci < cloths.length; ci++) collideClothColliders(state, cloths[ci])
 }

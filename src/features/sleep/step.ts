@@ -14,7 +14,6 @@ import {
 } from '../collision/reach'
 import { windReaches } from '../wind/step'
 import { B_REFRESH } from '../collision/types'
-import { liveColliders } from '../collision/list'
 
 /**
  * Writeback phase, after a cloth's last substep: advances its stillness timer from the fastest
@@ -73,7 +72,7 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
   }
   const b = c.sleep.bounds
   const cw = state.collision
-  const colliders = liveColliders(cw)
+  const colliders = cw.entries // (a removed one, not yet compacted, has slot −1: never moved)
   if (colliders.length > 0) {
     const C = cw.Collider
     const cc = c.collision
