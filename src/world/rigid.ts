@@ -152,11 +152,16 @@ export function moveClothBy(c: ClothState, m: Float64Array, o: number, inverse =
   else moveClothRigidly(c, cx, cy, cz, m[o + 3], m[o + 4], m[o + 5], m[o + 6], tx, ty, tz)
 }
 
-/** `carryGrabTargets` by the record at m[o..o+9] (see `moveClothBy`). */
+/**
+ * `carryGrabTargets` by the record at m[o..o+9] (see `moveClothBy`), for a teleport's reset: the
+ * grabs on loose pieces, which the reset leaves where they are, stay too (a hand holding a piece
+ * torn off dragged it at 17.5 m/s).
+ */
 export function carryGrabTargetsBy(c: ClothState, m: Float64Array, o: number): void {
   if (c.grab.count === 0) return
   const cx = m[o], cy = m[o + 1], cz = m[o + 2]
-  carryGrabTargets(c, rotation(m[o + 3], m[o + 4], m[o + 5], m[o + 6]), cx, cy, cz, cx + m[o + 7], cy + m[o + 8], cz + m[o + 9])
+  const M = rotation(m[o + 3], m[o + 4], m[o + 5], m[o + 6])
+  carryGrabTargets(c, M, cx, cy, cz, cx + m[o + 7], cy + m[o + 8], cz + m[o + 9], c.detached[0] > 0)
 }
 
 /**
