@@ -445,7 +445,9 @@ export function updateClothDrawMatrix(world: object, cloth: number, object: Obje
  * The draw matrix carries the cloth with its anchor; pieces torn off that nothing carries (the
  * cloth's `detached` particles, which teleports and thaws leave where they are too) are written
  * into a geometry of createClothGeometry moved back by it, so they are drawn where they lie (a rag
- * on the ground was drawn following the character, 61 mm at 144 Hz and 6 m for a hidden cape).
+ * on the ground was drawn following the character, 61 mm at 144 Hz and 6 m for a hidden cape). A
+ * piece a hand holds is left to the matrix, as before: the hand is most often the character's own
+ * (written back, a rag carried in the character's hand was drawn 31 mm behind it on average).
  * Nothing to do for a cloth in one piece.
  */
 function holdLoosePieces(world: object, cloth: number, object: Object3D): void {
@@ -458,8 +460,16 @@ function holdLoosePieces(world: object, cloth: number, object: Object3D): void {
   const m = object.matrix.elements // rigid: x = R·l + t, so l = Rᵀ·(x − t), and normals Rᵀ·n
   const mesh = getClothMesh(world, cloth)
   const to = state.position.array as Float32Array, normals = state.normal.array as Float32Array
+  const held = heldPieces(c)
   for (let q = 1; q <= list[0]; q++) {
     const j = 3 * list[q]
+    if (held !== null && held[c.piece![list[q]]] === 1) {
+      for (let a = 0; a < 3; a++) {
+        to[j + a] = mesh.positions[j + a]
+        normals[j + a] = mesh.normals[j + a]
+      }
+      continue
+    }
     const x = mesh.positions[j] - m[12], y = mesh.positions[j + 1] - m[13], z = mesh.positions[j + 2] - m[14]
     to[j] = m[0] * x + m[1] * y + m[2] * z
     to[j + 1] = m[4] * x + m[5] * y + m[6] * z
@@ -472,4 +482,17 @@ function holdLoosePieces(world: object, cloth: number, object: Object3D): void {
   state.position.needsUpdate = true
   state.normal.needsUpdate = true
   fitBounds(geometry as ClothGeometry, to, mesh.vertexCount, c.topology.unused)
+}
+
+/** Scratch of `heldPieces`: a mark per piece. */
+let heldMarks = new Uint8Array(0)
+
+/** The cloth's pieces a grab holds, marked 1 in a scratch by piece label, or null when none is. */
+function heldPieces(c: ReturnType<typeof getClothState>): Uint8Array | null {
+  const G = c.grab
+  if (G.count === 0 || c.piece === null) return null
+  if (heldMarks.length < c.pieceCount) heldMarks = new Uint8Array(Math.max(c.pieceCount, 2 * heldMarks.length))
+  heldMarks.fill(0, 0, c.pieceCount)
+  for (let g = 0; g < G.count; g++) heldMarks[c.piece[G.particle[g]]] = 1
+  return heldMarks
 }
