@@ -132,6 +132,8 @@ describe('plugin', () => {
     // a frame longer than 1/15 s still drops the rest, and an explicit cap is kept
     expect(stepCloth(makeWorld({ fixedTimeStep: 1 / 240 }), 0.5)).toBe(16)
     expect(stepCloth(makeWorld({ fixedTimeStep: 1 / 240, maxStepsPerFrame: 4 }), 0.5)).toBe(4)
+    // at most the option's own limit, 1000, at the shortest steps
+    expect(stepCloth(makeWorld({ fixedTimeStep: 2e-5 }), 10)).toBe(1000)
   })
 
   it('grows its stores when entity ids exceed the initial capacity', () => {

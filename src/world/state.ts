@@ -54,7 +54,9 @@ export interface ClothPluginOptions {
   /**
    * Most fixed steps one `stepCloth` call may run (the accumulator keeps the rest, and time beyond
    * this many steps is dropped, so a 10 s hitch never becomes one giant step). Default: the steps of
-   * a 1/15 s frame, at least 4 (4 at the default 1/60 s step, 16 at 1/240 s).
+   * a 1/15 s frame, from 4 to 1000 (4 at the default 1/60 s step, 16 at 1/240 s). A machine that
+   * cannot step the cloth as fast as time passes then runs that many steps every frame: set it
+   * lower to keep the frame rate and let the cloth fall behind.
    */
   maxStepsPerFrame?: number
   /** Read transforms from the host engine's stores instead of the plugin's `Transform`. */
