@@ -53,9 +53,10 @@ export const NOISE_SCRATCH = 24
 
 /**
  * Adds zone `z` (its block starts at `zones[z]`) to the air of particles [0, count): velocity into
- * air[4i..4i+2] and, when the zone sets its own density, the density blend into air[4i+3]
- * (ρ_world + weight·(ρ_zone − ρ_world), where that differs from ρ_world more than what other zones
- * set there: zone velocities add, densities do not). `scratch` holds NOISE_SCRATCH doubles.
+ * air[4i..4i+2] and, when a box or sphere zone sets its own density, the density there blended
+ * toward it by the zone's weight, ρ += weight·(ρ_zone − ρ), in the zones' order (air[4i+3] starts
+ * at the ambient density: the world's or the last global zone's). Zone velocities add; densities
+ * replace, so two zones of the same density give that density. `scratch` holds NOISE_SCRATCH doubles.
  *
  * One long function on purpose: it is the per-particle loop of turbulent wind, and the zone shape
  * test, falloff and lattice-noise lookup are written inline so that no double crosses a call
@@ -67,7 +68,6 @@ export function addZoneAir(
   air: Float64Array,
   zones: Float64Array,
   z: number,
-  worldDensity: Float64Array,
   scratch: Float64Array,
 ): void {
   const shape = zones[z + Z_SHAPE]
@@ -83,7 +83,9 @@ export function addZoneAir(
   const fall2 = fall * fall
   const invFall = fall > 0 ? 1 / fall : 0
   const zoneDensity = zones[z + Z_DENSITY]
-  const dRho = zoneDensity >= 0 ? zoneDensity - worldDensity[0] : 0
+  // a box or sphere zone's density replaces what is there, blended by its weight (a global zone's
+  // is the ambient density the caller starts from)
+  const setsDensity = zoneDensity >= 0 && shape !== 0
   // noise set-up, once per call
   const inv = zones[z + Z_INV_SCALE]
   const ox = zones[z + Z_DRIFT_X], oy = zones[z + Z_DRIFT_Y], oz = zones[z + Z_DRIFT_Z]
@@ -178,11 +180,6 @@ export function addZoneAir(
     air[k] += w * ux
     air[k + 1] += w * uy
     air[k + 2] += w * uz
-    if (dRho !== 0) {
-      // (overlapping zones: the one that changes the density most decides; added, two zones of
-      // 2.4 kg/m³ made 3.6)
-      const now = air[k + 3] - worldDensity[0], here = w * dRho
-      if ((here < 0 ? -here : here) > (now < 0 ? -now : now)) air[k + 3] = worldDensity[0] + here
-    }
+    if (setsDensity) air[k + 3] += w * (zoneDensity - air[k + 3])
   }
 }

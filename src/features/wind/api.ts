@@ -55,7 +55,11 @@ export interface WindZoneOptions {
   falloff?: number
   /** Noise seed (integer). Default 1. */
   seed?: number
-  /** Air density in the zone, kg/m³. Default: the world's `airDensity` (1.2). */
+  /**
+   * Air density in the zone, kg/m³. Default: the air's around it. A global zone's is the ambient
+   * density (the last created global zone's that sets one); a box or sphere zone's replaces the
+   * density inside it, blended over its falloff (densities of overlapping zones do not add).
+   */
   airDensity?: number
 }
 
@@ -277,7 +281,7 @@ export function sampleWind(world: object, position: Readonly<vec3> | ArrayLike<n
   sampleAir[0] = sampleAir[1] = sampleAir[2] = 0
   sampleAir[3] = wind.airDensity[0]
   for (let z = 0; z < wind.zones.length; z++)
-    addZoneAir(samplePos, 1, sampleAir, wind.params, z * ZONE_STRIDE, wind.airDensity, wind.scratch)
+    addZoneAir(samplePos, 1, sampleAir, wind.params, z * ZONE_STRIDE, wind.scratch)
   out[0] = sampleAir[0]
   out[1] = sampleAir[1]
   out[2] = sampleAir[2]

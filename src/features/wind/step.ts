@@ -274,17 +274,23 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
   cw.active = active > 0 ? 1 : 0
   if (active === 0) return
   const air = cw.air
-  const rho = wind.airDensity[0]
+  // the ambient air's density: the world's, or the last global zone's that sets one; a box or
+  // sphere zone's replaces it inside (see addZoneAir). (Each zone's change from the world's was
+  // added: two zones of 2.4 kg/m³ made 3.6.)
+  let rho = wind.airDensity[0]
+  for (let k = 0; k < active; k++) {
+    const o = wind.active[k]
+    if (P[o + Z_SHAPE] === 0 && P[o + Z_DENSITY] >= 0) rho = P[o + Z_DENSITY]
+  }
   if (uniform) {
-    let ux = 0, uy = 0, uz = 0, r = rho
+    let ux = 0, uy = 0, uz = 0
     for (let k = 0; k < active; k++) {
       const o = wind.active[k]
       ux += P[o + Z_VX]
       uy += P[o + Z_VY]
       uz += P[o + Z_VZ]
-      // (the zone that changes the density most decides, as per particle: see addZoneAir)
-      if (P[o + Z_DENSITY] >= 0 && Math.abs(P[o + Z_DENSITY] - rho) > Math.abs(r - rho)) r = P[o + Z_DENSITY]
     }
+    const r = rho
     air[0] = ux
     air[1] = uy
     air[2] = uz
@@ -299,7 +305,7 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
     air[k + 2] = 0
     air[k + 3] = rho
   }
-  for (let k = 0; k < active; k++) addZoneAir(c.pos, c.count, air, P, wind.active[k], wind.airDensity, wind.scratch)
+  for (let k = 0; k < active; k++) addZoneAir(c.pos, c.count, air, P, wind.active[k], wind.scratch)
   cw.params[A_STRIDE] = 4
 }
 
