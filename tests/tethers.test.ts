@@ -44,13 +44,15 @@ describe('straight-line tethers', () => {
         fc.integer({ min: 1, max: 4 }),
         fc.array(fc.nat(), { minLength: 1, maxLength: 12 }),
         fc.integer({ min: 0, max: 1_000_000 }),
-        (n, onGrid, K, anchorSeeds, seed) => {
+        fc.constantFrom(0.001, 1, 1000),
+        (n, onGrid, K, anchorSeeds, seed, size) => {
           let r = seed
           const rand = () => ((r = (r * 1103515245 + 12345) % 2147483648) / 2147483648)
           const rest: number[] = []
           for (let i = 0; i < n; i++) {
-            if (onGrid) rest.push(i % 5, Math.floor(i / 5) % 3, 0) // repeated points and equal distances
-            else rest.push(rand() * 4 - 2, rand() * 4 - 2, rand() * 0.5)
+            // (sizes from a millimetre to a kilometre: squared distances below and above 1)
+            if (onGrid) rest.push(size * (i % 5), size * (Math.floor(i / 5) % 3), 0) // repeated points and equal distances
+            else rest.push(size * (rand() * 4 - 2), size * (rand() * 4 - 2), size * rand() * 0.5)
           }
           // a chain with a gap: two pieces, unless n is small
           const edges: number[] = []

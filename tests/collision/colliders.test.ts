@@ -553,7 +553,7 @@ describe('colliders of a level that unloads', () => {
         parts.push([])
         // the odd bodies are the level: colliders on entities of their own, and one on the body
         if (b % 2 === 1 && !level) continue
-        for (let k = 0; k < 3; k++) {
+        for (let k = 0; k < 4; k++) {
           const e = k === 0 ? body : addEntity(world)
           addSphereCollider(world, e, { body, radius: 0.05 + 0.01 * k, offset: [0.1 * k - 0.1, 0, 0] })
           parts[b].push(e)
@@ -565,6 +565,8 @@ describe('colliders of a level that unloads', () => {
     for (const r of [level, never]) stepCloth(r.world, 1 / 60)
     // unload the level's odd bodies: from the back, then from the front, then the middle ones
     const odd = level.bodies.filter((_, b) => b % 2 === 1)
+    // some of them lose the middle of their list of colliders first (each body's list runs newest first)
+    for (let b = 1; b < 40; b += 4) removeCollider(level.world, level.parts[b][2])
     const order = [...odd.slice(10).reverse(), ...odd.slice(0, 5), ...odd.slice(5, 10)]
     for (const body of order) removeEntity(level.world, body)
     const kept = level.parts.filter((_, b) => b % 2 === 0).flat()
