@@ -2,7 +2,7 @@ import { addComponent, hasComponent, removeComponent } from 'bitecs'
 import type { quat, vec3 } from 'gl-matrix'
 import { SHAPE_BOX, SHAPE_CAPSULE, SHAPE_HULL, SHAPE_PLANE, SHAPE_SPHERE, type ConvexHull } from '../../core/shapes'
 import type { ColliderStore } from '../../../components/Collider'
-import { clearActiveColliders, reserveActiveColliders, wakeAroundCollider } from './reach'
+import { dropActiveCollider, reserveActiveColliders, wakeAroundCollider } from './reach'
 import { liveColliders, markReleased } from './list'
 import {
   ClothError,
@@ -313,7 +313,7 @@ export function releaseCollider(state: ClothWorldState, eid: number): void {
   if (C.slot[eid] >= 0) untrackEntity(state, C.body[eid])
   C.slot[eid] = -1
   C.hulls[eid] = undefined
-  clearActiveColliders(state)
+  dropActiveCollider(state, eid)
 }
 
 /** Takes collider `eid` out of its body's list. */
