@@ -329,6 +329,13 @@ describe('a torn cloth under the draw matrix', () => {
     const s = tornCapeOnGround(null)
     expect(s.off.length).toBeGreaterThan(0)
     const mesh = createClothMesh(s.world, s.cape)
+    // a hand on the part still on the character: the piece on the ground is no held piece
+    grabParticle(
+      s.world,
+      s.cape,
+      s.on[s.on.length - 1],
+      Array.from(s.c.pos.subarray(3 * s.on[s.on.length - 1], 3 * s.on[s.on.length - 1] + 3)),
+    )
     const drawn = (i: number) => new Vector3().fromBufferAttribute(mesh.geometry.getAttribute('position'), i).applyMatrix4(mesh.matrix)
     let z = s.z, worstOff = 0, worstPin = 0, moving = 0
     const frame = (dt: number) => {

@@ -172,7 +172,7 @@ describe('wind zones', () => {
     expect(() => installClothPlugin(createWorld(), { airDensity: -1 })).toThrow(/airDensity/)
   })
 
-  it('overlapping zones that set the air density do not add it: the zone that changes it most decides, per particle and for uniform wind alike', () => {
+  it('overlapping zones that set the air density do not add it: a global zone sets the ambient density, a box or sphere zone replaces it inside, per particle and for uniform wind alike', () => {
     // (two zones of 2.4 kg/m³ made 3.6: each added its difference from the world's; found by a hunt)
     const push = (zones: (w: object) => void) => {
       const world = makeWorld({ gravity: [0, 0, 0] })
@@ -211,6 +211,18 @@ describe('wind zones', () => {
       createWindZone(w, { shape: 'sphere', size: 50, direction: [0, 0, 1], strength: 0, airDensity: 12 })
     })
     expect(water).toBeCloseTo(push((w) => createWindZone(w, { ...wind, airDensity: 12 })), 12)
+    // a global zone is the ambient air, whenever it was made: the sphere keeps its own inside; of
+    // two global zones, the last made sets it
+    const globalLater = push((w) => {
+      createWindZone(w, { shape: 'sphere', size: 50, direction: [0, 0, 1], strength: 0, airDensity: 12 })
+      createWindZone(w, { ...wind, airDensity: 2.4 })
+    })
+    expect(globalLater).toBeCloseTo(water, 12)
+    const lastGlobal = push((w) => {
+      createWindZone(w, { ...wind, airDensity: 12 })
+      createWindZone(w, { direction: [0, 0, 1], strength: 0, airDensity: 2.4 })
+    })
+    expect(lastGlobal).toBeCloseTo(dense, 12)
   })
 
   it('a box or sphere zone replaces the air density inside it, blended over its falloff: continuous across it, whatever the zones change it by', () => {
