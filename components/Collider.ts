@@ -55,7 +55,7 @@ export interface ColliderStore {
    */
   sweptAt: Float64Array
   /**
-   * Creation order: the collider's serial number, increasing along `CollisionWorld.colliders` (a
+   * Creation order: the collider's serial number, increasing along `CollisionWorld.entries` (a
    * removal finds its place there by binary search).
    */
   serial: Float64Array

@@ -68,8 +68,8 @@ export function installClothPlugin<W extends object>(world: W, options: ClothPlu
   // longer than a second is not real time
   if (fixedTimeStep < 1e-6 || fixedTimeStep > 1)
     throw new ClothError('options.fixedTimeStep', fixedTimeStep, 'must be between 1e-6 and 1 s')
-  // (by default the steps of a 1/15 s frame, 4 to 1000 (the option's own range): counted in steps alone, a 1/240 s step ran
-  // 30 Hz frames at half speed, a free fall 1.23 m in a second instead of 4.9)
+  // (by default the steps of a 1/15 s frame, from 4 to the option's own limit of 1000: counted in
+  // steps alone, a 1/240 s step ran 30 Hz frames at half speed, a fall of 1.23 m in a second, not 4.9)
   const maxStepsPerFrame = options.maxStepsPerFrame === undefined ? Math.min(1000, Math.max(4, Math.ceil(1 / 15 / fixedTimeStep - 1e-9)))
     : checkInteger('options.maxStepsPerFrame', options.maxStepsPerFrame, 1, 1000)
   const teleportDistance = options.teleportDistance === undefined ? 2 : checkPositive('options.teleportDistance', options.teleportDistance)

@@ -115,7 +115,7 @@ export function loosenTethers(set: TetherSet, pos: Float64Array): void {
  * `best` / `dist` (filled with −1 / Infinity), nearest first and ties to the lower anchor index: the
  * anchors sorted along the axis they spread most on, each particle's scan run out both ways from
  * its place there and stopped where the distance along that axis, with the particle's distance from
-the anchors' box across it, puts every anchor further on beyond its K-th best. (Every
+ * the anchors' box across it, puts every anchor further on beyond its K-th best. (Every
  * pair through a call and a sorted insert, a pin change on a 53,000-particle mesh with 230 pins
  * rebuilt in 0.9 s.)
  */
