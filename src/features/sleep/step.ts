@@ -72,7 +72,7 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
   }
   const b = c.sleep.bounds
   const cw = state.collision
-  const colliders = cw.entries // (a removed one, not yet compacted, has slot −1: never moved)
+  const colliders = cw.entries // (a removed one, not yet compacted, has slot −1: skipped below)
   if (colliders.length > 0) {
     const C = cw.Collider
     const cc = c.collision
@@ -80,7 +80,7 @@ function disturbed(state: ClothWorldState, c: ClothState): boolean {
     for (let q = 0; q < colliders.length; q++) {
       const e = colliders[q]
       const slot = C.slot[e]
-      if (k.moved[slot] !== 1) continue
+      if (slot < 0 || k.moved[slot] !== 1) continue
       // a solid that did not jump and whose swept box stays clear of the cloth's disturbs nothing
       // (the box test first: with the full tests' calls for every pair, 500 sleeping cloths and 64
       // colliders moving far from them cost 2.3× a cape's step)

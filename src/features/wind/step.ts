@@ -290,11 +290,10 @@ function prepareClothWind(state: ClothWorldState, c: ClothState, cw: ClothWind):
       uy += P[o + Z_VY]
       uz += P[o + Z_VZ]
     }
-    const r = rho
     air[0] = ux
     air[1] = uy
     air[2] = uz
-    air[3] = r > 0 ? r : 0
+    air[3] = rho // (densities are never negative: the world's and each zone's are checked)
     cw.params[A_STRIDE] = 0
     return
   }
